@@ -1,0 +1,13 @@
+//! Pure math for Chiaro: bounds, frusta, projections and the punctual light model.
+//!
+//! Nothing here knows about the GPU; the render crate uploads what these functions return,
+//! and the tests check them without an adapter.
+
+pub mod bounds;
+pub mod camera;
+pub mod frustum;
+pub mod light;
+pub mod tonemap;
+
+pub use bounds::{Aabb, Sphere};
+pub use frustum::Frustum;
