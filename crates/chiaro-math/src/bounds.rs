@@ -78,6 +78,12 @@ impl Aabb {
     }
 }
 
+impl Default for Aabb {
+    fn default() -> Self {
+        Aabb::EMPTY
+    }
+}
+
 /// A sphere, used for light ranges and framing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {

@@ -39,8 +39,8 @@ pub fn frame_bounds(bounds: &Aabb, yfov_rad: f32, aspect: f32) -> (Mat4, f32, f3
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::frustum::Frustum;
     use crate::Sphere;
+    use crate::frustum::Frustum;
 
     #[test]
     fn reverse_z_maps_near_to_one_and_far_to_zero() {
@@ -59,10 +59,14 @@ mod tests {
         for aspect in [0.5f32, 1.0, 2.0] {
             let yfov = 0.8;
             let (world_from_view, near, far) = frame_bounds(&bounds, yfov, aspect);
-            let clip = perspective_reverse_z(yfov, aspect, near, Some(far)) * world_from_view.inverse();
+            let clip =
+                perspective_reverse_z(yfov, aspect, near, Some(far)) * world_from_view.inverse();
             let f = Frustum::from_clip_from_world(&clip);
             for c in bounds.corners() {
-                let inside = f.intersects_sphere(&Sphere { center: c, radius: 0.0 });
+                let inside = f.intersects_sphere(&Sphere {
+                    center: c,
+                    radius: 0.0,
+                });
                 assert!(inside, "corner {c} outside for aspect {aspect}");
             }
         }

@@ -1,1 +1,17 @@
+//! Scenes as plain data: glTF 2.0 import, the built-in demo scene, and pipeline settings.
+//!
+//! Files flow in, `Scene` values flow out; nothing here touches the GPU, so the render
+//! crate and the tests share one description of what was loaded.
 
+pub mod demo;
+pub mod error;
+pub mod gltf_import;
+pub mod settings;
+pub mod shapes;
+pub mod types;
+pub mod vertex_gen;
+
+pub use error::SceneError;
+pub use gltf_import::load_gltf;
+pub use settings::Settings;
+pub use types::*;

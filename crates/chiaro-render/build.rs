@@ -1,0 +1,13 @@
+//! Composes the WESL shader sources (real `import`s between files) into one WGSL string
+//! per pass at build time; `shaders::*` includes the results.
+
+fn main() {
+    let compiler = wesl::Wesl::new("shaders");
+    for (root, artifact) in [
+        ("package::forward", "forward"),
+        ("package::aov", "aov"),
+        ("package::tonemap", "tonemap"),
+    ] {
+        compiler.build_artifact(&root.parse().expect("module path"), artifact);
+    }
+}

@@ -1,0 +1,98 @@
+//! Instance, adapter, device and queue, headless. Prefers a real GPU, takes a software
+//! one (lavapipe) when that is all there is, and enables timestamp queries where offered.
+
+use crate::error::RenderError;
+use std::sync::{Arc, Mutex};
+
+pub struct GpuContext {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub adapter_info: wgpu::AdapterInfo,
+    pub has_timestamps: bool,
+    /// Validation errors the device reported outside an error scope, oldest first.
+    errors: Arc<Mutex<Vec<String>>>,
+}
+
+impl GpuContext {
+    /// Opens the best adapter of the primary backends (Vulkan, Metal, DX12). `WGPU_BACKEND`
+    /// and `WGPU_ADAPTER_NAME` choose otherwise, as wgpu documents.
+    pub fn new() -> Result<GpuContext, RenderError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if std::env::var_os("WGPU_BACKEND").is_none() {
+            desc.backends = wgpu::Backends::PRIMARY;
+        }
+        let instance = wgpu::Instance::new(desc);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
+        let adapter_info = adapter.get_info();
+        let has_timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let mut required_features = wgpu::Features::empty();
+        if has_timestamps {
+            required_features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        let adapter_limits = adapter.limits();
+        let required_limits = wgpu::Limits {
+            max_texture_dimension_2d: adapter_limits.max_texture_dimension_2d,
+            max_buffer_size: adapter_limits.max_buffer_size,
+            max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
+            ..wgpu::Limits::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("chiaro device"),
+            required_features,
+            required_limits,
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|e| RenderError::Device(e.to_string()))?;
+        let errors = Arc::new(Mutex::new(Vec::new()));
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            tracing::error!("wgpu: {e}");
+            sink.lock().expect("error sink").push(e.to_string());
+        }));
+        tracing::info!(
+            adapter = %adapter_info.name,
+            backend = ?adapter_info.backend,
+            device_type = ?adapter_info.device_type,
+            "GPU ready"
+        );
+        Ok(GpuContext {
+            device,
+            queue,
+            adapter_info,
+            has_timestamps,
+            errors,
+        })
+    }
+
+    /// Returns the first GPU error reported since the last call, if any.
+    pub fn take_error(&self) -> Result<(), RenderError> {
+        let mut errors = self.errors.lock().expect("error sink");
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            let first = errors.remove(0);
+            errors.clear();
+            Err(RenderError::Gpu(first))
+        }
+    }
+
+    pub fn max_texture_size(&self) -> u32 {
+        self.device.limits().max_texture_dimension_2d
+    }
+
+    /// Blocks until the GPU has finished all submitted work.
+    pub fn wait_idle(&self) -> Result<(), RenderError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        Ok(())
+    }
+}

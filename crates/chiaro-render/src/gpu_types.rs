@@ -1,0 +1,117 @@
+//! `#[repr(C)]` mirrors of the WGSL structs in `shaders/common/`. The WGSL names drop the
+//! `Gpu` prefix; a test checks every size against naga's layout of the shaders.
+
+use bytemuck::{Pod, Zeroable};
+use chiaro_math::light::{MAX_DIRECTIONAL_LIGHTS, MAX_OTHER_LIGHTS};
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuFrame {
+    pub clip_from_world: Mat4,
+    pub view_from_world: Mat4,
+    pub camera_position_ws: Vec3,
+    pub exposure_scale: f32,
+    pub ambient: Vec3,
+    pub directional_light_count: u32,
+    pub background: Vec3,
+    pub other_light_count: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuDirectionalLight {
+    pub color: Vec3,
+    pub _pad0: f32,
+    pub direction_to_light_ws: Vec3,
+    pub _pad1: f32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuOtherLight {
+    pub position_ws: Vec3,
+    pub range: f32,
+    pub color: Vec3,
+    pub _pad0: f32,
+    pub spot_direction_ws: Vec3,
+    pub _pad1: f32,
+    pub spot_angles: Vec2,
+    pub _pad2: Vec2,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuLights {
+    pub directional: [GpuDirectionalLight; MAX_DIRECTIONAL_LIGHTS],
+    pub other: [GpuOtherLight; MAX_OTHER_LIGHTS],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuObject {
+    pub world_from_local: Mat4,
+    pub normal_from_local: Mat4,
+}
+
+impl GpuObject {
+    pub fn new(world_from_local: Mat4) -> GpuObject {
+        GpuObject {
+            world_from_local,
+            normal_from_local: world_from_local.inverse().transpose(),
+        }
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuTextureTransform {
+    pub linear: Vec4,
+    pub offset_uv_set: Vec4,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub base_color: Vec4,
+    pub emissive: Vec3,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub normal_scale: f32,
+    pub occlusion_strength: f32,
+    pub alpha_cutoff: f32,
+    pub alpha_mode: u32,
+    pub double_sided: u32,
+    pub _pad: [u32; 2],
+    pub base_color_uv: GpuTextureTransform,
+    pub metallic_roughness_uv: GpuTextureTransform,
+    pub normal_uv: GpuTextureTransform,
+    pub occlusion_uv: GpuTextureTransform,
+    pub emissive_uv: GpuTextureTransform,
+}
+
+/// One interleaved vertex, as `shaders/common/mesh.wesl` reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuVertex {
+    // Plain arrays: glam's SIMD Vec4 is 16-aligned and would pad the vertex.
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub tangent: [f32; 4],
+    pub uv0: [f32; 2],
+    pub uv1: [f32; 2],
+}
+
+impl GpuVertex {
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x2
+    ];
+
+    pub fn layout() -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<GpuVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &Self::ATTRIBUTES,
+        }
+    }
+}

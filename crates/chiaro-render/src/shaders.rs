@@ -1,0 +1,18 @@
+//! The composed WGSL of each pass (built from `shaders/` by build.rs with WESL imports).
+
+/// Forward lighting: `vs_main`, `fs_main`.
+pub const FORWARD: &str = include_str!(concat!(env!("OUT_DIR"), "/forward.wgsl"));
+/// AOVs: `vs_main`, `fs_aov`.
+pub const AOV: &str = include_str!(concat!(env!("OUT_DIR"), "/aov.wgsl"));
+/// Tone mapping: `vs_fullscreen`, `fs_tonemap`.
+pub const TONEMAP: &str = include_str!(concat!(env!("OUT_DIR"), "/tonemap.wgsl"));
+
+/// Every composed shader with its name, for validation.
+pub const ALL: [(&str, &str); 3] = [("forward", FORWARD), ("aov", AOV), ("tonemap", TONEMAP)];
+
+pub fn module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    })
+}

@@ -1,0 +1,218 @@
+//! The built-in demo scene, made in code: a floor, boxes and spheres, one sun, a ring of
+//! coloured point and spot lights, and a camera. `chiaro render` with no scene draws it,
+//! and the benchmarks vary its number of other lights.
+
+use crate::shapes;
+use crate::types::*;
+use glam::{Mat4, Quat, Vec3};
+
+/// Default number of point and spot lights in the demo.
+pub const DEMO_OTHER_LIGHTS: usize = 8;
+
+const PALETTE: [Vec3; 6] = [
+    Vec3::new(1.0, 0.45, 0.25),
+    Vec3::new(0.3, 0.6, 1.0),
+    Vec3::new(0.4, 1.0, 0.45),
+    Vec3::new(1.0, 0.85, 0.3),
+    Vec3::new(0.85, 0.35, 1.0),
+    Vec3::new(1.0, 1.0, 1.0),
+];
+
+fn material(name: &str, color: Vec3, metallic: f32, roughness: f32) -> Material {
+    Material {
+        name: name.into(),
+        base_color: color.extend(1.0),
+        metallic,
+        roughness,
+        ..Material::default()
+    }
+}
+
+/// The demo scene with `other_lights` point and spot lights (alternating, spots first),
+/// spread over a ring around the centre so that every count lights the floor.
+pub fn demo_scene(other_lights: usize) -> Scene {
+    let mut scene = Scene {
+        materials: vec![
+            material("floor", Vec3::splat(0.6), 0.0, 0.85),
+            material("clay", Vec3::new(0.8, 0.3, 0.2), 0.0, 0.6),
+            material("teal", Vec3::new(0.15, 0.55, 0.55), 0.0, 0.4),
+            material("gold", Vec3::new(1.0, 0.78, 0.34), 1.0, 0.3),
+            material("chalk", Vec3::splat(0.85), 0.0, 0.9),
+        ],
+        meshes: vec![
+            Mesh {
+                name: "floor".into(),
+                primitives: vec![shapes::plane(24.0, 8)],
+            },
+            Mesh {
+                name: "box".into(),
+                primitives: vec![shapes::cuboid(Vec3::ONE)],
+            },
+            Mesh {
+                name: "sphere".into(),
+                primitives: vec![shapes::sphere(0.5, 48, 24)],
+            },
+        ],
+        ..Scene::default()
+    };
+    for (mesh, material) in [(0, 0), (1, 1), (2, 2)] {
+        scene.meshes[mesh].primitives[0].material = Some(material);
+    }
+    // Second materials for the same shapes come as extra meshes sharing geometry.
+    let mut gold_sphere = scene.meshes[2].clone();
+    gold_sphere.name = "gold sphere".into();
+    gold_sphere.primitives[0].material = Some(3);
+    scene.meshes.push(gold_sphere);
+    let mut chalk_box = scene.meshes[1].clone();
+    chalk_box.name = "chalk box".into();
+    chalk_box.primitives[0].material = Some(4);
+    scene.meshes.push(chalk_box);
+
+    let mut place = |mesh: usize, name: &str, transform: Mat4| {
+        let node = scene.instances.len();
+        scene.instances.push(MeshInstance {
+            mesh,
+            node,
+            name: name.into(),
+            world_from_local: transform,
+        });
+    };
+    place(0, "floor", Mat4::IDENTITY);
+    let boxes = [
+        (
+            Vec3::new(-2.5, 0.75, -1.0),
+            Vec3::new(1.5, 1.5, 1.5),
+            0.5,
+            1,
+        ),
+        (Vec3::new(2.0, 1.0, -2.5), Vec3::new(1.0, 2.0, 1.0), -0.3, 4),
+        (Vec3::new(0.5, 0.4, 2.0), Vec3::new(2.0, 0.8, 0.8), 0.9, 1),
+        (Vec3::new(-4.5, 1.5, -4.5), Vec3::new(1.0, 3.0, 1.0), 0.0, 4),
+    ];
+    for (i, (pos, size, yaw, mesh)) in boxes.into_iter().enumerate() {
+        let t = Mat4::from_scale_rotation_translation(size, Quat::from_rotation_y(yaw), pos);
+        place(mesh, &format!("box {i}"), t);
+    }
+    let spheres = [
+        (Vec3::new(0.0, 1.0, 0.0), 2.0, 2),
+        (Vec3::new(-1.0, 0.5, 3.5), 1.0, 3),
+        (Vec3::new(3.5, 0.75, 1.0), 1.5, 3),
+        (Vec3::new(4.0, 0.5, -5.0), 1.0, 2),
+    ];
+    for (i, (pos, scale, mesh)) in spheres.into_iter().enumerate() {
+        place(
+            mesh,
+            &format!("sphere {i}"),
+            Mat4::from_scale_rotation_translation(Vec3::splat(scale), Quat::IDENTITY, pos),
+        );
+    }
+
+    let light_node_base = scene.instances.len();
+    let sun_direction = Vec3::new(-0.4, -1.0, -0.55).normalize();
+    scene.lights.push(Light {
+        name: "sun".into(),
+        node: light_node_base,
+        kind: LightKind::Directional,
+        color: Vec3::new(1.0, 0.96, 0.9),
+        intensity: 1.5,
+        range: None,
+        position: Vec3::ZERO,
+        direction: sun_direction,
+    });
+    for i in 0..other_lights {
+        // A golden-angle spiral keeps any count evenly spread.
+        let t = (i as f32 + 0.5) / other_lights.max(1) as f32;
+        let angle = i as f32 * 2.399_963;
+        let radius = 2.0 + 7.0 * t.sqrt();
+        let position = Vec3::new(
+            radius * angle.cos(),
+            1.2 + 1.8 * ((i % 3) as f32 / 2.0),
+            radius * angle.sin(),
+        );
+        let color = PALETTE[i % PALETTE.len()];
+        let (kind, direction, intensity, range) = if i % 2 == 0 {
+            let target = Vec3::new(position.x * 0.6, 0.0, position.z * 0.6);
+            (
+                LightKind::Spot {
+                    inner_cone_rad: (18.0 + 4.0 * (i % 3) as f32).to_radians(),
+                    outer_cone_rad: (28.0 + 6.0 * (i % 3) as f32).to_radians(),
+                },
+                (target - position).normalize(),
+                40.0,
+                Some(9.0),
+            )
+        } else {
+            (
+                LightKind::Point,
+                Vec3::NEG_Y,
+                8.0,
+                Some(5.0 + (i % 4) as f32),
+            )
+        };
+        let kind_name = if i % 2 == 0 { "spot" } else { "point" };
+        scene.lights.push(Light {
+            name: format!("{kind_name} {i}"),
+            node: light_node_base + 1 + i,
+            kind,
+            color,
+            intensity,
+            range,
+            position,
+            direction,
+        });
+    }
+
+    let eye = Vec3::new(0.0, 7.5, 13.0);
+    let view_from_world = Mat4::look_at_rh(eye, Vec3::new(0.0, 0.5, 0.0), Vec3::Y);
+    scene.cameras.push(Camera {
+        name: "demo camera".into(),
+        node: light_node_base + 1 + other_lights,
+        yfov_rad: 50f32.to_radians(),
+        znear: 0.1,
+        zfar: None,
+        aspect_ratio: None,
+        world_from_view: view_from_world.inverse(),
+    });
+    scene
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn demo_has_the_requested_lights() {
+        for n in [0, 4, 16, 64] {
+            let s = demo_scene(n);
+            assert_eq!(s.lights.len(), n + 1);
+            assert_eq!(
+                s.lights
+                    .iter()
+                    .filter(|l| l.kind == LightKind::Directional)
+                    .count(),
+                1
+            );
+            if n >= 2 {
+                assert!(
+                    s.lights
+                        .iter()
+                        .any(|l| matches!(l.kind, LightKind::Spot { .. }))
+                );
+                assert!(s.lights.iter().any(|l| l.kind == LightKind::Point));
+            }
+        }
+    }
+
+    #[test]
+    fn demo_spots_point_down_at_the_floor() {
+        let s = demo_scene(DEMO_OTHER_LIGHTS);
+        for l in &s.lights {
+            if matches!(l.kind, LightKind::Spot { .. }) {
+                assert!(l.direction.y < -0.3, "{}", l.name);
+                assert!((l.direction.length() - 1.0).abs() < 1e-5);
+            }
+        }
+        assert!(s.triangle_count() > 1000);
+        assert!(!s.bounds().is_empty());
+    }
+}

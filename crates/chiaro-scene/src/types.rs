@@ -1,0 +1,272 @@
+//! The plain-data scene every later stage reads: meshes with world transforms, materials,
+//! decoded images, punctual lights and cameras, all in world space and glTF units.
+
+use chiaro_math::Aabb;
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use std::path::PathBuf;
+
+/// One drawable piece of a mesh, with one material. Vertex attributes are complete:
+/// normals and tangents are generated at import when the file has none.
+#[derive(Clone, Debug, Default)]
+pub struct Primitive {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    /// xyz tangent, w the bitangent sign (glTF convention).
+    pub tangents: Vec<Vec4>,
+    pub uv0: Vec<Vec2>,
+    pub uv1: Vec<Vec2>,
+    /// Triangle list indices.
+    pub indices: Vec<u32>,
+    /// Index into `Scene::materials`; `None` uses the glTF default material.
+    pub material: Option<usize>,
+    /// Object-space bounds of `positions`.
+    pub bounds: Aabb,
+}
+
+impl Primitive {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub name: String,
+    pub primitives: Vec<Primitive>,
+}
+
+/// A mesh placed in the world by a node.
+#[derive(Clone, Debug)]
+pub struct MeshInstance {
+    pub mesh: usize,
+    /// Index of the glTF node (or demo object) that places it.
+    pub node: usize,
+    pub name: String,
+    pub world_from_local: Mat4,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AlphaMode {
+    Opaque,
+    Mask,
+    Blend,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WrapMode {
+    Repeat,
+    MirroredRepeat,
+    ClampToEdge,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SamplerDesc {
+    pub wrap_u: WrapMode,
+    pub wrap_v: WrapMode,
+    /// Linear (true) or nearest (false) magnification.
+    pub mag_linear: bool,
+    pub min_linear: bool,
+    pub mipmaps: bool,
+}
+
+impl Default for SamplerDesc {
+    fn default() -> Self {
+        SamplerDesc {
+            wrap_u: WrapMode::Repeat,
+            wrap_v: WrapMode::Repeat,
+            mag_linear: true,
+            min_linear: true,
+            mipmaps: true,
+        }
+    }
+}
+
+/// KHR_texture_transform: `uv' = T(offset) * R(rotation) * S(scale) * uv`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    pub offset: Vec2,
+    pub rotation_rad: f32,
+    pub scale: Vec2,
+}
+
+impl Default for UvTransform {
+    fn default() -> Self {
+        UvTransform {
+            offset: Vec2::ZERO,
+            rotation_rad: 0.0,
+            scale: Vec2::ONE,
+        }
+    }
+}
+
+impl UvTransform {
+    /// The 3x2 matrix (column-major: three columns of two rows) the shader applies.
+    pub fn matrix(&self) -> [Vec2; 3] {
+        let (s, c) = self.rotation_rad.sin_cos();
+        [
+            Vec2::new(c * self.scale.x, -s * self.scale.x),
+            Vec2::new(s * self.scale.y, c * self.scale.y),
+            self.offset,
+        ]
+    }
+}
+
+/// A material's use of an image.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureRef {
+    /// Index into `Scene::images`.
+    pub image: usize,
+    pub sampler: SamplerDesc,
+    /// Which UV set: 0 or 1.
+    pub tex_coord: u32,
+    pub transform: UvTransform,
+}
+
+/// glTF metallic-roughness material, with emissive strength folded into `emissive`.
+#[derive(Clone, Debug)]
+pub struct Material {
+    pub name: String,
+    pub base_color: Vec4,
+    pub base_color_texture: Option<TextureRef>,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub metallic_roughness_texture: Option<TextureRef>,
+    pub normal_texture: Option<TextureRef>,
+    pub normal_scale: f32,
+    pub occlusion_texture: Option<TextureRef>,
+    pub occlusion_strength: f32,
+    /// Linear emissive radiance factor (already times KHR_materials_emissive_strength).
+    pub emissive: Vec3,
+    pub emissive_texture: Option<TextureRef>,
+    pub alpha_mode: AlphaMode,
+    pub alpha_cutoff: f32,
+    pub double_sided: bool,
+}
+
+impl Default for Material {
+    /// The glTF default material: white, fully rough dielectric... per spec metallic 1,
+    /// roughness 1.
+    fn default() -> Self {
+        Material {
+            name: "default".into(),
+            base_color: Vec4::ONE,
+            base_color_texture: None,
+            metallic: 1.0,
+            roughness: 1.0,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            occlusion_texture: None,
+            occlusion_strength: 1.0,
+            emissive: Vec3::ZERO,
+            emissive_texture: None,
+            alpha_mode: AlphaMode::Opaque,
+            alpha_cutoff: 0.5,
+            double_sided: false,
+        }
+    }
+}
+
+/// Whether an image holds colour (sRGB-encoded) or data (linear), decided by its use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColorSpace {
+    Srgb,
+    Linear,
+}
+
+/// A decoded image, always 8-bit RGBA.
+#[derive(Clone, Debug)]
+pub struct Image {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    pub rgba8: Vec<u8>,
+    pub color_space: ColorSpace,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    /// Illuminance in lux on a surface facing the light.
+    Directional,
+    /// Intensity in candela.
+    Point,
+    /// Intensity in candela; glTF half-angles of the cone.
+    Spot {
+        inner_cone_rad: f32,
+        outer_cone_rad: f32,
+    },
+}
+
+/// A KHR_lights_punctual light placed in the world.
+#[derive(Clone, Debug)]
+pub struct Light {
+    pub name: String,
+    /// Index of the glTF node that carries the light.
+    pub node: usize,
+    pub kind: LightKind,
+    /// Linear RGB.
+    pub color: Vec3,
+    /// Lux for directional lights, candela for point and spot lights.
+    pub intensity: f32,
+    /// Range from the file; `None` means infinite (a range is derived at render time).
+    pub range: Option<f32>,
+    pub position: Vec3,
+    /// Unit direction the light points in (-Z of its node); unused by point lights.
+    pub direction: Vec3,
+}
+
+#[derive(Clone, Debug)]
+pub struct Camera {
+    pub name: String,
+    /// Index of the glTF node that carries the camera.
+    pub node: usize,
+    pub yfov_rad: f32,
+    pub znear: f32,
+    /// `None` for an infinite projection.
+    pub zfar: Option<f32>,
+    /// The file's aspect ratio, if any; the output size decides the rendered aspect.
+    pub aspect_ratio: Option<f32>,
+    pub world_from_view: Mat4,
+}
+
+/// A loaded scene. `ignored` lists what the file had that Chiaro does not use, and why.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    pub source: Option<PathBuf>,
+    pub meshes: Vec<Mesh>,
+    pub instances: Vec<MeshInstance>,
+    pub materials: Vec<Material>,
+    pub images: Vec<Image>,
+    pub lights: Vec<Light>,
+    pub cameras: Vec<Camera>,
+    pub ignored: Vec<String>,
+}
+
+impl Scene {
+    /// World-space bounds of every mesh instance.
+    pub fn bounds(&self) -> Aabb {
+        self.instances.iter().fold(Aabb::EMPTY, |acc, inst| {
+            let local = self.meshes[inst.mesh]
+                .primitives
+                .iter()
+                .fold(Aabb::EMPTY, |b, p| b.union(&p.bounds));
+            acc.union(&local.transformed(&inst.world_from_local))
+        })
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.instances
+            .iter()
+            .flat_map(|inst| &self.meshes[inst.mesh].primitives)
+            .map(Primitive::triangle_count)
+            .sum()
+    }
+
+    /// Finds a camera by name (camera or node name) or by index in `cameras`.
+    pub fn find_camera(&self, key: &str) -> Option<usize> {
+        if let Ok(index) = key.parse::<usize>() {
+            return (index < self.cameras.len()).then_some(index);
+        }
+        self.cameras.iter().position(|c| c.name == key)
+    }
+}

@@ -1,0 +1,132 @@
+//! `chiaro bench`: frames after a warm-up, timed by GPU timestamp queries where the device
+//! has them (wall time otherwise), with the CPU time spent preparing each frame.
+
+use crate::scene_source::{choose_view, load_scene, load_settings};
+use anyhow::Result;
+use chiaro_render::{FrameOptions, GpuContext, Renderer};
+use chiaro_scene::demo::DEMO_OTHER_LIGHTS;
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// A .gltf or .glb file; without one, the built-in demo scene.
+    pub scene: Option<PathBuf>,
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+    /// Timed frames.
+    #[arg(long, default_value_t = 60)]
+    pub frames: u32,
+    /// Untimed frames first (pipelines, caches).
+    #[arg(long, default_value_t = 5)]
+    pub warmup: u32,
+    #[arg(long)]
+    pub camera: Option<String>,
+    #[arg(long)]
+    pub settings: Option<PathBuf>,
+    /// Point and spot lights in the demo scene.
+    #[arg(long, default_value_t = DEMO_OTHER_LIGHTS)]
+    pub demo_lights: usize,
+}
+
+struct Stats {
+    median: f64,
+    min: f64,
+    max: f64,
+}
+
+fn stats(mut v: Vec<f64>) -> Stats {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let median = if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    };
+    Stats {
+        median,
+        min: v[0],
+        max: v[n - 1],
+    }
+}
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
+    let settings = load_settings(args.settings.as_deref())?;
+    let scene = load_scene(args.scene.as_deref(), args.demo_lights)?;
+    let view = choose_view(
+        &scene,
+        args.camera.as_deref(),
+        &settings,
+        args.width,
+        args.height,
+    )?;
+    let mut renderer = Renderer::new(GpuContext::new()?)?;
+    let prepared = renderer.prepare(&scene)?;
+    let options = FrameOptions {
+        aovs: false,
+        readback: false,
+    };
+    for _ in 0..args.warmup {
+        renderer.render(&scene, &prepared, &view, &settings, options)?;
+    }
+    let mut frames = Vec::with_capacity(args.frames as usize);
+    for _ in 0..args.frames {
+        frames.push(renderer.render(&scene, &prepared, &view, &settings, options)?);
+    }
+    let info = &renderer.ctx.adapter_info;
+    let name = args
+        .scene
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|| format!("demo ({} other lights)", args.demo_lights));
+    println!("scene: {name}");
+    println!(
+        "device: {} ({:?}, {:?}); {}x{}; {} frames after {} warm-up; {} triangles; {} point/spot lights shaded",
+        info.name,
+        info.backend,
+        info.device_type,
+        args.width,
+        args.height,
+        args.frames,
+        args.warmup,
+        scene.triangle_count(),
+        frames[0].other_lights_shaded
+    );
+    let mut rows: Vec<(String, Stats)> = Vec::new();
+    if frames[0].timings.gpu_total_ms().is_some() {
+        rows.push((
+            "gpu frame (timestamps)".into(),
+            stats(
+                frames
+                    .iter()
+                    .filter_map(|f| f.timings.gpu_total_ms())
+                    .collect(),
+            ),
+        ));
+        for (i, (pass, _)) in frames[0].timings.gpu_pass_ms.iter().enumerate() {
+            rows.push((
+                format!("  gpu {pass} pass"),
+                stats(frames.iter().map(|f| f.timings.gpu_pass_ms[i].1).collect()),
+            ));
+        }
+    }
+    rows.push((
+        "wall frame (submit to idle)".into(),
+        stats(frames.iter().map(|f| f.timings.wall_ms).collect()),
+    ));
+    rows.push((
+        "cpu prepare".into(),
+        stats(frames.iter().map(|f| f.timings.cpu_prepare_ms).collect()),
+    ));
+    println!("{:<28} {:>10} {:>10} {:>10}", "ms", "median", "min", "max");
+    for (label, s) in rows {
+        println!(
+            "{label:<28} {:>10.3} {:>10.3} {:>10.3}",
+            s.median, s.min, s.max
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,136 @@
+//! `chiaro info`: what a scene file holds, and what was ignored and why.
+
+use anyhow::Result;
+use chiaro_scene::{AlphaMode, LightKind, load_gltf};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct InfoArgs {
+    /// A .gltf or .glb file.
+    pub scene: PathBuf,
+}
+
+pub fn run(args: InfoArgs) -> Result<()> {
+    let scene = load_gltf(&args.scene)?;
+    println!("scene: {}", args.scene.display());
+    println!(
+        "meshes: {} ({} instances, {} triangles drawn)",
+        scene.meshes.len(),
+        scene.instances.len(),
+        scene.triangle_count()
+    );
+    for (i, m) in scene.meshes.iter().enumerate() {
+        let tris: usize = m.primitives.iter().map(|p| p.triangle_count()).sum();
+        println!(
+            "  mesh {i} '{}': {} primitives, {tris} triangles",
+            m.name,
+            m.primitives.len()
+        );
+    }
+    println!("materials: {}", scene.materials.len());
+    for (i, m) in scene.materials.iter().enumerate() {
+        let textures = [
+            m.base_color_texture.is_some(),
+            m.metallic_roughness_texture.is_some(),
+            m.normal_texture.is_some(),
+            m.occlusion_texture.is_some(),
+            m.emissive_texture.is_some(),
+        ]
+        .iter()
+        .filter(|&&t| t)
+        .count();
+        let alpha = match m.alpha_mode {
+            AlphaMode::Opaque => "opaque".to_string(),
+            AlphaMode::Mask => format!("mask {}", m.alpha_cutoff),
+            AlphaMode::Blend => "blend".to_string(),
+        };
+        println!(
+            "  material {i} '{}': base {:.3?}, metallic {}, roughness {}, {textures} textures, {alpha}{}",
+            m.name,
+            m.base_color.to_array(),
+            m.metallic,
+            m.roughness,
+            if m.double_sided { ", double-sided" } else { "" }
+        );
+    }
+    let count = |f: fn(&LightKind) -> bool| scene.lights.iter().filter(|l| f(&l.kind)).count();
+    println!(
+        "lights: {} ({} directional, {} point, {} spot)",
+        scene.lights.len(),
+        count(|k| *k == LightKind::Directional),
+        count(|k| *k == LightKind::Point),
+        count(|k| matches!(k, LightKind::Spot { .. }))
+    );
+    for l in &scene.lights {
+        let range = l
+            .range
+            .map(|r| format!("{r} m"))
+            .unwrap_or_else(|| "none (derived)".into());
+        let color = l.color.to_array();
+        match l.kind {
+            LightKind::Directional => println!(
+                "  node {} '{}': directional, {} lux, color {color:.3?}, direction {:.3?}",
+                l.node,
+                l.name,
+                l.intensity,
+                l.direction.to_array()
+            ),
+            LightKind::Point => println!(
+                "  node {} '{}': point, {} cd, color {color:.3?}, range {range}, position {:.3?}",
+                l.node,
+                l.name,
+                l.intensity,
+                l.position.to_array()
+            ),
+            LightKind::Spot {
+                inner_cone_rad,
+                outer_cone_rad,
+            } => println!(
+                "  node {} '{}': spot, {} cd, color {color:.3?}, range {range}, cone {:.1}..{:.1} deg, position {:.3?}, direction {:.3?}",
+                l.node,
+                l.name,
+                l.intensity,
+                inner_cone_rad.to_degrees(),
+                outer_cone_rad.to_degrees(),
+                l.position.to_array(),
+                l.direction.to_array()
+            ),
+        }
+    }
+    println!("cameras: {}", scene.cameras.len());
+    for (i, c) in scene.cameras.iter().enumerate() {
+        println!(
+            "  camera {i} '{}' (node {}): yfov {:.1} deg, near {}, far {}",
+            c.name,
+            c.node,
+            c.yfov_rad.to_degrees(),
+            c.znear,
+            c.zfar
+                .map(|f| f.to_string())
+                .unwrap_or_else(|| "infinite".into())
+        );
+    }
+    let b = scene.bounds();
+    if b.is_empty() {
+        println!("bounds: empty");
+    } else {
+        println!(
+            "bounds: min {:.3?}, max {:.3?}",
+            b.min.to_array(),
+            b.max.to_array()
+        );
+    }
+    println!(
+        "ignored: {}",
+        if scene.ignored.is_empty() {
+            "nothing"
+        } else {
+            ""
+        }
+    );
+    for reason in &scene.ignored {
+        println!("  {reason}");
+    }
+    Ok(())
+}

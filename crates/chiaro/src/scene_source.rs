@@ -1,0 +1,73 @@
+//! Turns command-line arguments into a scene, settings and a view.
+
+use anyhow::{Context, Result, bail};
+use chiaro_render::View;
+use chiaro_scene::{Scene, Settings, demo::demo_scene, load_gltf};
+use std::path::Path;
+
+pub fn load_settings(path: Option<&Path>) -> Result<Settings> {
+    match path {
+        Some(p) => Ok(Settings::load(p)?),
+        None => Ok(Settings::default()),
+    }
+}
+
+/// The file's scene, or the built-in demo with `demo_lights` point and spot lights.
+pub fn load_scene(path: Option<&Path>, demo_lights: usize) -> Result<Scene> {
+    match path {
+        Some(p) => {
+            let scene = load_gltf(p)?;
+            for reason in &scene.ignored {
+                tracing::info!("{}: ignored {reason}", p.display());
+            }
+            Ok(scene)
+        }
+        None => Ok(demo_scene(demo_lights)),
+    }
+}
+
+pub fn check_size(width: u32, height: u32) -> Result<()> {
+    if width == 0 || height == 0 {
+        bail!("output size {width}x{height} is invalid: width and height must be at least 1");
+    }
+    Ok(())
+}
+
+/// The requested camera (name or index), the scene's first camera, or a framing camera.
+pub fn choose_view(
+    scene: &Scene,
+    camera: Option<&str>,
+    settings: &Settings,
+    width: u32,
+    height: u32,
+) -> Result<View> {
+    check_size(width, height)?;
+    match camera {
+        Some(key) => {
+            let index = scene.find_camera(key).with_context(|| {
+                let names: Vec<String> = scene
+                    .cameras
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| format!("{i}: {}", c.name))
+                    .collect();
+                format!(
+                    "no camera '{key}' in the scene (cameras: {})",
+                    if names.is_empty() {
+                        "none".to_string()
+                    } else {
+                        names.join(", ")
+                    }
+                )
+            })?;
+            Ok(View::from_camera(scene, index, width, height))
+        }
+        None if !scene.cameras.is_empty() => Ok(View::from_camera(scene, 0, width, height)),
+        None => Ok(View::framing(
+            scene,
+            settings.camera.auto_yfov_deg.to_radians(),
+            width,
+            height,
+        )),
+    }
+}
