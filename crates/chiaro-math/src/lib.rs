@@ -4,6 +4,7 @@
 //! and the tests check them without an adapter.
 
 pub mod bounds;
+pub mod brdf;
 pub mod camera;
 pub mod frustum;
 pub mod light;

@@ -82,7 +82,9 @@ pub struct GpuMaterial {
     pub alpha_cutoff: f32,
     pub alpha_mode: u32,
     pub double_sided: u32,
-    pub _pad: [u32; 2],
+    /// Bit 0: the material has a normal texture.
+    pub flags: u32,
+    pub _pad: u32,
     pub base_color_uv: GpuTextureTransform,
     pub metallic_roughness_uv: GpuTextureTransform,
     pub normal_uv: GpuTextureTransform,

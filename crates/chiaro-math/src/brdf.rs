@@ -1,0 +1,96 @@
+//! The glTF metallic-roughness BRDF on the CPU, twin of `shaders/lighting/brdf.wesl`: the
+//! GPU tests predict rendered radiance with it, and the baker will shade with it.
+
+use glam::Vec3;
+use std::f32::consts::PI;
+
+fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
+    let a2 = alpha * alpha;
+    let f = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    a2 / (PI * f * f)
+}
+
+fn v_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
+    let a2 = alpha * alpha;
+    let gv = n_dot_l * (n_dot_v * n_dot_v * (1.0 - a2) + a2).sqrt();
+    let gl = n_dot_v * (n_dot_l * n_dot_l * (1.0 - a2) + a2).sqrt();
+    0.5 / (gv + gl).max(1e-6)
+}
+
+/// BRDF times cos(theta_l) for unit `n`, `v` (towards the eye) and `l` (towards the light).
+/// Roughness is clamped to 0.03 as the shader clamps it.
+pub fn brdf_cos(
+    base_color: Vec3,
+    metallic: f32,
+    roughness: f32,
+    n: Vec3,
+    v: Vec3,
+    l: Vec3,
+) -> Vec3 {
+    let n_dot_l = n.dot(l);
+    if n_dot_l <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let roughness = roughness.clamp(0.03, 1.0);
+    let n_dot_v = n.dot(v).max(1e-4);
+    let h = (l + v).normalize();
+    let n_dot_h = n.dot(h).max(0.0);
+    let v_dot_h = v.dot(h).max(0.0);
+    let alpha = roughness * roughness;
+    let f0 = Vec3::splat(0.04).lerp(base_color, metallic);
+    let f = f0 + (Vec3::ONE - f0) * (1.0 - v_dot_h).powi(5);
+    let diffuse = (Vec3::ONE - f) * (1.0 - metallic) * base_color / PI;
+    let specular = f * d_ggx(n_dot_h, alpha) * v_smith_ggx_correlated(n_dot_v, n_dot_l, alpha);
+    (diffuse + specular) * n_dot_l
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rough_white_dielectric_is_close_to_lambert() {
+        let n = Vec3::Y;
+        let l = Vec3::new(0.3, 1.0, 0.1).normalize();
+        let v = Vec3::new(-0.2, 1.0, 0.4).normalize();
+        let f = brdf_cos(Vec3::ONE, 0.0, 1.0, n, v, l);
+        let lambert = n.dot(l) / PI;
+        assert!((f.x / lambert - 1.0).abs() < 0.1, "{} vs {}", f.x, lambert);
+    }
+
+    #[test]
+    fn no_light_from_below() {
+        assert_eq!(
+            brdf_cos(Vec3::ONE, 0.0, 0.5, Vec3::Y, Vec3::Y, Vec3::NEG_Y),
+            Vec3::ZERO
+        );
+    }
+
+    #[test]
+    fn energy_is_bounded_for_a_white_furnace() {
+        // Integrate brdf_cos over the hemisphere for a fixed view: at most 1 (no gain).
+        let n = Vec3::Y;
+        let v = Vec3::new(0.5, 1.0, 0.0).normalize();
+        for (metallic, roughness) in [(0.0, 1.0), (0.0, 0.3), (1.0, 0.5)] {
+            let mut sum = 0.0;
+            let steps = 200;
+            for i in 0..steps {
+                for j in 0..steps * 2 {
+                    let theta = (i as f32 + 0.5) / steps as f32 * PI / 2.0;
+                    let phi = (j as f32 + 0.5) / (steps * 2) as f32 * 2.0 * PI;
+                    let l = Vec3::new(
+                        theta.sin() * phi.cos(),
+                        theta.cos(),
+                        theta.sin() * phi.sin(),
+                    );
+                    let d_omega = theta.sin() * (PI / 2.0 / steps as f32) * (PI / steps as f32);
+                    sum += brdf_cos(Vec3::ONE, metallic, roughness, n, v, l).x * d_omega;
+                }
+            }
+            assert!(
+                sum <= 1.02 && sum > 0.5,
+                "albedo {sum} for {metallic} {roughness}"
+            );
+        }
+    }
+}

@@ -1,0 +1,112 @@
+//! Shared set-up for the GPU tests: a renderer on whatever adapter is present (the
+//! software Vulkan device in CI) and small lit scenes whose radiance the tests predict.
+//! No adapter is a failure, never a skip.
+
+#![allow(dead_code)]
+
+use chiaro_render::renderer::FrameOutput;
+use chiaro_render::{FrameOptions, GpuContext, Renderer, View};
+use chiaro_scene::{
+    Camera, Light, LightKind, Material, Mesh, MeshInstance, Scene, Settings, shapes,
+};
+use glam::{Mat4, Vec3};
+
+pub fn renderer() -> Renderer {
+    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    Renderer::new(ctx).expect("renderer")
+}
+
+/// Settings with no ambient term, so only the punctual lights contribute.
+pub fn unlit_settings() -> Settings {
+    let mut s = Settings::default();
+    s.render.ambient = [0.0; 3];
+    s
+}
+
+/// A white, fully rough dielectric floor of `size` metres, seen from `eye`.
+pub fn floor_scene(size: f32, eye: Vec3, lights: Vec<Light>) -> Scene {
+    let mut floor = shapes::plane(size, 4);
+    floor.material = Some(0);
+    Scene {
+        meshes: vec![Mesh {
+            name: "floor".into(),
+            primitives: vec![floor],
+        }],
+        instances: vec![MeshInstance {
+            mesh: 0,
+            node: 0,
+            name: "floor".into(),
+            world_from_local: Mat4::IDENTITY,
+        }],
+        materials: vec![Material {
+            name: "white".into(),
+            base_color: glam::Vec4::ONE,
+            metallic: 0.0,
+            roughness: 1.0,
+            ..Material::default()
+        }],
+        lights,
+        cameras: vec![Camera {
+            name: "test".into(),
+            node: 1,
+            yfov_rad: 70f32.to_radians(),
+            znear: 0.05,
+            zfar: None,
+            aspect_ratio: None,
+            world_from_view: Mat4::look_at_rh(eye, Vec3::ZERO, Vec3::Z).inverse(),
+        }],
+        ..Scene::default()
+    }
+}
+
+pub fn point_light(position: Vec3, intensity: f32, range: Option<f32>) -> Light {
+    Light {
+        name: "point".into(),
+        node: 10,
+        kind: LightKind::Point,
+        color: Vec3::ONE,
+        intensity,
+        range,
+        position,
+        direction: Vec3::NEG_Z,
+    }
+}
+
+pub fn render(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    settings: &Settings,
+    size: u32,
+) -> FrameOutput {
+    let view = View::from_camera(scene, 0, size, size);
+    let prepared = renderer.prepare(scene).expect("prepare");
+    renderer
+        .render(
+            scene,
+            &prepared,
+            &view,
+            settings,
+            FrameOptions {
+                aovs: true,
+                readback: true,
+            },
+        )
+        .expect("render")
+}
+
+/// Covered pixels: (index, world position, normal, rendered radiance).
+pub fn surface_pixels(frame: &FrameOutput) -> Vec<(usize, Vec3, Vec3, Vec3)> {
+    let aovs = frame.aovs.as_ref().expect("aovs");
+    (0..frame.hdr.len())
+        .filter(|&i| aovs.position_ws[i][0].is_finite())
+        .map(|i| {
+            let h = frame.hdr[i];
+            (
+                i,
+                Vec3::from(aovs.position_ws[i]),
+                Vec3::from(aovs.normal_ws[i]),
+                Vec3::new(h[0], h[1], h[2]),
+            )
+        })
+        .collect()
+}
