@@ -1,0 +1,91 @@
+//! The demo scene against an image kept in the repository, with NVIDIA's FLIP metric,
+//! which tolerates the small differences between rasterizers but not a changed light.
+//! Set CHIARO_UPDATE_REFERENCE=1 to rewrite the image after an intended change.
+
+mod common;
+
+use chiaro_render::renderer::FrameOutput;
+use chiaro_render::{FrameOptions, View};
+use chiaro_scene::demo::{DEMO_OTHER_LIGHTS, demo_scene};
+use chiaro_scene::{Scene, Settings};
+use common::renderer;
+
+const SIZE: u32 = 256;
+const REFERENCE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/demo_256.png");
+/// Mean FLIP error allowed against the reference; a moved light scores several times this.
+const MAX_MEAN_FLIP: f32 = 0.005;
+
+fn render_rgb(scene: &Scene) -> Vec<u8> {
+    let mut renderer = renderer();
+    let view = View::from_camera(scene, 0, SIZE, SIZE);
+    let prepared = renderer.prepare(scene).unwrap();
+    let frame: FrameOutput = renderer
+        .render(
+            scene,
+            &prepared,
+            &view,
+            &Settings::default(),
+            FrameOptions {
+                aovs: false,
+                readback: true,
+            },
+        )
+        .unwrap();
+    frame
+        .ldr
+        .chunks_exact(4)
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect()
+}
+
+fn mean_flip(reference: &[u8], test: &[u8]) -> f32 {
+    let error = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(SIZE, SIZE, reference),
+        nv_flip::FlipImageRgb8::with_data(SIZE, SIZE, test),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    nv_flip::FlipPool::from_image(&error).mean()
+}
+
+fn reference() -> Vec<u8> {
+    image::open(REFERENCE)
+        .unwrap_or_else(|e| {
+            panic!("{REFERENCE}: {e} (run with CHIARO_UPDATE_REFERENCE=1 to create it)")
+        })
+        .to_rgb8()
+        .into_raw()
+}
+
+#[test]
+fn demo_matches_the_reference_image() {
+    let rendered = render_rgb(&demo_scene(DEMO_OTHER_LIGHTS));
+    if std::env::var_os("CHIARO_UPDATE_REFERENCE").is_some() {
+        image::save_buffer(
+            REFERENCE,
+            &rendered,
+            SIZE,
+            SIZE,
+            image::ExtendedColorType::Rgb8,
+        )
+        .unwrap();
+    }
+    let mean = mean_flip(&reference(), &rendered);
+    eprintln!("mean FLIP against the reference: {mean}");
+    assert!(mean < MAX_MEAN_FLIP, "mean FLIP {mean} against {REFERENCE}");
+}
+
+#[test]
+fn the_metric_notices_a_moved_light() {
+    let mut scene = demo_scene(DEMO_OTHER_LIGHTS);
+    let spot = scene
+        .lights
+        .iter_mut()
+        .find(|l| l.name.starts_with("spot"))
+        .unwrap();
+    spot.position.x += 2.0;
+    let mean = mean_flip(&reference(), &render_rgb(&scene));
+    assert!(
+        mean > MAX_MEAN_FLIP,
+        "moving a spot light scored only {mean}"
+    );
+}

@@ -1,0 +1,84 @@
+//! Every scene in ../shared/assets loads and renders on the GPU: finite radiance, its
+//! lights reach some of what the camera sees, and the AOVs cover the same pixels.
+
+mod common;
+
+use chiaro_render::{FrameOptions, View};
+use chiaro_scene::load_gltf;
+use common::*;
+use std::path::PathBuf;
+
+fn asset_scenes() -> Vec<PathBuf> {
+    let root = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/assets"
+    ));
+    let mut scenes = Vec::new();
+    let mut stack = vec![root.clone()];
+    while let Some(dir) = stack.pop() {
+        let entries = std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+        for entry in entries {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "gltf" || e == "glb") {
+                scenes.push(path);
+            }
+        }
+    }
+    scenes.sort();
+    assert!(
+        scenes.len() >= 6,
+        "expected the six shared scenes under {}, found {scenes:?}",
+        root.display()
+    );
+    scenes
+}
+
+#[test]
+fn every_shared_scene_renders() {
+    let mut renderer = renderer();
+    let settings = unlit_settings();
+    for path in asset_scenes() {
+        let scene = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+        let view = if scene.cameras.is_empty() {
+            View::framing(&scene, 45f32.to_radians(), 128, 128)
+        } else {
+            View::from_camera(&scene, 0, 128, 128)
+        };
+        let prepared = renderer
+            .prepare(&scene)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let frame = renderer
+            .render(
+                &scene,
+                &prepared,
+                &view,
+                &settings,
+                FrameOptions {
+                    aovs: true,
+                    readback: true,
+                },
+            )
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let surfaces = surface_pixels(&frame);
+        assert!(
+            surfaces.len() > 100,
+            "{}: only {} pixels covered",
+            path.display(),
+            surfaces.len()
+        );
+        assert!(
+            frame.hdr.iter().all(|p| p.iter().all(|c| c.is_finite())),
+            "{}: non-finite radiance",
+            path.display()
+        );
+        let lit = surfaces.iter().filter(|s| s.3.max_element() > 0.0).count();
+        assert!(
+            lit * 100 > surfaces.len(),
+            "{}: only {lit} of {} pixels lit",
+            path.display(),
+            surfaces.len()
+        );
+    }
+}

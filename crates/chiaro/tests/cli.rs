@@ -1,0 +1,412 @@
+//! The command line as a user meets it: good renders write what they promise, and every
+//! kind of bad input gets a one-line error naming the file and the problem, a non-zero
+//! exit, no panic, and no half-written output.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A triangle's three positions as a data URI.
+const TRIANGLE_BUFFER: &str =
+    "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIC/";
+
+fn triangle_gltf(
+    nodes: &str,
+    buffer_uri: &str,
+    byte_length: u32,
+    position_accessor: u32,
+) -> String {
+    format!(
+        r#"{{
+  "asset": {{"version": "2.0"}},
+  "scene": 0,
+  "scenes": [{{"nodes": [0]}}],
+  "nodes": {nodes},
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": {position_accessor}}}}}]}}],
+  "buffers": [{{"uri": "{buffer_uri}", "byteLength": {byte_length}}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                  "min": [0, 0, -1], "max": [1, 0, 0]}}]
+}}"#
+    )
+}
+
+fn good_triangle() -> String {
+    triangle_gltf(r#"[{"mesh": 0}]"#, TRIANGLE_BUFFER, 36, 0)
+}
+
+struct Run {
+    code: i32,
+    stderr: String,
+    stdout: String,
+}
+
+fn chiaro(args: &[&str], env: &[(&str, &str)], dir: &Path) -> Run {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_chiaro"));
+    cmd.args(args).current_dir(dir);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let Output {
+        status,
+        stdout,
+        stderr,
+    } = cmd.output().expect("run chiaro");
+    Run {
+        code: status.code().unwrap_or(-1),
+        stderr: String::from_utf8_lossy(&stderr).into_owned(),
+        stdout: String::from_utf8_lossy(&stdout).into_owned(),
+    }
+}
+
+/// The error line, without lavapipe's harmless XDG_RUNTIME_DIR complaints.
+fn error_lines(run: &Run) -> Vec<&str> {
+    run.stderr
+        .lines()
+        .filter(|l| l.starts_with("chiaro: error:"))
+        .collect()
+}
+
+/// Writes `files` into a fresh folder, renders `scene` there, and checks the failure.
+fn expect_failure(
+    files: &[(&str, &[u8])],
+    args: &[&str],
+    env: &[(&str, &str)],
+    must_contain: &[&str],
+) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, content) in files {
+        std::fs::write(dir.path().join(name), content).unwrap();
+    }
+    let run = chiaro(args, env, dir.path());
+    assert_ne!(run.code, 0, "succeeded: {}", run.stderr);
+    assert_ne!(run.code, 101, "panicked: {}", run.stderr);
+    assert!(!run.stderr.contains("panicked"), "panicked: {}", run.stderr);
+    let lines = error_lines(&run);
+    assert_eq!(lines.len(), 1, "one error line expected: {}", run.stderr);
+    for needle in must_contain {
+        assert!(lines[0].contains(needle), "'{}' lacks '{needle}'", lines[0]);
+    }
+    let leftovers: Vec<PathBuf> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            let name = p.file_name().unwrap().to_string_lossy();
+            name.ends_with(".png") || name.ends_with(".exr") || name.ends_with(".tmp")
+        })
+        .collect();
+    assert!(leftovers.is_empty(), "left files behind: {leftovers:?}");
+}
+
+#[test]
+fn missing_file() {
+    expect_failure(
+        &[],
+        &["render", "nowhere.gltf", "-o", "out.png"],
+        &[],
+        &["nowhere.gltf", "cannot read"],
+    );
+}
+
+#[test]
+fn not_gltf() {
+    expect_failure(
+        &[("notes.gltf", b"these are not the droids")],
+        &["render", "notes.gltf", "-o", "out.png"],
+        &[],
+        &["notes.gltf", "not a valid glTF"],
+    );
+}
+
+#[test]
+fn broken_json() {
+    expect_failure(
+        &[(
+            "broken.gltf",
+            br#"{"asset": {"version": "2.0"}, "nodes": [ "#,
+        )],
+        &["render", "broken.gltf", "-o", "out.png"],
+        &[],
+        &["broken.gltf"],
+    );
+}
+
+#[test]
+fn missing_buffer() {
+    let gltf = triangle_gltf(r#"[{"mesh": 0}]"#, "missing.bin", 36, 0);
+    expect_failure(
+        &[("scene.gltf", gltf.as_bytes())],
+        &["render", "scene.gltf", "-o", "out.png"],
+        &[],
+        &["scene.gltf", "missing.bin"],
+    );
+}
+
+#[test]
+fn short_buffer() {
+    let gltf = triangle_gltf(r#"[{"mesh": 0}]"#, TRIANGLE_BUFFER, 400, 0);
+    expect_failure(
+        &[("short.gltf", gltf.as_bytes())],
+        &["render", "short.gltf", "-o", "out.png"],
+        &[],
+        &["short.gltf", "buffer"],
+    );
+}
+
+#[test]
+fn accessor_index_out_of_range() {
+    let gltf = triangle_gltf(r#"[{"mesh": 0}]"#, TRIANGLE_BUFFER, 36, 7);
+    expect_failure(
+        &[("accessor.gltf", gltf.as_bytes())],
+        &["render", "accessor.gltf", "-o", "out.png"],
+        &[],
+        &["accessor.gltf"],
+    );
+}
+
+#[test]
+fn unsupported_image_format() {
+    let gltf = good_triangle()
+        .replace(r#""POSITION": 0}"#, r#""POSITION": 0}, "material": 0"#)
+        .replace(
+            r#""asset": {"version": "2.0"},"#,
+            r#""asset": {"version": "2.0"},
+  "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+  "textures": [{"source": 0}],
+  "images": [{"uri": "texture.gif"}],"#,
+        );
+    expect_failure(
+        &[
+            ("textured.gltf", gltf.as_bytes()),
+            ("texture.gif", b"GIF89a\x01\x00\x01\x00\x00\x00\x00;"),
+        ],
+        &["render", "textured.gltf", "-o", "out.png"],
+        &[],
+        &["textured.gltf", "image"],
+    );
+}
+
+#[test]
+fn non_finite_transform() {
+    let nodes = r#"[{"children": [1], "scale": [1e38, 1e38, 1e38]}, {"mesh": 0, "scale": [1e38, 1e38, 1e38]}]"#;
+    let gltf = triangle_gltf(nodes, TRIANGLE_BUFFER, 36, 0);
+    expect_failure(
+        &[("huge.gltf", gltf.as_bytes())],
+        &["render", "huge.gltf", "-o", "out.png"],
+        &[],
+        &["huge.gltf", "finite"],
+    );
+}
+
+#[test]
+fn unsupported_required_extension() {
+    let gltf = good_triangle().replacen('{', r#"{"extensionsRequired": ["KHR_draco_mesh_compression"], "extensionsUsed": ["KHR_draco_mesh_compression"],"#, 1);
+    expect_failure(
+        &[("draco.gltf", gltf.as_bytes())],
+        &["render", "draco.gltf", "-o", "out.png"],
+        &[],
+        &["draco.gltf", "KHR_draco_mesh_compression"],
+    );
+}
+
+#[test]
+fn zero_size_output() {
+    expect_failure(
+        &[],
+        &["render", "--width", "0", "-o", "out.png"],
+        &[],
+        &["0x720", "at least 1"],
+    );
+}
+
+#[test]
+fn absurd_output_size() {
+    expect_failure(
+        &[],
+        &[
+            "render", "--width", "4000000", "--height", "4", "-o", "out.png",
+        ],
+        &[],
+        &["4000000x4"],
+    );
+}
+
+#[test]
+fn unsupported_output_format() {
+    expect_failure(&[], &["render", "-o", "out.jpg"], &[], &["out.jpg", ".jpg"]);
+}
+
+#[test]
+fn unknown_settings_key() {
+    expect_failure(
+        &[("settings.toml", b"[render]\nexposure = 3\n")],
+        &["render", "--settings", "settings.toml", "-o", "out.png"],
+        &[],
+        &["settings.toml", "exposure"],
+    );
+}
+
+#[test]
+fn out_of_range_setting() {
+    expect_failure(
+        &[("settings.toml", b"[lights]\nmax_other_lights = 1000\n")],
+        &["render", "--settings", "settings.toml", "-o", "out.png"],
+        &[],
+        &["settings.toml", "lights.max_other_lights"],
+    );
+}
+
+#[test]
+fn unknown_camera() {
+    expect_failure(
+        &[],
+        &["render", "--camera", "nosuch", "-o", "out.png"],
+        &[],
+        &["nosuch", "demo camera"],
+    );
+}
+
+#[test]
+fn no_gpu_adapter() {
+    expect_failure(
+        &[],
+        &["render", "-o", "out.png"],
+        &[
+            ("VK_ICD_FILENAMES", "/nonexistent/icd.json"),
+            ("VK_DRIVER_FILES", "/nonexistent/icd.json"),
+        ],
+        &["no GPU adapter", "mesa-vulkan-drivers"],
+    );
+}
+
+fn read_exr_channels(path: &Path) -> Vec<(String, Vec<f32>)> {
+    use exr::prelude::*;
+    let image = read_all_flat_layers_from_file(path).unwrap();
+    let layer = &image.layer_data[0];
+    layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect()))
+        .collect()
+}
+
+#[test]
+fn demo_render_writes_png_and_aovs() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = chiaro(
+        &[
+            "render", "--width", "96", "--height", "64", "-o", "demo.png", "--aov", "position",
+            "--aov", "normal", "--aov", "depth",
+        ],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let png = image::open(dir.path().join("demo.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (96, 64));
+    let position = read_exr_channels(&dir.path().join("demo.position.exr"));
+    let normal = read_exr_channels(&dir.path().join("demo.normal.exr"));
+    let depth = read_exr_channels(&dir.path().join("demo.depth.exr"));
+    assert_eq!(position.len(), 3);
+    assert_eq!(normal.len(), 3);
+    assert_eq!(depth.len(), 1, "depth has one channel");
+    let z = &depth[0].1;
+    assert_eq!(z.len(), 96 * 64);
+    // The demo camera sees sky at the top and the floor at the bottom.
+    assert!(!z[0].is_finite(), "top-left is sky");
+    assert!(
+        z[z.len() - 1].is_finite() && z[z.len() - 1] > 0.0,
+        "bottom row is floor"
+    );
+    let sky = position[0].1.iter().filter(|v| !v.is_finite()).count();
+    assert!(sky > 0 && sky < 96 * 64);
+    // Normals of covered pixels are unit length.
+    for i in 0..96 * 64 {
+        if z[i].is_finite() {
+            let n = [normal[0].1[i], normal[1].1[i], normal[2].1[i]];
+            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            assert!((len - 1.0).abs() < 1e-3, "normal length {len}");
+        }
+    }
+}
+
+#[test]
+fn exr_output_is_linear_radiance() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = chiaro(
+        &[
+            "render", "--width", "64", "--height", "48", "-o", "demo.exr",
+        ],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let channels = read_exr_channels(&dir.path().join("demo.exr"));
+    assert_eq!(channels.len(), 3);
+    assert!(
+        channels
+            .iter()
+            .all(|(_, v)| v.iter().all(|x| x.is_finite() && *x >= 0.0))
+    );
+    assert!(
+        channels[0].1.iter().any(|&x| x > 0.05),
+        "some pixels are lit"
+    );
+}
+
+#[test]
+fn info_lists_lights_and_cameras() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tri.gltf"), good_triangle()).unwrap();
+    let run = chiaro(&["info", "tri.gltf"], &[], dir.path());
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stdout.contains("1 triangles drawn"), "{}", run.stdout);
+    assert!(run.stdout.contains("lights: 0"), "{}", run.stdout);
+    assert!(run.stdout.contains("bounds: min"), "{}", run.stdout);
+}
+
+#[test]
+fn triangle_without_camera_is_framed_and_rendered() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tri.gltf"), good_triangle()).unwrap();
+    let run = chiaro(
+        &[
+            "render", "tri.gltf", "--width", "32", "--height", "32", "-o", "tri.png",
+        ],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(dir.path().join("tri.png").exists());
+}
+
+#[test]
+fn bench_prints_a_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = chiaro(
+        &[
+            "bench",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--frames",
+            "3",
+            "--warmup",
+            "1",
+            "--demo-lights",
+            "4",
+        ],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    for row in [
+        "median",
+        "wall frame",
+        "cpu prepare",
+        "4 point/spot lights shaded",
+    ] {
+        assert!(run.stdout.contains(row), "missing '{row}': {}", run.stdout);
+    }
+}

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Installs what Chiaro needs on a fresh Debian/Ubuntu machine: a C/C++ toolchain (the
+# FLIP image metric in the tests builds C++), the Vulkan loader, and Mesa's software
+# Vulkan driver (lavapipe) when no Vulkan driver is present. Rust comes from rustup.
+set -euo pipefail
+
+as_root() {
+    if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
+}
+
+have_vulkan_driver() {
+    ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1 &&
+        ldconfig -p 2>/dev/null | grep -q 'libvulkan.so.1'
+}
+
+packages=()
+command -v cc >/dev/null 2>&1 && command -v c++ >/dev/null 2>&1 || packages+=(build-essential)
+command -v pkg-config >/dev/null 2>&1 || packages+=(pkg-config)
+have_vulkan_driver || packages+=(libvulkan1 mesa-vulkan-drivers)
+command -v curl >/dev/null 2>&1 || packages+=(curl ca-certificates)
+
+if [ ${#packages[@]} -gt 0 ]; then
+    if command -v apt-get >/dev/null 2>&1; then
+        echo "setup: installing ${packages[*]}"
+        as_root apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq "${packages[@]}" >/dev/null
+    else
+        echo "setup: please install: ${packages[*]} (no apt-get here)" >&2
+        exit 1
+    fi
+fi
+
+if ! command -v cargo >/dev/null 2>&1; then
+    if [ -x "$HOME/.cargo/bin/cargo" ]; then
+        export PATH="$HOME/.cargo/bin:$PATH"
+    else
+        echo "setup: installing Rust with rustup"
+        curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal
+        export PATH="$HOME/.cargo/bin:$PATH"
+    fi
+fi
