@@ -159,7 +159,7 @@ mod tests {
         let (out, w, h) = downsample(&rgba, 2, 2);
         assert_eq!((w, h), (1, 1));
         assert_eq!(out[0], 139); // (0 + 100 + 200 + 255 + 2) / 4
-        let (out, w, h) = downsample(&[7; 3 * 1 * 4], 3, 1);
+        let (out, w, h) = downsample(&[7; 12], 3, 1);
         assert_eq!((w, h), (1, 1));
         assert_eq!(out, vec![7; 4]);
     }

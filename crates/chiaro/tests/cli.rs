@@ -321,8 +321,8 @@ fn demo_render_writes_png_and_aovs() {
     let sky = position[0].1.iter().filter(|v| !v.is_finite()).count();
     assert!(sky > 0 && sky < 96 * 64);
     // Normals of covered pixels are unit length.
-    for i in 0..96 * 64 {
-        if z[i].is_finite() {
+    for (i, depth) in z.iter().enumerate() {
+        if depth.is_finite() {
             let n = [normal[0].1[i], normal[1].1[i], normal[2].1[i]];
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
             assert!((len - 1.0).abs() < 1e-3, "normal length {len}");
