@@ -1,0 +1,124 @@
+//! The shadow atlas: a square depth texture split into 1, 2 or 4 tiles per side, and the
+//! matrix that takes a tile's clip space to atlas texture coordinates.
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+/// How many tiles a side, and how big each is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AtlasLayout {
+    pub atlas_size: u32,
+    /// Tiles per side: 1, 2 or 4.
+    pub split: u32,
+}
+
+impl AtlasLayout {
+    /// The tutorial's uniform layout: the fewest tiles per side that hold `tiles`
+    /// (1 -> 1, 2..4 -> 2, 5..16 -> 4).
+    pub fn for_tiles(atlas_size: u32, tiles: usize) -> AtlasLayout {
+        let split = match tiles {
+            0 | 1 => 1,
+            2..=4 => 2,
+            _ => 4,
+        };
+        AtlasLayout { atlas_size, split }
+    }
+
+    pub fn tile_size(&self) -> u32 {
+        self.atlas_size / self.split
+    }
+
+    pub fn capacity(&self) -> usize {
+        (self.split * self.split) as usize
+    }
+
+    /// Tile position in tiles, row-major from the top-left.
+    pub fn tile_offset(&self, index: usize) -> (u32, u32) {
+        let i = index as u32;
+        (i % self.split, i / self.split)
+    }
+
+    /// The tile's viewport in texels: (x, y, size).
+    pub fn tile_viewport(&self, index: usize) -> (u32, u32, u32) {
+        let (x, y) = self.tile_offset(index);
+        let s = self.tile_size();
+        (x * s, y * s, s)
+    }
+
+    /// Atlas-from-clip for a tile: clip x, y in [-1, 1] (y up) map to the tile's texture
+    /// coordinates (v down), depth passes through.
+    pub fn atlas_from_clip(&self, index: usize) -> Mat4 {
+        let (x, y) = self.tile_offset(index);
+        let scale = 1.0 / self.split as f32;
+        let offset = Vec2::new(x as f32, y as f32) * scale;
+        Mat4::from_cols(
+            Vec4::new(0.5 * scale, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, -0.5 * scale, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, 1.0, 0.0),
+            Vec3::new(0.5 * scale + offset.x, 0.5 * scale + offset.y, 0.0).extend(1.0),
+        )
+    }
+
+    /// The tile's bounds in atlas texture coordinates shrunk by half a texel, so that
+    /// clamped samples never read a neighbouring tile: (min, max).
+    pub fn tile_bounds_uv(&self, index: usize) -> (Vec2, Vec2) {
+        let (x, y, s) = self.tile_viewport(index);
+        let half_texel = 0.5;
+        let to_uv = 1.0 / self.atlas_size as f32;
+        (
+            Vec2::new(x as f32 + half_texel, y as f32 + half_texel) * to_uv,
+            Vec2::new((x + s) as f32 - half_texel, (y + s) as f32 - half_texel) * to_uv,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn layouts_follow_the_tutorial() {
+        assert_eq!(AtlasLayout::for_tiles(2048, 1).split, 1);
+        assert_eq!(AtlasLayout::for_tiles(2048, 3).split, 2);
+        assert_eq!(AtlasLayout::for_tiles(2048, 4).split, 2);
+        assert_eq!(AtlasLayout::for_tiles(2048, 5).split, 4);
+        assert_eq!(AtlasLayout::for_tiles(2048, 16).split, 4);
+        assert_eq!(AtlasLayout::for_tiles(2048, 16).tile_size(), 512);
+    }
+
+    #[test]
+    fn tiles_are_disjoint_and_inside_the_atlas() {
+        for split_tiles in [1, 4, 16] {
+            let layout = AtlasLayout::for_tiles(1024, split_tiles);
+            let mut seen = std::collections::HashSet::new();
+            for i in 0..layout.capacity() {
+                let (x, y, s) = layout.tile_viewport(i);
+                assert!(x + s <= 1024 && y + s <= 1024);
+                assert!(seen.insert((x, y)));
+            }
+        }
+    }
+
+    #[test]
+    fn atlas_matrix_maps_clip_corners_to_the_tile() {
+        let layout = AtlasLayout::for_tiles(2048, 16);
+        for i in 0..16 {
+            let m = layout.atlas_from_clip(i);
+            let (x, y, s) = layout.tile_viewport(i);
+            let top_left = m.transform_point3(Vec3::new(-1.0, 1.0, 0.25));
+            let bottom_right = m.transform_point3(Vec3::new(1.0, -1.0, 0.75));
+            assert!((top_left.x * 2048.0 - x as f32).abs() < 1e-3);
+            assert!((top_left.y * 2048.0 - y as f32).abs() < 1e-3);
+            assert!((bottom_right.x * 2048.0 - (x + s) as f32).abs() < 1e-3);
+            assert!((bottom_right.y * 2048.0 - (y + s) as f32).abs() < 1e-3);
+            assert_eq!((top_left.z, bottom_right.z), (0.25, 0.75));
+        }
+    }
+
+    #[test]
+    fn clamping_bounds_stay_half_a_texel_inside() {
+        let layout = AtlasLayout::for_tiles(1024, 4);
+        let (min, max) = layout.tile_bounds_uv(3);
+        assert!((min.x * 1024.0 - 512.5).abs() < 1e-3 && (max.x * 1024.0 - 1023.5).abs() < 1e-3);
+        assert!((min.y * 1024.0 - 512.5).abs() < 1e-3 && (max.y * 1024.0 - 1023.5).abs() < 1e-3);
+    }
+}
