@@ -1,0 +1,310 @@
+//! Buffers in (the GLB BIN chunk or URIs), typed elements out: buffer views and accessors
+//! are read with every offset, stride and count checked before a byte is touched, sparse
+//! substitution applied, integer components converted to floats as KHR_mesh_quantization
+//! and glTF's normalized-integer rules say, and indices widened to `u32`.
+
+use super::{Loader, object_label, uri};
+use crate::error::SceneError;
+use gltf::json;
+use json::accessor::ComponentType;
+use json::validation::Checked;
+use std::borrow::Cow;
+
+/// Accessors with more elements than this are rejected before anything is allocated:
+/// 67 million vertices in one primitive is far past what a real-time scene draws.
+const MAX_ACCESSOR_COUNT: usize = 1 << 26;
+
+impl<'a> Loader<'a> {
+    pub(super) fn load_buffers(
+        &self,
+        bin: Option<&'a [u8]>,
+    ) -> Result<Vec<Cow<'a, [u8]>>, SceneError> {
+        let mut buffers = Vec::with_capacity(self.root.buffers.len());
+        for (index, buffer) in self.root.buffers.iter().enumerate() {
+            let label = object_label("buffer", index, buffer.uri.as_deref(), None);
+            let data: Cow<'a, [u8]> = match &buffer.uri {
+                None => Cow::Borrowed(bin.ok_or_else(|| {
+                    self.invalid(format!(
+                        "{label} has no uri and the file has no binary chunk"
+                    ))
+                })?),
+                Some(uri) => Cow::Owned(
+                    uri::read_uri(self.base_dir, uri)
+                        .map_err(|e| self.invalid(format!("{label}: {e}")))?
+                        .bytes,
+                ),
+            };
+            let declared = buffer.byte_length.0;
+            if (data.len() as u64) < declared {
+                return Err(self.invalid(format!(
+                    "{label} is {} bytes but the file says {declared}",
+                    data.len()
+                )));
+            }
+            buffers.push(data);
+        }
+        Ok(buffers)
+    }
+
+    /// The bytes of a buffer view and its stride, checked to lie inside its buffer.
+    pub(super) fn view_bytes(
+        &self,
+        view_index: usize,
+    ) -> Result<(&[u8], Option<usize>), SceneError> {
+        let view = &self.root.buffer_views[view_index];
+        let buffer = &self.buffers[view.buffer.value()];
+        let offset = view.byte_offset.map_or(0, |o| o.0);
+        let length = view.byte_length.0;
+        let end = offset.checked_add(length);
+        match end {
+            Some(end) if end <= buffer.len() as u64 => {
+                let stride = view.byte_stride.map(|s| s.0);
+                Ok((&buffer[offset as usize..end as usize], stride))
+            }
+            _ => Err(self.invalid(format!(
+                "buffer view {view_index} (bytes {offset}..{}) runs past the end of buffer {} \
+                 ({} bytes)",
+                offset.saturating_add(length),
+                view.buffer.value(),
+                buffer.len()
+            ))),
+        }
+    }
+
+    /// Gathers an accessor's elements into tightly packed bytes, sparse substitution
+    /// applied. Every offset is checked against its buffer view before any byte is read.
+    fn read_packed(&self, index: usize, dims: usize, what: &str) -> Result<Packed, SceneError> {
+        use json::accessor::Type;
+        debug_assert!((1..=4).contains(&dims));
+        let accessor = &self.root.accessors[index];
+        let label = format!("accessor {index} ({what})");
+        let (Checked::Valid(component), Checked::Valid(ty)) =
+            (accessor.component_type, accessor.type_)
+        else {
+            return Err(self.invalid(format!("{label} has an invalid type")));
+        };
+        let component = component.0;
+        let expected = [Type::Scalar, Type::Vec2, Type::Vec3, Type::Vec4][dims - 1];
+        if ty != expected {
+            return Err(self.invalid(format!(
+                "{label} is {}, expected {}",
+                type_name(ty),
+                type_name(expected)
+            )));
+        }
+        let count = usize::try_from(accessor.count.0)
+            .ok()
+            .filter(|&c| c <= MAX_ACCESSOR_COUNT)
+            .ok_or_else(|| {
+                self.invalid(format!(
+                    "{label} has {} elements, more than Chiaro reads ({MAX_ACCESSOR_COUNT})",
+                    accessor.count.0
+                ))
+            })?;
+        let element_size = dims * component.size();
+        let mut bytes = Vec::new();
+
+        if let Some(view_index) = accessor.buffer_view {
+            let (view, stride) = self.view_bytes(view_index.value())?;
+            let stride = stride.unwrap_or(element_size);
+            let offset = accessor.byte_offset.map_or(0, |o| o.0);
+            let end = if count == 0 {
+                Some(offset)
+            } else {
+                ((count - 1) as u64)
+                    .checked_mul(stride as u64)
+                    .and_then(|x| x.checked_add(offset))
+                    .and_then(|x| x.checked_add(element_size as u64))
+            };
+            match end {
+                Some(end) if end <= view.len() as u64 => {}
+                _ => {
+                    return Err(self.invalid(format!(
+                        "{label} reads {count} elements of {element_size} bytes every {stride} \
+                         from byte {offset}, past the end of buffer view {} ({} bytes)",
+                        view_index.value(),
+                        view.len()
+                    )));
+                }
+            }
+            let offset = offset as usize;
+            bytes.reserve_exact(count * element_size);
+            for i in 0..count {
+                let start = offset + i * stride;
+                bytes.extend_from_slice(&view[start..start + element_size]);
+            }
+        } else {
+            bytes.resize(count * element_size, 0);
+        }
+
+        if let Some(sparse) = &accessor.sparse {
+            let n = sparse.count.0;
+            if n > count as u64 {
+                return Err(self.invalid(format!(
+                    "{label} replaces {n} sparse elements but has only {count}"
+                )));
+            }
+            let n = n as usize;
+            let Checked::Valid(index_type) = sparse.indices.component_type else {
+                return Err(self.invalid(format!("{label} has invalid sparse indices")));
+            };
+            let index_type = index_type.0;
+            let indices = self.sparse_slice(
+                sparse.indices.buffer_view.value(),
+                sparse.indices.byte_offset.0,
+                n * index_type.size(),
+                &label,
+            )?;
+            let values = self.sparse_slice(
+                sparse.values.buffer_view.value(),
+                sparse.values.byte_offset.0,
+                n * element_size,
+                &label,
+            )?;
+            for k in 0..n {
+                let target = read_index(index_type, &indices[k * index_type.size()..])
+                    .filter(|&t| (t as usize) < count)
+                    .ok_or_else(|| {
+                        self.invalid(format!("{label} has a sparse index out of range"))
+                    })? as usize;
+                bytes[target * element_size..(target + 1) * element_size]
+                    .copy_from_slice(&values[k * element_size..(k + 1) * element_size]);
+            }
+        }
+
+        Ok(Packed {
+            component,
+            normalized: accessor.normalized,
+            dims,
+            bytes,
+        })
+    }
+
+    fn sparse_slice(
+        &self,
+        view_index: usize,
+        offset: u64,
+        length: usize,
+        label: &str,
+    ) -> Result<&[u8], SceneError> {
+        let (view, _) = self.view_bytes(view_index)?;
+        offset
+            .checked_add(length as u64)
+            .filter(|&end| end <= view.len() as u64)
+            .map(|end| &view[offset as usize..end as usize])
+            .ok_or_else(|| {
+                self.invalid(format!(
+                    "{label}: sparse data runs past the end of buffer view {view_index}"
+                ))
+            })
+    }
+
+    /// Float elements of `N` components, integer formats converted as
+    /// KHR_mesh_quantization and glTF's normalized-integer rules say.
+    pub(super) fn read_floats<const N: usize>(
+        &self,
+        index: usize,
+        what: &str,
+    ) -> Result<Vec<[f32; N]>, SceneError> {
+        let packed = self.read_packed(index, N, what)?;
+        let size = packed.component.size();
+        Ok(packed
+            .bytes
+            .chunks_exact(packed.dims * size)
+            .map(|element| {
+                std::array::from_fn(|c| {
+                    component_to_f32(packed.component, packed.normalized, &element[c * size..])
+                })
+            })
+            .collect())
+    }
+
+    pub(super) fn read_indices(&self, index: usize, what: &str) -> Result<Vec<u32>, SceneError> {
+        let packed = self.read_packed(index, 1, what)?;
+        if !matches!(
+            packed.component,
+            ComponentType::U8 | ComponentType::U16 | ComponentType::U32
+        ) {
+            return Err(self.invalid(format!(
+                "accessor {index} ({what}) has component type {:?}; indices must be unsigned \
+                 integers",
+                packed.component
+            )));
+        }
+        let size = packed.component.size();
+        Ok(packed
+            .bytes
+            .chunks_exact(size)
+            .filter_map(|b| read_index(packed.component, b))
+            .collect())
+    }
+}
+
+struct Packed {
+    component: ComponentType,
+    normalized: bool,
+    dims: usize,
+    bytes: Vec<u8>,
+}
+
+/// One component as a float. Normalized integers map to [0, 1] or [-1, 1] (glTF 2.0
+/// §3.11: signed values use `max(c / 127, -1)`, so -128 and -127 both give -1).
+fn component_to_f32(component: ComponentType, normalized: bool, b: &[u8]) -> f32 {
+    match component {
+        ComponentType::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+        ComponentType::U8 => {
+            let v = f32::from(b[0]);
+            if normalized { v / 255.0 } else { v }
+        }
+        ComponentType::I8 => {
+            let v = f32::from(b[0] as i8);
+            if normalized { (v / 127.0).max(-1.0) } else { v }
+        }
+        ComponentType::U16 => {
+            let v = f32::from(u16::from_le_bytes([b[0], b[1]]));
+            if normalized { v / 65535.0 } else { v }
+        }
+        ComponentType::I16 => {
+            let v = f32::from(i16::from_le_bytes([b[0], b[1]]));
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
+        }
+        ComponentType::U32 => {
+            let v = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+            if normalized {
+                (f64::from(v) / f64::from(u32::MAX)) as f32
+            } else {
+                v as f32
+            }
+        }
+    }
+}
+
+fn type_name(ty: json::accessor::Type) -> &'static str {
+    use json::accessor::Type;
+    match ty {
+        Type::Scalar => "SCALAR",
+        Type::Vec2 => "VEC2",
+        Type::Vec3 => "VEC3",
+        Type::Vec4 => "VEC4",
+        Type::Mat2 => "MAT2",
+        Type::Mat3 => "MAT3",
+        Type::Mat4 => "MAT4",
+    }
+}
+
+fn read_index(component: ComponentType, b: &[u8]) -> Option<u32> {
+    match component {
+        ComponentType::U8 => b.first().map(|&v| u32::from(v)),
+        ComponentType::U16 => b
+            .get(..2)
+            .map(|b| u32::from(u16::from_le_bytes([b[0], b[1]]))),
+        ComponentType::U32 => b
+            .get(..4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+        _ => None,
+    }
+}

@@ -1,0 +1,103 @@
+//! The colour space each glTF image is used in flows in, decoded RGBA8 [`Image`]s out:
+//! only images some material uses are decoded, each once (sRGB if it is colour anywhere),
+//! and the materials' texture references are renumbered into `Scene::images`. PNG and
+//! JPEG are read, from a buffer view or a URI; anything else names the image.
+
+use super::{Loader, object_label, uri};
+use crate::error::SceneError;
+use crate::types::{ColorSpace, Image, Material};
+use std::borrow::Cow;
+
+impl Loader<'_> {
+    /// Decodes each image a material uses, once, and points the materials' texture
+    /// references at `Scene::images`. An image used as colour anywhere is sRGB.
+    pub(super) fn decode_images(
+        &self,
+        uses: &[Option<ColorSpace>],
+        materials: &mut [Material],
+    ) -> Result<Vec<Image>, SceneError> {
+        let mut images = Vec::new();
+        let mut scene_index = vec![usize::MAX; uses.len()];
+        for (index, color_space) in uses.iter().enumerate() {
+            if let Some(color_space) = color_space {
+                scene_index[index] = images.len();
+                images.push(self.decode_image(index, *color_space)?);
+            }
+        }
+        for material in materials {
+            for texture in [
+                &mut material.base_color_texture,
+                &mut material.metallic_roughness_texture,
+                &mut material.normal_texture,
+                &mut material.occlusion_texture,
+                &mut material.emissive_texture,
+            ]
+            .into_iter()
+            .flatten()
+            {
+                texture.image = scene_index[texture.image];
+                debug_assert!(texture.image < images.len());
+            }
+        }
+        Ok(images)
+    }
+
+    fn decode_image(&self, index: usize, color_space: ColorSpace) -> Result<Image, SceneError> {
+        let image = &self.root.images[index];
+        let label = object_label("image", index, image.uri.as_deref(), image.name.as_deref());
+        let (bytes, mime): (Cow<[u8]>, Option<String>) = match (&image.buffer_view, &image.uri) {
+            (Some(view), _) => (
+                Cow::Borrowed(self.view_bytes(view.value())?.0),
+                image.mime_type.as_ref().map(|m| m.0.to_ascii_lowercase()),
+            ),
+            (None, Some(uri)) => {
+                let data = uri::read_uri(self.base_dir, uri)
+                    .map_err(|e| self.invalid(format!("{label}: {e}")))?;
+                let mime = image
+                    .mime_type
+                    .as_ref()
+                    .map(|m| m.0.to_ascii_lowercase())
+                    .or(data.mime.filter(|m| m.starts_with("image/")));
+                (Cow::Owned(data.bytes), mime)
+            }
+            (None, None) => {
+                return Err(self.invalid(format!("{label} has neither a uri nor a bufferView")));
+            }
+        };
+        if let Some(mime) = mime.as_deref()
+            && !matches!(mime, "image/png" | "image/jpeg" | "image/jpg")
+        {
+            return Err(self.invalid(format!(
+                "{label}: unsupported image format {mime}; Chiaro reads PNG and JPEG"
+            )));
+        }
+        let format = match image::guess_format(&bytes) {
+            Ok(format @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => format,
+            Ok(other) => {
+                return Err(self.invalid(format!(
+                    "{label}: unsupported image format ({other:?}); Chiaro reads PNG and JPEG"
+                )));
+            }
+            Err(_) => {
+                return Err(self.invalid(format!(
+                    "{label}: unsupported image format; Chiaro reads PNG and JPEG"
+                )));
+            }
+        };
+        let decoded = image::load_from_memory_with_format(&bytes, format)
+            .map_err(|e| self.invalid(format!("{label}: cannot decode: {e}")))?;
+        let rgba = decoded.into_rgba8();
+        let name = image
+            .name
+            .clone()
+            .or_else(|| image.uri.clone().filter(|u| !u.starts_with("data:")))
+            .unwrap_or_else(|| format!("image {index}"));
+        Ok(Image {
+            name,
+            width: rgba.width(),
+            height: rgba.height(),
+            rgba8: rgba.into_raw(),
+            color_space,
+        })
+    }
+}

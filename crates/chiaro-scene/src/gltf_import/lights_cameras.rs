@@ -1,0 +1,189 @@
+//! A node's [`Placement`] in, the KHR_lights_punctual [`Light`] and perspective [`Camera`]
+//! it carries out, in world space. Colours, intensities, ranges, cone angles and
+//! projection parameters are checked; orthographic cameras are noted as ignored.
+
+use super::Loader;
+use super::nodes::Placement;
+use super::object_label;
+use crate::error::SceneError;
+use crate::types::{Camera, Light, LightKind};
+use glam::{Mat4, Vec3};
+use gltf::json;
+use json::validation::Checked;
+
+impl Loader<'_> {
+    pub(super) fn light(&self, placement: &Placement) -> Result<Option<Light>, SceneError> {
+        use json::extensions::scene::khr_lights_punctual::Type;
+
+        let node = &self.root.nodes[placement.node];
+        let Some(light_index) = node
+            .extensions
+            .as_ref()
+            .and_then(|e| e.khr_lights_punctual.as_ref())
+            .map(|l| l.light.value())
+        else {
+            return Ok(None);
+        };
+        let Some(light) = self
+            .root
+            .extensions
+            .as_ref()
+            .and_then(|e| e.khr_lights_punctual.as_ref())
+            .and_then(|l| l.lights.get(light_index))
+        else {
+            return Err(self.invalid(format!(
+                "node {}: light {light_index} is out of range",
+                placement.node
+            )));
+        };
+        let label = object_label("light", light_index, None, light.name.as_deref());
+        let color = Vec3::from_array(light.color);
+        if !color.is_finite() || color.min_element() < 0.0 {
+            return Err(self.invalid(format!(
+                "{label}: colour {color} is not a linear RGB colour"
+            )));
+        }
+        if !light.intensity.is_finite() || light.intensity < 0.0 {
+            return Err(self.invalid(format!(
+                "{label}: intensity {} is negative or not finite",
+                light.intensity
+            )));
+        }
+        if let Some(range) = light.range
+            && !(range.is_finite() && range > 0.0)
+        {
+            return Err(self.invalid(format!("{label}: range {range} is not positive")));
+        }
+        let kind = match (light.type_, &light.spot) {
+            (Checked::Valid(Type::Directional), _) => LightKind::Directional,
+            (Checked::Valid(Type::Point), _) => LightKind::Point,
+            (Checked::Valid(Type::Spot), Some(spot)) => {
+                let (inner, outer) = spot_cone(spot.inner_cone_angle, spot.outer_cone_angle)
+                    .ok_or_else(|| {
+                        self.invalid(format!(
+                            "{label}: spot cone angles must satisfy 0 <= inner ({}) < outer \
+                             ({}) <= pi/2",
+                            spot.inner_cone_angle, spot.outer_cone_angle
+                        ))
+                    })?;
+                LightKind::Spot {
+                    inner_cone_rad: inner,
+                    outer_cone_rad: outer,
+                }
+            }
+            _ => return Err(self.invalid(format!("{label}: invalid light type"))),
+        };
+        let world = placement.world_from_local;
+        Ok(Some(Light {
+            name: light
+                .name
+                .clone()
+                .or_else(|| node.name.clone())
+                .unwrap_or_else(|| format!("light {light_index}")),
+            node: placement.node,
+            kind,
+            color,
+            intensity: light.intensity,
+            range: light.range,
+            position: world.w_axis.truncate(),
+            direction: world
+                .transform_vector3(Vec3::NEG_Z)
+                .normalize_or(Vec3::NEG_Z),
+        }))
+    }
+
+    pub(super) fn camera(&mut self, placement: &Placement) -> Result<Option<Camera>, SceneError> {
+        let node = &self.root.nodes[placement.node];
+        let Some(camera_index) = node.camera.map(|c| c.value()) else {
+            return Ok(None);
+        };
+        let camera = &self.root.cameras[camera_index];
+        let label = object_label("camera", camera_index, None, camera.name.as_deref());
+        let perspective = match (camera.type_, &camera.perspective) {
+            (Checked::Valid(json::camera::Type::Perspective), Some(p)) => p,
+            (Checked::Valid(json::camera::Type::Perspective), None) => {
+                return Err(self.invalid(format!(
+                    "{label}: type is perspective but it has no perspective parameters"
+                )));
+            }
+            _ => {
+                self.ignored.push(format!(
+                    "{label} on node {}: orthographic cameras are not supported, ignored",
+                    placement.node
+                ));
+                return Ok(None);
+            }
+        };
+        let yfov = perspective.yfov;
+        let znear = perspective.znear;
+        if !(yfov > 0.0 && yfov < std::f32::consts::PI) {
+            return Err(self.invalid(format!("{label}: yfov {yfov} is not in (0, pi)")));
+        }
+        if !(znear > 0.0 && znear.is_finite()) {
+            return Err(self.invalid(format!("{label}: znear {znear} is not positive")));
+        }
+        if let Some(zfar) = perspective.zfar
+            && !(zfar > znear && zfar.is_finite())
+        {
+            return Err(self.invalid(format!("{label}: zfar {zfar} is not beyond znear {znear}")));
+        }
+        if let Some(aspect) = perspective.aspect_ratio
+            && !(aspect > 0.0 && aspect.is_finite())
+        {
+            return Err(self.invalid(format!("{label}: aspect ratio {aspect} is not positive")));
+        }
+        let world_from_view = without_scale(placement.world_from_local).ok_or_else(|| {
+            self.invalid(format!(
+                "{label} on node {}: the node's transform is degenerate",
+                placement.node
+            ))
+        })?;
+        Ok(Some(Camera {
+            name: camera
+                .name
+                .clone()
+                .or_else(|| node.name.clone())
+                .unwrap_or_else(|| format!("camera {camera_index}")),
+            node: placement.node,
+            yfov_rad: yfov,
+            znear,
+            zfar: perspective.zfar,
+            aspect_ratio: perspective.aspect_ratio,
+            world_from_view,
+        }))
+    }
+}
+
+/// The rigid part of a transform: the view direction (-Z) kept exactly, +Y made
+/// perpendicular to it, +X completing a right-handed frame. `None` when an axis collapses.
+fn without_scale(m: Mat4) -> Option<Mat4> {
+    let z = m.z_axis.truncate().try_normalize()?;
+    let y_in = m.y_axis.truncate();
+    let y = (y_in - z * z.dot(y_in)).try_normalize()?;
+    let x = y.cross(z);
+    Some(Mat4::from_cols(
+        x.extend(0.0),
+        y.extend(0.0),
+        z.extend(0.0),
+        m.w_axis,
+    ))
+}
+
+/// Validated spot cone half-angles: `0 <= inner < outer <= pi/2`. `inner == outer` (a
+/// hard-edged cone some exporters write) is tolerated by pulling inner in by 1e-4 rad, so
+/// that the smoothstep between them never divides by zero.
+fn spot_cone(inner: f32, outer: f32) -> Option<(f32, f32)> {
+    const EPS: f32 = 1e-4;
+    let half_pi = std::f32::consts::FRAC_PI_2;
+    let ordered = inner >= 0.0 && outer > 0.0 && inner <= outer && outer <= half_pi + 1e-6;
+    if !ordered {
+        return None;
+    }
+    let outer = outer.min(half_pi);
+    let inner = if inner >= outer - EPS {
+        (outer - EPS).max(0.0)
+    } else {
+        inner
+    };
+    Some((inner, outer))
+}

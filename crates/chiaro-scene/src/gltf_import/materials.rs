@@ -1,0 +1,236 @@
+//! A glTF material index in, a [`Material`] out: PBR factors, alpha mode, emissive
+//! strength, and texture references with their samplers, UV sets and
+//! KHR_texture_transform (read from the raw JSON, as the typed model drops it on normal
+//! and occlusion textures). Each image a texture uses is recorded with the colour space
+//! it is sampled in; the images themselves are decoded later, by [`super::images`].
+
+use super::{Loader, object_label};
+use crate::error::SceneError;
+use crate::types::{
+    AlphaMode, ColorSpace, Material, SamplerDesc, TextureRef, UvTransform, WrapMode,
+};
+use glam::{Vec2, Vec3, Vec4};
+use gltf::json;
+use json::validation::Checked;
+use serde_json::Value;
+
+impl Loader<'_> {
+    /// A material with `TextureRef::image` still holding the glTF image index;
+    /// `decode_images` maps it to `Scene::images`.
+    pub(super) fn material(
+        &mut self,
+        index: usize,
+        image_uses: &mut [Option<ColorSpace>],
+    ) -> Result<Material, SceneError> {
+        let m = &self.root.materials[index];
+        let label = object_label("material", index, None, m.name.as_deref());
+        let raw = self
+            .raw
+            .get("materials")
+            .and_then(|ms| ms.get(index))
+            .unwrap_or(&Value::Null);
+        let raw_pbr = raw.get("pbrMetallicRoughness").unwrap_or(&Value::Null);
+        let pbr = &m.pbr_metallic_roughness;
+
+        let mut texture = |slot: &str,
+                           texture: usize,
+                           tex_coord: u32,
+                           info: Option<&Value>,
+                           color_space: ColorSpace|
+         -> Result<TextureRef, SceneError> {
+            let reference =
+                self.texture_ref(&format!("{label} {slot}"), texture, tex_coord, info)?;
+            let used = &mut image_uses[reference.image];
+            if *used != Some(ColorSpace::Srgb) {
+                *used = Some(color_space);
+            }
+            Ok(reference)
+        };
+
+        let base_color_texture = match &pbr.base_color_texture {
+            Some(info) => Some(texture(
+                "baseColorTexture",
+                info.index.value(),
+                info.tex_coord,
+                raw_pbr.get("baseColorTexture"),
+                ColorSpace::Srgb,
+            )?),
+            None => None,
+        };
+        let metallic_roughness_texture = match &pbr.metallic_roughness_texture {
+            Some(info) => Some(texture(
+                "metallicRoughnessTexture",
+                info.index.value(),
+                info.tex_coord,
+                raw_pbr.get("metallicRoughnessTexture"),
+                ColorSpace::Linear,
+            )?),
+            None => None,
+        };
+        let normal_texture = match &m.normal_texture {
+            Some(info) => Some(texture(
+                "normalTexture",
+                info.index.value(),
+                info.tex_coord,
+                raw.get("normalTexture"),
+                ColorSpace::Linear,
+            )?),
+            None => None,
+        };
+        let occlusion_texture = match &m.occlusion_texture {
+            Some(info) => Some(texture(
+                "occlusionTexture",
+                info.index.value(),
+                info.tex_coord,
+                raw.get("occlusionTexture"),
+                ColorSpace::Linear,
+            )?),
+            None => None,
+        };
+        let emissive_texture = match &m.emissive_texture {
+            Some(info) => Some(texture(
+                "emissiveTexture",
+                info.index.value(),
+                info.tex_coord,
+                raw.get("emissiveTexture"),
+                ColorSpace::Srgb,
+            )?),
+            None => None,
+        };
+
+        let emissive_strength = m
+            .extensions
+            .as_ref()
+            .and_then(|e| e.emissive_strength.as_ref())
+            .map_or(1.0, |s| s.emissive_strength.0);
+        let material = Material {
+            name: m
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("material {index}")),
+            base_color: Vec4::from_array(pbr.base_color_factor.0),
+            base_color_texture,
+            metallic: pbr.metallic_factor.0,
+            roughness: pbr.roughness_factor.0,
+            metallic_roughness_texture,
+            normal_scale: m.normal_texture.as_ref().map_or(1.0, |t| t.scale),
+            normal_texture,
+            occlusion_strength: m.occlusion_texture.as_ref().map_or(1.0, |t| t.strength.0),
+            occlusion_texture,
+            emissive: Vec3::from_array(m.emissive_factor.0) * emissive_strength,
+            emissive_texture,
+            alpha_mode: match m.alpha_mode {
+                Checked::Valid(json::material::AlphaMode::Mask) => AlphaMode::Mask,
+                Checked::Valid(json::material::AlphaMode::Blend) => AlphaMode::Blend,
+                _ => AlphaMode::Opaque,
+            },
+            alpha_cutoff: m.alpha_cutoff.map_or(0.5, |c| c.0),
+            double_sided: m.double_sided,
+        };
+        let factors_finite = material.base_color.is_finite()
+            && material.emissive.is_finite()
+            && [
+                material.metallic,
+                material.roughness,
+                material.normal_scale,
+                material.occlusion_strength,
+                material.alpha_cutoff,
+            ]
+            .iter()
+            .all(|f| f.is_finite());
+        if !factors_finite {
+            return Err(self.invalid(format!("{label}: a factor is not finite")));
+        }
+        Ok(material)
+    }
+
+    /// A texture info's image, sampler, UV set and KHR_texture_transform. The transform is
+    /// read from the raw JSON because the typed model drops it on normal and occlusion
+    /// textures.
+    fn texture_ref(
+        &mut self,
+        label: &str,
+        texture: usize,
+        tex_coord: u32,
+        info: Option<&Value>,
+    ) -> Result<TextureRef, SceneError> {
+        #[derive(serde::Deserialize)]
+        #[serde(rename_all = "camelCase")]
+        struct TextureTransform {
+            #[serde(default)]
+            offset: [f32; 2],
+            #[serde(default)]
+            rotation: f32,
+            #[serde(default = "unit_scale")]
+            scale: [f32; 2],
+            tex_coord: Option<u32>,
+        }
+        fn unit_scale() -> [f32; 2] {
+            [1.0, 1.0]
+        }
+
+        let gltf_texture = &self.root.textures[texture];
+        let sampler = gltf_texture
+            .sampler
+            .map(|s| sampler_desc(&self.root.samplers[s.value()]))
+            .unwrap_or_default();
+        let mut reference = TextureRef {
+            image: gltf_texture.source.value(),
+            sampler,
+            tex_coord,
+            transform: UvTransform::default(),
+        };
+        let transform_json = info
+            .and_then(|i| i.get("extensions"))
+            .and_then(|e| e.get("KHR_texture_transform"));
+        if let Some(value) = transform_json {
+            let t: TextureTransform = serde_json::from_value(value.clone()).map_err(|e| {
+                self.invalid(format!("{label}: invalid KHR_texture_transform: {e}"))
+            })?;
+            reference.transform = UvTransform {
+                offset: Vec2::from_array(t.offset),
+                rotation_rad: t.rotation,
+                scale: Vec2::from_array(t.scale),
+            };
+            if let Some(set) = t.tex_coord {
+                reference.tex_coord = set;
+            }
+            let m = reference.transform.matrix();
+            if !m.iter().all(|c| c.is_finite()) {
+                return Err(self.invalid(format!("{label}: KHR_texture_transform is not finite")));
+            }
+        }
+        if reference.tex_coord > 1 {
+            self.ignored.push(format!(
+                "{label}: TEXCOORD_{} is not read, uses TEXCOORD_0",
+                reference.tex_coord
+            ));
+            reference.tex_coord = 0;
+        }
+        Ok(reference)
+    }
+}
+
+fn sampler_desc(sampler: &json::texture::Sampler) -> SamplerDesc {
+    use json::texture::{MagFilter, MinFilter, WrappingMode};
+    let wrap = |mode: Checked<WrappingMode>| match mode {
+        Checked::Valid(WrappingMode::ClampToEdge) => WrapMode::ClampToEdge,
+        Checked::Valid(WrappingMode::MirroredRepeat) => WrapMode::MirroredRepeat,
+        _ => WrapMode::Repeat,
+    };
+    let (min_linear, mipmaps) = match sampler.min_filter {
+        Some(Checked::Valid(MinFilter::Nearest)) => (false, false),
+        Some(Checked::Valid(MinFilter::Linear)) => (true, false),
+        Some(Checked::Valid(MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear)) => {
+            (false, true)
+        }
+        _ => (true, true),
+    };
+    SamplerDesc {
+        wrap_u: wrap(sampler.wrap_s),
+        wrap_v: wrap(sampler.wrap_t),
+        mag_linear: !matches!(sampler.mag_filter, Some(Checked::Valid(MagFilter::Nearest))),
+        min_linear,
+        mipmaps,
+    }
+}

@@ -1,0 +1,222 @@
+//! A glTF mesh index in, a [`Mesh`] out: each triangle primitive's attributes read through
+//! the accessor reader, strips and fans turned into lists, missing normals generated flat
+//! (unwelding the vertices) and missing tangents generated with MikkTSpace when the
+//! primitive's material has a normal map. Primitives Chiaro cannot draw are skipped and
+//! counted in the loader's tally.
+
+use super::{Loader, object_label};
+use crate::error::SceneError;
+use crate::types::{Material, Mesh, Primitive};
+use crate::vertex_gen;
+use chiaro_math::Aabb;
+use glam::{Vec2, Vec3, Vec4};
+use gltf::json;
+use json::validation::Checked;
+
+impl Loader<'_> {
+    pub(super) fn mesh(
+        &mut self,
+        index: usize,
+        materials: &[Material],
+    ) -> Result<Mesh, SceneError> {
+        let mesh = &self.root.meshes[index];
+        let label = object_label("mesh", index, None, mesh.name.as_deref());
+        let mut primitives = Vec::new();
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let label = format!("{label} primitive {p}");
+            if let Some(primitive) = self.primitive(primitive, &label, materials)? {
+                primitives.push(primitive);
+            }
+        }
+        Ok(Mesh {
+            name: mesh.name.clone().unwrap_or_else(|| format!("mesh {index}")),
+            primitives,
+        })
+    }
+
+    fn primitive(
+        &mut self,
+        primitive: &json::mesh::Primitive,
+        label: &str,
+        materials: &[Material],
+    ) -> Result<Option<Primitive>, SceneError> {
+        use json::mesh::{Mode, Semantic};
+
+        let mode = match primitive.mode {
+            Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => {
+                mode
+            }
+            _ => {
+                self.tally.points_or_lines += 1;
+                return Ok(None);
+            }
+        };
+        let attribute = |semantic: Semantic| {
+            primitive
+                .attributes
+                .get(&Checked::Valid(semantic))
+                .map(|a| a.value())
+        };
+        let Some(position_accessor) = attribute(Semantic::Positions) else {
+            self.tally.without_positions += 1;
+            return Ok(None);
+        };
+        let has = |wanted: fn(&Semantic) -> bool| {
+            primitive.attributes.keys().any(|s| match s {
+                Checked::Valid(s) => wanted(s),
+                Checked::Invalid => false,
+            })
+        };
+        self.tally.vertex_colors += usize::from(has(|s| matches!(s, Semantic::Colors(_))));
+        self.tally.extra_uv_sets += usize::from(has(|s| matches!(s, Semantic::TexCoords(2..))));
+        if primitive.targets.as_ref().is_some_and(|t| !t.is_empty()) {
+            self.tally.morph_targets += 1;
+        }
+
+        let mut positions: Vec<Vec3> = self
+            .read_floats::<3>(position_accessor, &format!("POSITION of {label}"))?
+            .into_iter()
+            .map(Vec3::from_array)
+            .collect();
+        if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(self.invalid(format!("{label}: POSITION {v} is not finite")));
+        }
+        let vertex_count = positions.len();
+        let check_count = |name: &str, count: usize| {
+            if count == vertex_count {
+                Ok(())
+            } else {
+                Err(self.invalid(format!(
+                    "{label}: {name} has {count} values but POSITION has {vertex_count}"
+                )))
+            }
+        };
+
+        let indices = match primitive.indices {
+            Some(accessor) => {
+                let indices =
+                    self.read_indices(accessor.value(), &format!("indices of {label}"))?;
+                if let Some(&bad) = indices.iter().find(|&&i| i as usize >= vertex_count) {
+                    return Err(self.invalid(format!(
+                        "{label}: index {bad} is out of range for {vertex_count} vertices"
+                    )));
+                }
+                indices
+            }
+            None => (0..vertex_count as u32).collect(),
+        };
+        let mut indices = triangle_list(mode, indices);
+        if indices.is_empty() {
+            return Ok(None);
+        }
+
+        let read_uv = |set: u32| -> Result<Vec<Vec2>, SceneError> {
+            match attribute(Semantic::TexCoords(set)) {
+                Some(accessor) => {
+                    let name = format!("TEXCOORD_{set}");
+                    let uvs = self.read_floats::<2>(accessor, &format!("{name} of {label}"))?;
+                    check_count(&name, uvs.len())?;
+                    Ok(uvs
+                        .into_iter()
+                        .map(Vec2::from_array)
+                        .map(|uv| if uv.is_finite() { uv } else { Vec2::ZERO })
+                        .collect())
+                }
+                None => Ok(vec![Vec2::ZERO; vertex_count]),
+            }
+        };
+        let mut uv0 = read_uv(0)?;
+        let mut uv1 = read_uv(1)?;
+
+        let mut normals = match attribute(Semantic::Normals) {
+            Some(accessor) => {
+                let normals = self.read_floats::<3>(accessor, &format!("NORMAL of {label}"))?;
+                check_count("NORMAL", normals.len())?;
+                Some(
+                    normals
+                        .into_iter()
+                        .map(|n| Vec3::from_array(n).normalize_or(Vec3::Z))
+                        .collect::<Vec<_>>(),
+                )
+            }
+            None => None,
+        };
+        // Tangents are only trusted alongside the file's own normals (glTF 2.0 §3.7.2.1).
+        let mut tangents = match (attribute(Semantic::Tangents), &normals) {
+            (Some(accessor), Some(normals)) => {
+                let tangents = self.read_floats::<4>(accessor, &format!("TANGENT of {label}"))?;
+                check_count("TANGENT", tangents.len())?;
+                let mut tangents: Vec<Vec4> = tangents.into_iter().map(Vec4::from_array).collect();
+                vertex_gen::repair_tangents(&mut tangents, normals);
+                Some(tangents)
+            }
+            _ => None,
+        };
+
+        let normals = match normals.take() {
+            Some(normals) => normals,
+            None => {
+                positions = vertex_gen::unweld(&positions, &indices);
+                uv0 = vertex_gen::unweld(&uv0, &indices);
+                uv1 = vertex_gen::unweld(&uv1, &indices);
+                indices = (0..positions.len() as u32).collect();
+                vertex_gen::flat_normals(&positions)
+            }
+        };
+
+        let material = primitive.material.map(|m| m.value());
+        let normal_map_uv_set = material
+            .and_then(|m| materials.get(m))
+            .and_then(|m| m.normal_texture)
+            .map(|t| t.tex_coord);
+        let tangents = match (tangents.take(), normal_map_uv_set) {
+            (Some(tangents), _) => tangents,
+            (None, Some(set)) => {
+                let uvs = if set == 1 { &uv1 } else { &uv0 };
+                vertex_gen::mikktspace_tangents(&positions, &normals, uvs, &indices)
+                    .unwrap_or_else(|| vertex_gen::perpendicular_tangents(&normals))
+            }
+            (None, None) => vertex_gen::perpendicular_tangents(&normals),
+        };
+
+        let bounds = Aabb::from_points(positions.iter().copied());
+        Ok(Some(Primitive {
+            positions,
+            normals,
+            tangents,
+            uv0,
+            uv1,
+            indices,
+            material,
+            bounds,
+        }))
+    }
+}
+
+/// Strips and fans become lists with the winding glTF 2.0 §3.7.2.1 gives them: strip
+/// triangle `i` is `(i, i+1, i+2)` with odd ones flipped, fan triangle `i` is
+/// `(i+1, i+2, 0)`. A list's incomplete last triangle is dropped.
+fn triangle_list(mode: json::mesh::Mode, indices: Vec<u32>) -> Vec<u32> {
+    use json::mesh::Mode;
+    let n = indices.len();
+    match mode {
+        Mode::TriangleStrip if n >= 3 => (0..n - 2)
+            .flat_map(|i| {
+                if i % 2 == 0 {
+                    [indices[i], indices[i + 1], indices[i + 2]]
+                } else {
+                    [indices[i], indices[i + 2], indices[i + 1]]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan if n >= 3 => (0..n - 2)
+            .flat_map(|i| [indices[i + 1], indices[i + 2], indices[0]])
+            .collect(),
+        Mode::Triangles => {
+            let mut indices = indices;
+            indices.truncate(n - n % 3);
+            indices
+        }
+        _ => Vec::new(),
+    }
+}

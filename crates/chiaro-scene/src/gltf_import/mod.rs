@@ -1,0 +1,239 @@
+//! glTF 2.0 import. A `.gltf` (with external or `data:` buffers and images) or a `.glb`
+//! flows in; a [`Scene`] flows out: every glTF mesh converted once (so `Scene::meshes` and
+//! `Scene::materials` keep the file's indices), complete vertex attributes, one instance per
+//! mesh node with its world transform, materials with their images decoded to RGBA8, and
+//! KHR_lights_punctual lights and perspective cameras placed in world space. What the file
+//! has and Chiaro does not use is listed in `Scene::ignored`; a malformed file is a
+//! [`SceneError`] naming the file and the problem, never a panic.
+//!
+//! Only the `gltf` crate's JSON data model is used. Its wrapper API unwraps on files that
+//! pass its validation (an image with a `bufferView` but no `mimeType`, a perspective camera
+//! without a `perspective` object), its validation indexes the POSITION accessor unchecked,
+//! and its GLB reader underflows on short headers; so this module parses GLB containers,
+//! resolves URIs and reads accessors itself, checking every offset before it reads.
+//!
+//! The work is split by what flows through it: `document` turns the file's bytes into
+//! checked JSON (with `glb` unpacking containers and `validate` vetting indices and
+//! required extensions); the `Loader` here then reads buffers through `uri` and
+//! `accessor`, and builds `meshes`, `materials`, `images`, the node placements of
+//! `nodes` and the `lights_cameras` placed at them.
+
+mod accessor;
+mod document;
+mod glb;
+mod images;
+mod lights_cameras;
+mod materials;
+mod meshes;
+mod nodes;
+mod uri;
+mod validate;
+
+#[cfg(test)]
+mod tests;
+
+use crate::error::SceneError;
+use crate::types::{ColorSpace, MeshInstance, Scene};
+use document::Document;
+use gltf::json;
+use serde_json::Value;
+use std::borrow::Cow;
+use std::path::Path;
+
+/// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
+/// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
+pub const SUPPORTED_EXTENSIONS: [&str; 4] = [
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_texture_transform",
+    "KHR_mesh_quantization",
+];
+
+/// Loads a `.gltf` or `.glb` file and everything it references.
+pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let document = Document::parse(path, &bytes)?;
+    let base_dir = path.parent().unwrap_or(Path::new("."));
+    let mut loader = Loader {
+        path,
+        base_dir,
+        raw: &document.raw,
+        root: &document.root,
+        buffers: Vec::new(),
+        ignored: Vec::new(),
+        tally: Tally::default(),
+    };
+    let mut scene = loader.load(document.bin)?;
+    scene.source = Some(path.to_path_buf());
+    tracing::debug!(
+        path = %path.display(),
+        meshes = scene.meshes.len(),
+        instances = scene.instances.len(),
+        triangles = scene.triangle_count(),
+        images = scene.images.len(),
+        lights = scene.lights.len(),
+        cameras = scene.cameras.len(),
+        "loaded glTF"
+    );
+    Ok(scene)
+}
+
+/// Counts of what the file has and Chiaro ignores, reported once per kind.
+#[derive(Default)]
+struct Tally {
+    points_or_lines: usize,
+    without_positions: usize,
+    vertex_colors: usize,
+    morph_targets: usize,
+    extra_uv_sets: usize,
+}
+
+struct Loader<'a> {
+    path: &'a Path,
+    base_dir: &'a Path,
+    raw: &'a Value,
+    root: &'a json::Root,
+    buffers: Vec<Cow<'a, [u8]>>,
+    ignored: Vec<String>,
+    tally: Tally,
+}
+
+impl<'a> Loader<'a> {
+    fn invalid(&self, message: impl Into<String>) -> SceneError {
+        SceneError::Invalid {
+            path: self.path.to_path_buf(),
+            message: message.into(),
+        }
+    }
+
+    fn load(&mut self, bin: Option<&'a [u8]>) -> Result<Scene, SceneError> {
+        self.note_unsupported_extensions();
+        self.buffers = self.load_buffers(bin)?;
+
+        let mut image_uses: Vec<Option<ColorSpace>> = vec![None; self.root.images.len()];
+        let mut materials = (0..self.root.materials.len())
+            .map(|index| self.material(index, &mut image_uses))
+            .collect::<Result<Vec<_>, _>>()?;
+        let meshes = (0..self.root.meshes.len())
+            .map(|index| self.mesh(index, &materials))
+            .collect::<Result<Vec<_>, _>>()?;
+
+        let placements = self.walk_scene()?;
+        let mut instances = Vec::new();
+        let mut lights = Vec::new();
+        let mut cameras = Vec::new();
+        for placement in &placements {
+            let node = &self.root.nodes[placement.node];
+            if let Some(mesh) = node.mesh {
+                let name = node
+                    .name
+                    .clone()
+                    .or_else(|| self.root.meshes[mesh.value()].name.clone())
+                    .unwrap_or_else(|| format!("node {}", placement.node));
+                instances.push(MeshInstance {
+                    mesh: mesh.value(),
+                    node: placement.node,
+                    name,
+                    world_from_local: placement.world_from_local,
+                });
+            }
+            if let Some(light) = self.light(placement)? {
+                lights.push(light);
+            }
+            if let Some(camera) = self.camera(placement)? {
+                cameras.push(camera);
+            }
+        }
+
+        let images = self.decode_images(&image_uses, &mut materials)?;
+        self.note_tally();
+        Ok(Scene {
+            source: None,
+            meshes,
+            instances,
+            materials,
+            images,
+            lights,
+            cameras,
+            ignored: std::mem::take(&mut self.ignored),
+        })
+    }
+
+    fn note_unsupported_extensions(&mut self) {
+        let used = self.raw.get("extensionsUsed").and_then(Value::as_array);
+        for name in used.into_iter().flatten().filter_map(Value::as_str) {
+            if !SUPPORTED_EXTENSIONS.contains(&name) {
+                self.ignored
+                    .push(format!("extension {name}: not supported, ignored"));
+            }
+        }
+    }
+
+    fn note_tally(&mut self) {
+        let root = self.root;
+        let t = &self.tally;
+        let notes = [
+            (root.animations.len(), "animation", "not supported, ignored"),
+            (
+                root.skins.len(),
+                "skin",
+                "not supported, skinned meshes drawn in their bind pose",
+            ),
+            (
+                t.morph_targets,
+                "primitive with morph targets",
+                "not supported, drawn with base positions",
+            ),
+            (
+                t.vertex_colors,
+                "primitive with vertex colours",
+                "not supported, ignored",
+            ),
+            (
+                t.points_or_lines,
+                "primitive of points or lines",
+                "not supported, ignored",
+            ),
+            (
+                t.without_positions,
+                "primitive without POSITION",
+                "nothing to draw, ignored",
+            ),
+            (
+                t.extra_uv_sets,
+                "primitive with TEXCOORD_2 or above",
+                "only TEXCOORD_0 and TEXCOORD_1 are read",
+            ),
+        ];
+        for (count, what, why) in notes {
+            if count > 0 {
+                let what = match count {
+                    1 => what.to_owned(),
+                    _ => plural(what),
+                };
+                self.ignored.push(format!("{count} {what}: {why}"));
+            }
+        }
+    }
+}
+
+/// `kind index (detail)`: the detail is a file name for external resources, else the
+/// object's name.
+fn object_label(kind: &str, index: usize, uri: Option<&str>, name: Option<&str>) -> String {
+    let detail = uri.filter(|u| !u.starts_with("data:")).or(name);
+    match detail {
+        Some(detail) => format!("{kind} {index} ({detail})"),
+        None => format!("{kind} {index}"),
+    }
+}
+
+fn plural(what: &str) -> String {
+    // "primitive with vertex colours" -> "primitives with vertex colours".
+    match what.split_once(' ') {
+        Some((head, tail)) => format!("{head}s {tail}"),
+        None => format!("{what}s"),
+    }
+}
