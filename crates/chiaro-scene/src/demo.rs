@@ -75,6 +75,8 @@ pub fn demo_scene(other_lights: usize) -> Scene {
             node,
             name: name.into(),
             world_from_local: transform,
+            cast_shadows: CastShadows::On,
+            receive_shadows: true,
         });
     };
     place(0, "floor", Mat4::IDENTITY);
@@ -118,6 +120,7 @@ pub fn demo_scene(other_lights: usize) -> Scene {
         range: None,
         position: Vec3::ZERO,
         direction: sun_direction,
+        shadow: LightShadow::default(),
     });
     for i in 0..other_lights {
         // A golden-angle spiral keeps any count evenly spread.
@@ -159,6 +162,7 @@ pub fn demo_scene(other_lights: usize) -> Scene {
             range,
             position,
             direction,
+            shadow: LightShadow::default(),
         });
     }
 

@@ -4,6 +4,7 @@
 //! fall back to a default silently. Later stages (shadows, baking, the deferred path) add
 //! their own sections here.
 
+use chiaro_math::shadow::ShadowFilter;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -14,6 +15,7 @@ pub struct Settings {
     pub render: RenderSettings,
     pub lights: LightSettings,
     pub camera: CameraSettings,
+    pub shadows: ShadowSettings,
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -79,6 +81,80 @@ impl Default for CameraSettings {
         CameraSettings {
             auto_yfov_deg: 45.0,
         }
+    }
+}
+
+/// How a fragment moves between cascades.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum CascadeBlend {
+    /// Switch at the culling sphere's edge.
+    #[default]
+    Hard,
+    /// Blend with the next cascade across the fade band (two lookups there).
+    Soft,
+    /// Switch at a dithered point in the fade band (one lookup; noise instead of a seam).
+    Dither,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct ShadowSettings {
+    /// Metres from the camera beyond which no shadow is sampled (0.1 to 10000). Too short
+    /// loses distant shadows; too long spreads the cascades' texels thin and blurs them.
+    pub max_distance: f32,
+    /// Fraction of `max_distance` over which shadows fade out (0.001 to 1). Too small
+    /// shows a hard line where shadows end; too large fades shadows that should be there.
+    pub distance_fade: f32,
+    pub directional: DirectionalShadowSettings,
+}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        ShadowSettings {
+            max_distance: 100.0,
+            distance_fade: 0.1,
+            directional: DirectionalShadowSettings::default(),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct DirectionalShadowSettings {
+    /// Atlas side in texels (256 to 8192, a power of two). Too small gives blocky,
+    /// aliased shadows; too large costs memory and rendering time.
+    pub atlas_size: u32,
+    /// "pcf2x2", "tent3x3", "tent5x5" or "tent7x7". Wider filters soften edges and need
+    /// more normal bias, which can detach thin casters from their shadows.
+    pub filter: String,
+    /// Cascades per light (1 to 4). More cascades keep near shadows sharp at the cost of
+    /// one shadow pass each.
+    pub cascade_count: u32,
+    /// Far end of the first three cascades as fractions of `max_distance`, increasing.
+    pub cascade_ratios: [f32; 3],
+    /// Fraction of the last cascade over which shadows fade out (0.001 to 1).
+    pub cascade_fade: f32,
+    /// "hard", "soft" or "dither": how fragments cross from one cascade to the next.
+    pub cascade_blend: CascadeBlend,
+}
+
+impl Default for DirectionalShadowSettings {
+    fn default() -> Self {
+        DirectionalShadowSettings {
+            atlas_size: 2048,
+            filter: "pcf2x2".into(),
+            cascade_count: 4,
+            cascade_ratios: [0.1, 0.25, 0.5],
+            cascade_fade: 0.1,
+            cascade_blend: CascadeBlend::Hard,
+        }
+    }
+}
+
+impl DirectionalShadowSettings {
+    pub fn shadow_filter(&self) -> ShadowFilter {
+        ShadowFilter::parse(&self.filter).unwrap_or_default()
     }
 }
 
@@ -148,6 +224,41 @@ impl Settings {
             1.0,
             179.0,
         )?;
+        let sh = &self.shadows;
+        check_range("shadows.max_distance", sh.max_distance, 0.1, 10000.0)?;
+        check_range("shadows.distance_fade", sh.distance_fade, 0.001, 1.0)?;
+        let d = &sh.directional;
+        if !(256..=8192).contains(&d.atlas_size) || !d.atlas_size.is_power_of_two() {
+            return Err(format!(
+                "shadows.directional.atlas_size: {} must be a power of two from 256 to 8192",
+                d.atlas_size
+            ));
+        }
+        if ShadowFilter::parse(&d.filter).is_none() {
+            return Err(format!(
+                "shadows.directional.filter: unknown filter '{}' (pcf2x2, tent3x3, tent5x5, tent7x7)",
+                d.filter
+            ));
+        }
+        check_range(
+            "shadows.directional.cascade_count",
+            d.cascade_count as f32,
+            1.0,
+            4.0,
+        )?;
+        let r = d.cascade_ratios;
+        if !(r.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0) && r[0] < r[1] && r[1] < r[2])
+        {
+            return Err(format!(
+                "shadows.directional.cascade_ratios: {r:?} must increase strictly between 0 and 1"
+            ));
+        }
+        check_range(
+            "shadows.directional.cascade_fade",
+            d.cascade_fade,
+            0.001,
+            1.0,
+        )?;
         Ok(())
     }
 }
@@ -195,6 +306,41 @@ mod tests {
         assert!(e.starts_with("lights.range_threshold_lux"), "{e}");
         let e = Settings::parse("[render]\nambient = [0, -1, 0]\n").unwrap_err();
         assert!(e.starts_with("render.ambient"), "{e}");
+    }
+
+    #[test]
+    fn shadow_settings_parse_and_validate() {
+        let s = Settings::parse(
+            "[shadows]\nmax_distance = 40\n[shadows.directional]\nfilter = \"tent5x5\"\ncascade_count = 2\ncascade_blend = \"dither\"\n",
+        )
+        .unwrap();
+        assert_eq!(s.shadows.max_distance, 40.0);
+        assert_eq!(s.shadows.directional.shadow_filter(), ShadowFilter::Tent5x5);
+        assert_eq!(s.shadows.directional.cascade_blend, CascadeBlend::Dither);
+        for (text, key) in [
+            (
+                "[shadows.directional]\natlas_size = 3000\n",
+                "shadows.directional.atlas_size",
+            ),
+            (
+                "[shadows.directional]\nfilter = \"gauss\"\n",
+                "shadows.directional.filter",
+            ),
+            (
+                "[shadows.directional]\ncascade_count = 5\n",
+                "shadows.directional.cascade_count",
+            ),
+            (
+                "[shadows.directional]\ncascade_ratios = [0.5, 0.2, 0.7]\n",
+                "shadows.directional.cascade_ratios",
+            ),
+            ("[shadows]\nmax_distance = -1\n", "shadows.max_distance"),
+        ] {
+            let e = Settings::parse(text).unwrap_err();
+            assert!(e.starts_with(key), "{e}");
+        }
+        let e = Settings::parse("[shadows.directional]\ncascade_blend = \"smooth\"\n").unwrap_err();
+        assert!(e.contains("smooth"), "{e}");
     }
 
     #[test]

@@ -35,6 +35,19 @@ pub struct Mesh {
     pub primitives: Vec<Primitive>,
 }
 
+/// Whether and how an object casts shadows (node `extras.castShadows`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum CastShadows {
+    Off,
+    /// Casts with the faces its material draws.
+    #[default]
+    On,
+    /// Casts with both faces, whatever its material says.
+    TwoSided,
+    /// Casts shadows but is not drawn.
+    ShadowsOnly,
+}
+
 /// A mesh placed in the world by a node.
 #[derive(Clone, Debug)]
 pub struct MeshInstance {
@@ -43,6 +56,9 @@ pub struct MeshInstance {
     pub node: usize,
     pub name: String,
     pub world_from_local: Mat4,
+    pub cast_shadows: CastShadows,
+    /// Node `extras.receiveShadows`; true by default.
+    pub receive_shadows: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -197,6 +213,52 @@ pub enum LightKind {
     },
 }
 
+/// Realtime shadows of a light: `none`, `hard` (the 2x2 filter whatever the settings say)
+/// or `soft` (the settings' filter).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShadowMode {
+    None,
+    Hard,
+    #[default]
+    Soft,
+}
+
+/// A light's shadow settings, from its KHR_lights_punctual `extras`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightShadow {
+    pub mode: ShadowMode,
+    /// 0 to 1: how dark the shadow is.
+    pub strength: f32,
+    /// Slope-scale depth bias. Too little gives shadow acne on lit surfaces; too much
+    /// detaches shadows from their casters (peter-panning).
+    pub depth_bias: f32,
+    /// Normal bias in shadow-map texels along the surface normal. Too little gives acne
+    /// at grazing angles; too much shrinks shadows and leaks light at contact.
+    pub normal_bias: f32,
+    /// Metres the shadow projection's near plane is pulled towards the light. Too little
+    /// clips (or, with depth clamping, flattens) casters close to the light; too much wastes
+    /// depth precision.
+    pub near_plane: f32,
+}
+
+impl Default for LightShadow {
+    fn default() -> Self {
+        LightShadow {
+            mode: ShadowMode::Soft,
+            strength: 1.0,
+            depth_bias: 1.0,
+            normal_bias: 1.0,
+            near_plane: 0.0,
+        }
+    }
+}
+
+impl LightShadow {
+    pub fn casts(&self) -> bool {
+        self.mode != ShadowMode::None && self.strength > 0.0
+    }
+}
+
 /// A KHR_lights_punctual light placed in the world.
 #[derive(Clone, Debug)]
 pub struct Light {
@@ -213,6 +275,7 @@ pub struct Light {
     pub position: Vec3,
     /// Unit direction the light points in (-Z of its node); unused by point lights.
     pub direction: Vec3,
+    pub shadow: LightShadow,
 }
 
 #[derive(Clone, Debug)]

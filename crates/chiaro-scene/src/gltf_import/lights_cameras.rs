@@ -73,6 +73,8 @@ impl Loader<'_> {
             }
             _ => return Err(self.invalid(format!("{label}: invalid light type"))),
         };
+        let shadow = super::extras::light_shadow(light.extras.as_deref())
+            .map_err(|e| self.invalid(format!("{label}: {e}")))?;
         let world = placement.world_from_local;
         Ok(Some(Light {
             name: light
@@ -89,6 +91,7 @@ impl Loader<'_> {
             direction: world
                 .transform_vector3(Vec3::NEG_Z)
                 .normalize_or(Vec3::NEG_Z),
+            shadow,
         }))
     }
 

@@ -20,6 +20,7 @@
 
 mod accessor;
 mod document;
+mod extras;
 mod glb;
 mod images;
 mod lights_cameras;
@@ -133,11 +134,15 @@ impl<'a> Loader<'a> {
                     .clone()
                     .or_else(|| self.root.meshes[mesh.value()].name.clone())
                     .unwrap_or_else(|| format!("node {}", placement.node));
+                let (cast_shadows, receive_shadows) = extras::node_shadows(node)
+                    .map_err(|e| self.invalid(format!("node {} ({name}): {e}", placement.node)))?;
                 instances.push(MeshInstance {
                     mesh: mesh.value(),
                     node: placement.node,
                     name,
                     world_from_local: placement.world_from_local,
+                    cast_shadows,
+                    receive_shadows,
                 });
             }
             if let Some(light) = self.light(placement)? {

@@ -1,0 +1,164 @@
+//! glTF `extras` Chiaro reads, since glTF has no place for shadow settings: a light's
+//! `{"shadows": "none"|"hard"|"soft", "shadowStrength", "shadowDepthBias",
+//! "shadowNormalBias", "shadowNearPlane"}` and a mesh node's `{"castShadows":
+//! "on"|"off"|"two-sided"|"shadows-only", "receiveShadows": bool}`. Other keys are left
+//! alone; a known key with a wrong value is an error naming it.
+
+use crate::types::{CastShadows, LightShadow, ShadowMode};
+use gltf::json;
+use serde::Deserialize;
+use serde_json::value::RawValue;
+
+#[derive(Deserialize, Default)]
+#[serde(rename_all = "camelCase")]
+struct LightExtras {
+    shadows: Option<String>,
+    shadow_strength: Option<f32>,
+    shadow_depth_bias: Option<f32>,
+    shadow_normal_bias: Option<f32>,
+    shadow_near_plane: Option<f32>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(rename_all = "camelCase")]
+struct NodeExtras {
+    cast_shadows: Option<serde_json::Value>,
+    receive_shadows: Option<bool>,
+}
+
+fn parse<'a, T: Deserialize<'a> + Default>(extras: Option<&'a RawValue>) -> Result<T, String> {
+    match extras {
+        // Extras that are not an object (a string, a number) hold nothing of ours.
+        Some(raw) if raw.get().trim_start().starts_with('{') => {
+            serde_json::from_str(raw.get()).map_err(|e| format!("extras: {e}"))
+        }
+        _ => Ok(T::default()),
+    }
+}
+
+fn non_negative(key: &str, value: Option<f32>, default: f32) -> Result<f32, String> {
+    match value {
+        None => Ok(default),
+        Some(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        Some(v) => Err(format!("extras.{key}: {v} must be a finite number >= 0")),
+    }
+}
+
+/// A light's shadow settings; defaults where its extras say nothing.
+pub(super) fn light_shadow(extras: Option<&RawValue>) -> Result<LightShadow, String> {
+    let e: LightExtras = parse(extras)?;
+    let d = LightShadow::default();
+    let mode = match e.shadows.as_deref() {
+        None => d.mode,
+        Some("none") => ShadowMode::None,
+        Some("hard") => ShadowMode::Hard,
+        Some("soft") => ShadowMode::Soft,
+        Some(other) => {
+            return Err(format!(
+                "extras.shadows: '{other}' is not none, hard or soft"
+            ));
+        }
+    };
+    let strength = non_negative("shadowStrength", e.shadow_strength, d.strength)?;
+    if strength > 1.0 {
+        return Err(format!(
+            "extras.shadowStrength: {strength} must be between 0 and 1"
+        ));
+    }
+    Ok(LightShadow {
+        mode,
+        strength,
+        depth_bias: non_negative("shadowDepthBias", e.shadow_depth_bias, d.depth_bias)?,
+        normal_bias: non_negative("shadowNormalBias", e.shadow_normal_bias, d.normal_bias)?,
+        near_plane: non_negative("shadowNearPlane", e.shadow_near_plane, d.near_plane)?,
+    })
+}
+
+/// A mesh node's (cast, receive) shadow flags.
+pub(super) fn node_shadows(node: &json::scene::Node) -> Result<(CastShadows, bool), String> {
+    let e: NodeExtras = parse(node.extras.as_deref())?;
+    let cast = match e.cast_shadows {
+        None => CastShadows::On,
+        Some(serde_json::Value::Bool(true)) => CastShadows::On,
+        Some(serde_json::Value::Bool(false)) => CastShadows::Off,
+        Some(serde_json::Value::String(s)) => match s.as_str() {
+            "on" => CastShadows::On,
+            "off" => CastShadows::Off,
+            "two-sided" => CastShadows::TwoSided,
+            "shadows-only" => CastShadows::ShadowsOnly,
+            other => {
+                return Err(format!(
+                    "extras.castShadows: '{other}' is not on, off, two-sided or shadows-only"
+                ));
+            }
+        },
+        Some(other) => return Err(format!("extras.castShadows: {other} is not a string")),
+    };
+    Ok((cast, e.receive_shadows.unwrap_or(true)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn raw(text: &str) -> Box<RawValue> {
+        RawValue::from_string(text.to_string()).unwrap()
+    }
+
+    #[test]
+    fn light_extras_override_defaults() {
+        let s = light_shadow(Some(&raw(
+            r#"{"shadows": "hard", "shadowStrength": 0.5, "shadowNormalBias": 2, "other": 1}"#,
+        )))
+        .unwrap();
+        assert_eq!(s.mode, ShadowMode::Hard);
+        assert_eq!(s.strength, 0.5);
+        assert_eq!(s.normal_bias, 2.0);
+        assert_eq!(s.depth_bias, LightShadow::default().depth_bias);
+        assert_eq!(light_shadow(None).unwrap(), LightShadow::default());
+        assert_eq!(
+            light_shadow(Some(&raw(r#""a note""#))).unwrap(),
+            LightShadow::default()
+        );
+    }
+
+    #[test]
+    fn bad_light_extras_name_the_key() {
+        for (text, key) in [
+            (r#"{"shadows": "fuzzy"}"#, "extras.shadows"),
+            (r#"{"shadowStrength": 2}"#, "extras.shadowStrength"),
+            (r#"{"shadowDepthBias": -1}"#, "extras.shadowDepthBias"),
+            (r#"{"shadowNearPlane": "far"}"#, "extras"),
+        ] {
+            let e = light_shadow(Some(&raw(text))).unwrap_err();
+            assert!(e.starts_with(key), "{e}");
+        }
+    }
+
+    #[test]
+    fn node_extras_choose_casting() {
+        let node = |extras: &str| json::scene::Node {
+            extras: Some(raw(extras)),
+            ..serde_json::from_str("{}").unwrap()
+        };
+        assert_eq!(
+            node_shadows(&node(r#"{"castShadows": "shadows-only"}"#)).unwrap(),
+            (CastShadows::ShadowsOnly, true)
+        );
+        assert_eq!(
+            node_shadows(&node(r#"{"castShadows": false, "receiveShadows": false}"#)).unwrap(),
+            (CastShadows::Off, false)
+        );
+        assert_eq!(
+            node_shadows(&node(r#"{"castShadows": "two-sided"}"#))
+                .unwrap()
+                .0,
+            CastShadows::TwoSided
+        );
+        assert!(
+            node_shadows(&node(r#"{"castShadows": "sometimes"}"#))
+                .unwrap_err()
+                .contains("castShadows")
+        );
+    }
+}
