@@ -6,7 +6,9 @@ fn main() {
     for (root, artifact) in [
         ("package::forward", "forward"),
         ("package::aov", "aov"),
+        ("package::shadow_aov", "shadow_aov"),
         ("package::tonemap", "tonemap"),
+        ("package::shadow_caster", "shadow_caster"),
     ] {
         compiler.build_artifact(&root.parse().expect("module path"), artifact);
     }

@@ -35,6 +35,14 @@ impl GpuContext {
         if has_timestamps {
             required_features |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        // Depth clamping for shadow casters in front of the near plane; without it the
+        // caster shader clamps depth itself.
+        if adapter
+            .features()
+            .contains(wgpu::Features::DEPTH_CLIP_CONTROL)
+        {
+            required_features |= wgpu::Features::DEPTH_CLIP_CONTROL;
+        }
         let adapter_limits = adapter.limits();
         let required_limits = wgpu::Limits {
             max_texture_dimension_2d: adapter_limits.max_texture_dimension_2d,

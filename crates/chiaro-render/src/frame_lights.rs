@@ -16,6 +16,8 @@ pub struct FrameLights {
     pub gpu: GpuLights,
     pub directional_count: u32,
     pub other_count: u32,
+    /// Scene light index of each shaded directional light, in slot order.
+    pub directional_scene_index: Vec<usize>,
     /// Scene light index of each shaded other light, in upload order.
     pub other_scene_index: Vec<usize>,
     pub dropped_directional: usize,
@@ -37,6 +39,14 @@ pub fn prepare_lights(scene: &Scene, view: &View, settings: &Settings) -> FrameL
         directional: [GpuDirectionalLight::default(); MAX_DIRECTIONAL_LIGHTS],
         other: [GpuOtherLight::default(); chiaro_math::light::MAX_OTHER_LIGHTS],
     };
+    let directional_scene_index: Vec<usize> = scene
+        .lights
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.kind == LightKind::Directional)
+        .map(|(i, _)| i)
+        .take(MAX_DIRECTIONAL_LIGHTS)
+        .collect();
     let directional: Vec<&Light> = scene
         .lights
         .iter()
@@ -119,6 +129,7 @@ pub fn prepare_lights(scene: &Scene, view: &View, settings: &Settings) -> FrameL
     FrameLights {
         gpu,
         directional_count: directional_count as u32,
+        directional_scene_index,
         other_count: other_scene_index.len() as u32,
         other_scene_index,
         dropped_directional,

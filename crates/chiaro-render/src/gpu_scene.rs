@@ -3,7 +3,8 @@
 
 use crate::gpu_types::{GpuMaterial, GpuObject, GpuTextureTransform, GpuVertex};
 use crate::textures::{SamplerCache, solid, upload_image};
-use chiaro_scene::{AlphaMode, Material, Scene, TextureRef};
+use chiaro_math::Aabb;
+use chiaro_scene::{AlphaMode, CastShadows, Material, Scene, TextureRef};
 use glam::{Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
@@ -23,6 +24,20 @@ pub struct Draw {
     pub mirrored: bool,
     /// World-space centre, for sorting transparent draws back to front.
     pub center_ws: Vec3,
+    /// World-space bounds, for culling casters per shadow tile.
+    pub bounds_ws: Aabb,
+    pub cast_shadows: CastShadows,
+}
+
+impl Draw {
+    /// Drawn by the camera (shadows-only casters are not).
+    pub fn visible(&self) -> bool {
+        self.cast_shadows != CastShadows::ShadowsOnly
+    }
+
+    pub fn casts_shadows(&self) -> bool {
+        self.cast_shadows != CastShadows::Off
+    }
 }
 
 pub struct GpuScene {
@@ -153,7 +168,7 @@ impl GpuScene {
         let mut draws = Vec::new();
         for inst in &scene.instances {
             let object = objects.len() as u32;
-            objects.push(GpuObject::new(inst.world_from_local));
+            objects.push(GpuObject::new(inst.world_from_local, inst.receive_shadows));
             for (p, &(first_index, index_count, base_vertex)) in scene.meshes[inst.mesh]
                 .primitives
                 .iter()
@@ -177,11 +192,13 @@ impl GpuScene {
                     double_sided: m.double_sided,
                     mirrored: inst.world_from_local.determinant() < 0.0,
                     center_ws: inst.world_from_local.transform_point3(p.bounds.center()),
+                    bounds_ws: p.bounds.transformed(&inst.world_from_local),
+                    cast_shadows: inst.cast_shadows,
                 });
             }
         }
         if objects.is_empty() {
-            objects.push(GpuObject::new(glam::Mat4::IDENTITY));
+            objects.push(GpuObject::new(glam::Mat4::IDENTITY, true));
         }
 
         let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

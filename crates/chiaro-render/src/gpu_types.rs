@@ -16,6 +16,9 @@ pub struct GpuFrame {
     pub directional_light_count: u32,
     pub background: Vec3,
     pub other_light_count: u32,
+    /// 0: shaded image; 1: cascade colours over it.
+    pub debug_view: u32,
+    pub _pad: [u32; 3],
 }
 
 #[repr(C)]
@@ -25,6 +28,8 @@ pub struct GpuDirectionalLight {
     pub _pad0: f32,
     pub direction_to_light_ws: Vec3,
     pub _pad1: f32,
+    /// (strength, first atlas tile, normal bias, filter); strength 0 casts no shadow.
+    pub shadow: Vec4,
 }
 
 #[repr(C)]
@@ -52,15 +57,67 @@ pub struct GpuLights {
 pub struct GpuObject {
     pub world_from_local: Mat4,
     pub normal_from_local: Mat4,
+    /// x: `OBJECT_*` flag bits.
+    pub flags: [u32; 4],
 }
 
+/// The object receives shadows.
+pub const OBJECT_RECEIVES_SHADOWS: u32 = 1;
+
 impl GpuObject {
-    pub fn new(world_from_local: Mat4) -> GpuObject {
+    pub fn new(world_from_local: Mat4, receives_shadows: bool) -> GpuObject {
         GpuObject {
             world_from_local,
             normal_from_local: world_from_local.inverse().transpose(),
+            flags: [
+                if receives_shadows {
+                    OBJECT_RECEIVES_SHADOWS
+                } else {
+                    0
+                },
+                0,
+                0,
+                0,
+            ],
         }
     }
+}
+
+/// Shadowed directional lights x cascades.
+pub const MAX_DIRECTIONAL_SHADOW_TILES: usize = 16;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuShadows {
+    pub directional_atlas_from_world: [Mat4; MAX_DIRECTIONAL_SHADOW_TILES],
+    /// xyz centre, w radius squared.
+    pub culling_spheres: [Vec4; 4],
+    /// x: 1 / radius squared; y: texel size x sqrt(2).
+    pub cascade_data: [Vec4; 4],
+    pub distance_fade: Vec4,
+    /// (atlas size, 1 / atlas size, tiles per side, unused).
+    pub directional_atlas: Vec4,
+    pub cascade_count: u32,
+    pub cascade_blend: u32,
+    pub _pad: [u32; 2],
+}
+
+/// One shadow-caster view, at a 256-byte dynamic offset.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuCasterView {
+    pub clip_from_world: Mat4,
+    /// x: clamp depth in the vertex shader (no unclipped-depth support).
+    pub flags: [u32; 4],
+    pub _pad: [Vec4; 11],
+}
+
+/// The light the shadow AOV pass reports, at a 256-byte dynamic offset.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuAovLight {
+    pub directional_index: u32,
+    pub _pad: [u32; 63],
 }
 
 #[repr(C)]

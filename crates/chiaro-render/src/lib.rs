@@ -12,6 +12,8 @@ pub mod gpu_types;
 mod readback;
 pub mod renderer;
 pub mod shaders;
+pub mod shadow_pass;
+pub mod shadow_plan;
 mod textures;
 pub mod view;
 

@@ -5,9 +5,11 @@ use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::frame_lights::{FrameLights, prepare_lights};
 use crate::gpu_scene::{Draw, GpuScene, material_layout};
-use crate::gpu_types::{GpuFrame, GpuLights, GpuVertex};
+use crate::gpu_types::{GpuAovLight, GpuFrame, GpuLights, GpuVertex};
 use crate::readback::{read_buffer, read_texture};
 use crate::shaders;
+use crate::shadow_pass::ShadowPass;
+use crate::shadow_plan::{ShadowPlan, plan_shadows};
 use crate::view::View;
 use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::{AlphaMode, Scene, Settings};
@@ -19,15 +21,33 @@ const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 const LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Shadow AOV: attenuation, coverage.
+const SHADOW_AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// Passes with timestamps, in order; two queries each.
-const TIMED_PASSES: [&str; 3] = ["forward", "aov", "tonemap"];
+const TIMED_PASSES: [&str; 4] = ["shadows", "forward", "aov", "tonemap"];
+const AOV_LIGHT_STRIDE: u64 = std::mem::size_of::<GpuAovLight>() as u64;
+/// What the shadow AOV pass writes for a light without a directional slot.
+const NO_LIGHT: u32 = u32::MAX;
+
+fn timed_index(pass: &str) -> u32 {
+    TIMED_PASSES
+        .iter()
+        .position(|p| *p == pass)
+        .expect("timed pass") as u32
+}
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameOptions {
     /// Also render world position, normal and view depth.
     pub aovs: bool,
+    /// Also render each light's shadow attenuation (needs `readback`).
+    pub shadow_aovs: bool,
     /// Copy the images back to the CPU (off for benchmarking).
     pub readback: bool,
+    /// Tint the image by cascade.
+    pub debug_cascades: bool,
+    /// Copy the directional shadow atlas back to the CPU.
+    pub read_shadow_atlas: bool,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -68,11 +88,26 @@ pub struct FrameOutput {
     /// Number of point/spot lights shaded, and how many visible ones were dropped.
     pub other_lights_shaded: u32,
     pub other_lights_dropped: usize,
+    /// Per scene light (by index in `Scene::lights`): the shadow attenuation the shading
+    /// used, 1 where no shadow map covers the pixel, NaN where no surface is.
+    pub shadow_aovs: Vec<Vec<f32>>,
+    /// The directional shadow atlas, side length and depths, if asked for.
+    pub shadow_atlas: Option<(u32, Vec<f32>)>,
+    /// Shadow tiles rendered and caster draws issued into them.
+    pub shadow_tiles: usize,
+    pub shadow_caster_draws: usize,
+}
+
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+enum PassKind {
+    Forward,
+    Aov,
+    ShadowAov,
 }
 
 #[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
 struct PipelineKey {
-    aov: bool,
+    pass: PassKind,
     cull_back: bool,
     front_cw: bool,
     blend: bool,
@@ -86,6 +121,7 @@ struct Targets {
     depth: wgpu::Texture,
     aov_position: wgpu::Texture,
     aov_normal: wgpu::Texture,
+    aov_shadow: wgpu::Texture,
     tonemap_bind_group: wgpu::BindGroup,
 }
 
@@ -96,10 +132,9 @@ struct Timestamps {
     period_ns: f64,
 }
 
-/// A scene on the GPU, bound to a renderer's frame buffers.
+/// A scene on the GPU.
 pub struct PreparedScene {
     pub gpu: GpuScene,
-    frame_bind_group: wgpu::BindGroup,
 }
 
 pub struct Renderer {
@@ -108,12 +143,18 @@ pub struct Renderer {
     material_layout: wgpu::BindGroupLayout,
     tonemap_layout: wgpu::BindGroupLayout,
     scene_pipeline_layout: wgpu::PipelineLayout,
+    shadow_aov_pipeline_layout: wgpu::PipelineLayout,
+    aov_light_layout: wgpu::BindGroupLayout,
+    aov_lights: wgpu::Buffer,
+    shadow_pass: ShadowPass,
     forward_module: wgpu::ShaderModule,
     aov_module: wgpu::ShaderModule,
+    shadow_aov_module: wgpu::ShaderModule,
     tonemap_pipeline: wgpu::RenderPipeline,
     pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
     frame_buffer: wgpu::Buffer,
     lights_buffer: wgpu::Buffer,
+    shadows_buffer: wgpu::Buffer,
     targets: Option<Targets>,
     timestamps: Option<Timestamps>,
 }
@@ -173,7 +214,37 @@ impl Renderer {
                     },
                     count: None,
                 },
+                uniform_entry(3),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
             ],
+        });
+        let aov_light_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("aov light layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(AOV_LIGHT_STRIDE),
+                },
+                count: None,
+            }],
         });
         let material_layout = material_layout(device);
         let tonemap_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -193,6 +264,16 @@ impl Renderer {
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("scene pipeline layout"),
                 bind_group_layouts: &[Some(&frame_layout), Some(&material_layout)],
+                immediate_size: 0,
+            });
+        let shadow_aov_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("shadow aov pipeline layout"),
+                bind_group_layouts: &[
+                    Some(&frame_layout),
+                    Some(&material_layout),
+                    Some(&aov_light_layout),
+                ],
                 immediate_size: 0,
             });
         let tonemap_pipeline_layout =
@@ -235,6 +316,19 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let shadows_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("shadows uniform"),
+            size: std::mem::size_of::<crate::gpu_types::GpuShadows>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let aov_lights = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("aov lights"),
+            size: AOV_LIGHT_STRIDE,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let shadow_pass = ShadowPass::new(&ctx);
         let timestamps = ctx.has_timestamps.then(|| {
             let count = 2 * TIMED_PASSES.len() as u32;
             Timestamps {
@@ -260,13 +354,20 @@ impl Renderer {
         });
         let forward_module = shaders::module(device, "forward", shaders::FORWARD);
         let aov_module = shaders::module(device, "aov", shaders::AOV);
+        let shadow_aov_module = shaders::module(device, "shadow aov", shaders::SHADOW_AOV);
         let renderer = Renderer {
             frame_layout,
             material_layout,
             tonemap_layout,
             scene_pipeline_layout,
+            shadow_aov_pipeline_layout,
+            aov_light_layout,
+            aov_lights,
+            shadow_pass,
+            shadows_buffer,
             forward_module,
             aov_module,
+            shadow_aov_module,
             tonemap_pipeline,
             pipelines: HashMap::new(),
             frame_buffer,
@@ -279,7 +380,7 @@ impl Renderer {
         Ok(renderer)
     }
 
-    /// Uploads a scene and binds it to this renderer's per-frame buffers.
+    /// Uploads a scene.
     pub fn prepare(&self, scene: &Scene) -> Result<PreparedScene, RenderError> {
         let gpu = GpuScene::upload(
             &self.ctx.device,
@@ -287,8 +388,13 @@ impl Renderer {
             &self.material_layout,
             scene,
         );
-        let frame_bind_group = self
-            .ctx
+        self.ctx.take_error()?;
+        Ok(PreparedScene { gpu })
+    }
+
+    /// Binds the per-frame buffers, the scene's objects and the current shadow atlas.
+    fn frame_bind_group(&self, prepared: &PreparedScene) -> wgpu::BindGroup {
+        self.ctx
             .device
             .create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("frame bind group"),
@@ -304,49 +410,60 @@ impl Renderer {
                     },
                     wgpu::BindGroupEntry {
                         binding: 2,
-                        resource: gpu.objects.as_entire_binding(),
+                        resource: prepared.gpu.objects.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: self.shadows_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::TextureView(&self.shadow_pass.atlas_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: wgpu::BindingResource::Sampler(&self.shadow_pass.sampler),
                     },
                 ],
-            });
-        self.ctx.take_error()?;
-        Ok(PreparedScene {
-            gpu,
-            frame_bind_group,
-        })
+            })
     }
 
     fn pipeline(&mut self, key: PipelineKey) -> &wgpu::RenderPipeline {
         let device = &self.ctx.device;
-        let (module, entry, targets): (
+        type Targets = Vec<Option<wgpu::ColorTargetState>>;
+        let (module, entry, targets, layout): (
             &wgpu::ShaderModule,
             &str,
-            Vec<Option<wgpu::ColorTargetState>>,
-        ) = if key.aov {
-            (
+            Targets,
+            &wgpu::PipelineLayout,
+        ) = match key.pass {
+            PassKind::Aov => (
                 &self.aov_module,
                 "fs_aov",
                 vec![Some(AOV_FORMAT.into()), Some(AOV_FORMAT.into())],
-            )
-        } else {
-            let blend = key
-                .blend
-                .then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING);
-            (
+                &self.scene_pipeline_layout,
+            ),
+            PassKind::ShadowAov => (
+                &self.shadow_aov_module,
+                "fs_shadow_aov",
+                vec![Some(SHADOW_AOV_FORMAT.into())],
+                &self.shadow_aov_pipeline_layout,
+            ),
+            PassKind::Forward => (
                 &self.forward_module,
                 "fs_main",
                 vec![Some(wgpu::ColorTargetState {
                     format: HDR_FORMAT,
-                    blend,
+                    blend: key
+                        .blend
+                        .then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
-            )
+                &self.scene_pipeline_layout,
+            ),
         };
-        let layout = &self.scene_pipeline_layout;
         self.pipelines.entry(key).or_insert_with(|| {
-            let label = format!(
-                "{} pipeline {key:?}",
-                if key.aov { "aov" } else { "forward" }
-            );
+            let label = format!("{key:?}");
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(&label),
                 layout: Some(layout),
@@ -369,7 +486,7 @@ impl Renderer {
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     // Transparent surfaces are tested against depth but do not write it.
-                    depth_write_enabled: Some(key.aov || !key.blend),
+                    depth_write_enabled: Some(!key.blend),
                     // Reverse-Z: nearer is greater.
                     depth_compare: Some(wgpu::CompareFunction::Greater),
                     stencil: Default::default(),
@@ -436,6 +553,7 @@ impl Renderer {
             ),
             aov_position: texture_2d(ctx, "aov position", width, height, AOV_FORMAT, attach),
             aov_normal: texture_2d(ctx, "aov normal depth", width, height, AOV_FORMAT, attach),
+            aov_shadow: texture_2d(ctx, "aov shadow", width, height, SHADOW_AOV_FORMAT, attach),
             hdr,
             tonemap_bind_group,
         });
@@ -455,7 +573,18 @@ impl Renderer {
             tracing::info_span!("frame", width = view.width, height = view.height).entered();
         let start = Instant::now();
         self.ensure_targets(view.width, view.height)?;
-        let lights = prepare_lights(scene, view, settings);
+        let mut lights = prepare_lights(scene, view, settings);
+        let directional: Vec<&chiaro_scene::Light> = lights
+            .directional_scene_index
+            .iter()
+            .map(|&i| &scene.lights[i])
+            .collect();
+        let plan = plan_shadows(view, settings, &directional);
+        for (slot, shadow) in lights.gpu.directional.iter_mut().zip(plan.directional) {
+            slot.shadow = shadow;
+        }
+        self.shadow_pass
+            .ensure_atlas(&self.ctx.device, plan.atlas_size);
         let exposure = exposure_scale(settings.render.exposure_ev100);
         let frame = GpuFrame {
             clip_from_world: view.clip_from_world(),
@@ -466,30 +595,65 @@ impl Renderer {
             directional_light_count: lights.directional_count,
             background: Vec3::from(settings.render.background),
             other_light_count: lights.other_count,
+            debug_view: u32::from(options.debug_cascades),
+            _pad: [0; 3],
         };
-        self.ctx
-            .queue
-            .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
-        self.ctx
-            .queue
-            .write_buffer(&self.lights_buffer, 0, bytemuck::bytes_of(&lights.gpu));
+        let queue = &self.ctx.queue;
+        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        queue.write_buffer(&self.lights_buffer, 0, bytemuck::bytes_of(&lights.gpu));
+        queue.write_buffer(&self.shadows_buffer, 0, bytemuck::bytes_of(&plan.gpu));
 
         let draws = ordered_draws(&prepared.gpu.draws, view);
+        let passes = [
+            (PassKind::Forward, true),
+            (PassKind::Aov, options.aovs),
+            (PassKind::ShadowAov, options.shadow_aovs),
+        ];
         for d in &draws {
-            for aov in [false, true] {
-                self.pipeline(pipeline_key(d, aov));
+            for (pass, wanted) in passes {
+                if wanted {
+                    self.pipeline(pipeline_key(d, pass));
+                }
             }
         }
+        let frame_bind_group = self.frame_bind_group(prepared);
         let mut encoder = self
             .ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
+        let shadow_timestamps = timestamp_writes(&self.timestamps, "shadows");
+        let shadow_caster_draws = self.shadow_pass.record(
+            &self.ctx,
+            &mut encoder,
+            &plan,
+            &prepared.gpu.draws,
+            &prepared.gpu.vertices,
+            &prepared.gpu.indices,
+            &prepared.gpu.objects,
+            shadow_timestamps,
+        );
         let background = Vec3::from(settings.render.background) * exposure;
-        self.record_scene_pass(&mut encoder, prepared, &draws, false, background, 0);
+        self.record_scene_pass(
+            &mut encoder,
+            prepared,
+            &frame_bind_group,
+            &draws,
+            PassKind::Forward,
+            background,
+            None,
+        );
         if options.aovs {
-            self.record_scene_pass(&mut encoder, prepared, &draws, true, Vec3::ZERO, 1);
+            self.record_scene_pass(
+                &mut encoder,
+                prepared,
+                &frame_bind_group,
+                &draws,
+                PassKind::Aov,
+                Vec3::ZERO,
+                None,
+            );
         }
         self.record_tonemap(&mut encoder);
         if let Some(ts) = &self.timestamps {
@@ -516,7 +680,9 @@ impl Renderer {
             let bytes = read_buffer(&self.ctx, &ts.readback)?;
             let stamps: &[u64] = bytemuck::cast_slice(&bytes);
             for (i, name) in TIMED_PASSES.iter().enumerate() {
-                if *name == "aov" && !options.aovs {
+                let skipped = (*name == "aov" && !options.aovs)
+                    || (*name == "shadows" && plan.tiles.is_empty());
+                if skipped {
                     continue;
                 }
                 let ticks = stamps[2 * i + 1].saturating_sub(stamps[2 * i]);
@@ -531,31 +697,118 @@ impl Renderer {
             timings,
             other_lights_shaded: lights.other_count,
             other_lights_dropped: lights.selection.dropped,
+            shadow_tiles: plan.tiles.len(),
+            shadow_caster_draws,
             ..Default::default()
         };
         if options.readback {
-            self.read_images(&mut out, exposure, options.aovs, &lights)?;
+            self.read_images(&mut out, exposure, options.aovs)?;
+        }
+        if options.shadow_aovs {
+            out.shadow_aovs = self.render_shadow_aovs(
+                scene,
+                prepared,
+                &frame_bind_group,
+                &draws,
+                &lights,
+                &plan,
+            )?;
+        }
+        if options.read_shadow_atlas && plan.atlas_size > 0 {
+            let bytes = read_texture(&self.ctx, self.shadow_pass.atlas(), 4)?;
+            out.shadow_atlas = Some((plan.atlas_size, bytemuck::cast_slice(&bytes).to_vec()));
         }
         Ok(out)
     }
 
-    fn record_scene_pass(
+    /// One pass per scene light writing the shadow attenuation the shading used for it.
+    fn render_shadow_aovs(
         &mut self,
+        scene: &Scene,
+        prepared: &PreparedScene,
+        frame_bind_group: &wgpu::BindGroup,
+        draws: &[&Draw],
+        lights: &FrameLights,
+        _plan: &ShadowPlan,
+    ) -> Result<Vec<Vec<f32>>, RenderError> {
+        let mut out = Vec::with_capacity(scene.lights.len());
+        let aov_bind_group = self
+            .ctx
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("aov light bind group"),
+                layout: &self.aov_light_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.aov_lights,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(AOV_LIGHT_STRIDE),
+                    }),
+                }],
+            });
+        for light_index in 0..scene.lights.len() {
+            let slot = lights
+                .directional_scene_index
+                .iter()
+                .position(|&i| i == light_index)
+                .map_or(NO_LIGHT, |s| s as u32);
+            let value = GpuAovLight {
+                directional_index: slot,
+                _pad: [0; 63],
+            };
+            self.ctx
+                .queue
+                .write_buffer(&self.aov_lights, 0, bytemuck::bytes_of(&value));
+            let mut encoder =
+                self.ctx
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("shadow aov"),
+                    });
+            self.record_scene_pass(
+                &mut encoder,
+                prepared,
+                frame_bind_group,
+                draws,
+                PassKind::ShadowAov,
+                Vec3::ZERO,
+                Some(&aov_bind_group),
+            );
+            self.ctx.queue.submit([encoder.finish()]);
+            let targets = self.targets.as_ref().expect("targets exist");
+            let bytes = read_texture(&self.ctx, &targets.aov_shadow, 8)?;
+            let pairs: &[[f32; 2]] = bytemuck::cast_slice(&bytes);
+            out.push(
+                pairs
+                    .iter()
+                    .map(|p| if p[1] > 0.5 { p[0] } else { f32::NAN })
+                    .collect(),
+            );
+        }
+        self.ctx.take_error()?;
+        Ok(out)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn record_scene_pass(
+        &self,
         encoder: &mut wgpu::CommandEncoder,
         prepared: &PreparedScene,
+        frame_bind_group: &wgpu::BindGroup,
         draws: &[&Draw],
-        aov: bool,
+        pass_kind: PassKind,
         clear: Vec3,
-        timed_index: u32,
+        aov_light: Option<&wgpu::BindGroup>,
     ) {
         let targets = self.targets.as_ref().expect("targets exist");
-        let color_views: Vec<wgpu::TextureView> = if aov {
-            vec![
+        let color_views: Vec<wgpu::TextureView> = match pass_kind {
+            PassKind::Aov => vec![
                 targets.aov_position.create_view(&Default::default()),
                 targets.aov_normal.create_view(&Default::default()),
-            ]
-        } else {
-            vec![targets.hdr.create_view(&Default::default())]
+            ],
+            PassKind::ShadowAov => vec![targets.aov_shadow.create_view(&Default::default())],
+            PassKind::Forward => vec![targets.hdr.create_view(&Default::default())],
         };
         let depth_view = targets.depth.create_view(&Default::default());
         let clear_color = wgpu::Color {
@@ -578,16 +831,17 @@ impl Renderer {
                 })
             })
             .collect();
-        let timestamp_writes = self
-            .timestamps
-            .as_ref()
-            .map(|ts| wgpu::RenderPassTimestampWrites {
-                query_set: &ts.queries,
-                beginning_of_pass_write_index: Some(2 * timed_index),
-                end_of_pass_write_index: Some(2 * timed_index + 1),
-            });
+        let timestamp_writes = match pass_kind {
+            PassKind::Forward => timestamp_writes(&self.timestamps, "forward"),
+            PassKind::Aov => timestamp_writes(&self.timestamps, "aov"),
+            PassKind::ShadowAov => None,
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(if aov { "aov pass" } else { "forward pass" }),
+            label: Some(match pass_kind {
+                PassKind::Forward => "forward pass",
+                PassKind::Aov => "aov pass",
+                PassKind::ShadowAov => "shadow aov pass",
+            }),
             color_attachments: &attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
@@ -601,13 +855,16 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+        pass.set_bind_group(0, frame_bind_group, &[]);
+        if let Some(group) = aov_light {
+            pass.set_bind_group(2, group, &[0]);
+        }
         pass.set_vertex_buffer(0, prepared.gpu.vertices.slice(..));
         pass.set_index_buffer(prepared.gpu.indices.slice(..), wgpu::IndexFormat::Uint32);
         let mut bound_material = usize::MAX;
         let mut bound_key = None;
         for d in draws {
-            let key = pipeline_key(d, aov);
+            let key = pipeline_key(d, pass_kind);
             if bound_key != Some(key) {
                 pass.set_pipeline(&self.pipelines[&key]);
                 bound_key = Some(key);
@@ -661,7 +918,6 @@ impl Renderer {
         out: &mut FrameOutput,
         exposure: f32,
         aovs: bool,
-        _lights: &FrameLights,
     ) -> Result<(), RenderError> {
         let targets = self.targets.as_ref().expect("targets exist");
         let hdr_bytes = read_texture(&self.ctx, &targets.hdr, 8)?;
@@ -697,12 +953,26 @@ impl Renderer {
     }
 }
 
-fn pipeline_key(d: &Draw, aov: bool) -> PipelineKey {
+fn timestamp_writes<'a>(
+    timestamps: &'a Option<Timestamps>,
+    pass: &str,
+) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
+    let index = timed_index(pass);
+    timestamps
+        .as_ref()
+        .map(|ts| wgpu::RenderPassTimestampWrites {
+            query_set: &ts.queries,
+            beginning_of_pass_write_index: Some(2 * index),
+            end_of_pass_write_index: Some(2 * index + 1),
+        })
+}
+
+fn pipeline_key(d: &Draw, pass: PassKind) -> PipelineKey {
     PipelineKey {
-        aov,
+        pass,
         cull_back: !d.double_sided,
         front_cw: d.mirrored,
-        blend: d.alpha_mode == AlphaMode::Blend && !aov,
+        blend: d.alpha_mode == AlphaMode::Blend && pass == PassKind::Forward,
     }
 }
 
@@ -710,8 +980,10 @@ fn pipeline_key(d: &Draw, aov: bool) -> PipelineKey {
 /// draws from far to near, so blending composes correctly.
 fn ordered_draws<'a>(draws: &'a [Draw], view: &View) -> Vec<&'a Draw> {
     let eye = view.eye();
-    let (mut blended, mut solid): (Vec<&Draw>, Vec<&Draw>) =
-        draws.iter().partition(|d| d.alpha_mode == AlphaMode::Blend);
+    let (mut blended, mut solid): (Vec<&Draw>, Vec<&Draw>) = draws
+        .iter()
+        .filter(|d| d.visible())
+        .partition(|d| d.alpha_mode == AlphaMode::Blend);
     solid.sort_by_key(|d| (d.double_sided, d.mirrored, d.material));
     blended.sort_by(|a, b| {
         b.center_ws

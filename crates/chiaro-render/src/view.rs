@@ -10,6 +10,10 @@ pub struct View {
     pub height: u32,
     pub world_from_view: Mat4,
     pub clip_from_view: Mat4,
+    pub yfov_rad: f32,
+    pub znear: f32,
+    /// `None` for an infinite projection.
+    pub zfar: Option<f32>,
 }
 
 impl View {
@@ -19,6 +23,10 @@ impl View {
 
     pub fn clip_from_world(&self) -> Mat4 {
         self.clip_from_view * self.view_from_world()
+    }
+
+    pub fn aspect(&self) -> f32 {
+        self.width as f32 / self.height as f32
     }
 
     pub fn eye(&self) -> Vec3 {
@@ -34,6 +42,9 @@ impl View {
             height,
             world_from_view: c.world_from_view,
             clip_from_view: perspective_reverse_z(c.yfov_rad, aspect, c.znear, c.zfar),
+            yfov_rad: c.yfov_rad,
+            znear: c.znear,
+            zfar: c.zfar,
         }
     }
 
@@ -46,6 +57,9 @@ impl View {
             height,
             world_from_view,
             clip_from_view: perspective_reverse_z(yfov_rad, aspect, near, Some(far)),
+            yfov_rad,
+            znear: near,
+            zfar: Some(far),
         }
     }
 }

@@ -127,6 +127,7 @@ fn spot_light_lights_exactly_its_cone() {
         range: Some(50.0),
         position: Vec3::new(0.0, 3.0, 0.0),
         direction: Vec3::NEG_Y,
+        shadow: Default::default(),
     };
     let scene = floor_scene(12.0, EYE, vec![light.clone()]);
     let frame = render(&mut renderer(), &scene, &unlit_settings(), 256);
@@ -184,6 +185,7 @@ fn directional_light_gives_illuminance_times_brdf() {
         range: None,
         position: Vec3::ZERO,
         direction,
+        shadow: Default::default(),
     };
     let scene = floor_scene(12.0, EYE, vec![sun.clone()]);
     let frame = render(&mut renderer(), &scene, &unlit_settings(), 128);

@@ -26,8 +26,8 @@ fn render_rgb(scene: &Scene) -> Vec<u8> {
             &view,
             &Settings::default(),
             FrameOptions {
-                aovs: false,
                 readback: true,
+                ..Default::default()
             },
         )
         .unwrap();

@@ -19,7 +19,7 @@ fn every_shader_validates() {
         )
         .validate(&m)
         .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
-        assert!(m.entry_points.len() >= 2, "{name} has its entry points");
+        assert!(!m.entry_points.is_empty(), "{name} has entry points");
     }
 }
 

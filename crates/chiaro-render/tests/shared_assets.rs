@@ -58,6 +58,7 @@ fn every_shared_scene_renders() {
                 FrameOptions {
                     aovs: true,
                     readback: true,
+                    ..Default::default()
                 },
             )
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));

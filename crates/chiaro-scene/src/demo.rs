@@ -116,7 +116,7 @@ pub fn demo_scene(other_lights: usize) -> Scene {
         node: light_node_base,
         kind: LightKind::Directional,
         color: Vec3::new(1.0, 0.96, 0.9),
-        intensity: 1.5,
+        intensity: 3.0,
         range: None,
         position: Vec3::ZERO,
         direction: sun_direction,

@@ -13,5 +13,5 @@ pub mod vertex_gen;
 
 pub use error::SceneError;
 pub use gltf_import::load_gltf;
-pub use settings::Settings;
+pub use settings::{CascadeBlend, Settings};
 pub use types::*;

@@ -65,10 +65,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     )?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
-    let options = FrameOptions {
-        aovs: false,
-        readback: false,
-    };
+    let options = FrameOptions::default();
     for _ in 0..args.warmup {
         renderer.render(&scene, &prepared, &view, &settings, options)?;
     }

@@ -68,6 +68,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let options = FrameOptions {
         aovs: !args.aov.is_empty(),
         readback: true,
+        ..Default::default()
     };
     let frame = renderer.render(&scene, &prepared, &view, &settings, options)?;
     match format {

@@ -8,6 +8,8 @@ pub mod cascades;
 pub mod fade;
 pub mod filter;
 
+pub mod culling;
+
 pub use atlas::AtlasLayout;
 pub use cascades::{CascadeFit, cascade_splits, fit_cascade, slice_culling_sphere};
 pub use filter::ShadowFilter;

@@ -7,7 +7,8 @@
 use chiaro_render::renderer::FrameOutput;
 use chiaro_render::{FrameOptions, GpuContext, Renderer, View};
 use chiaro_scene::{
-    Camera, Light, LightKind, Material, Mesh, MeshInstance, Scene, Settings, shapes,
+    Camera, CastShadows, Light, LightKind, LightShadow, Material, Mesh, MeshInstance, Scene,
+    Settings, shapes,
 };
 use glam::{Mat4, Vec3};
 
@@ -37,6 +38,8 @@ pub fn floor_scene(size: f32, eye: Vec3, lights: Vec<Light>) -> Scene {
             node: 0,
             name: "floor".into(),
             world_from_local: Mat4::IDENTITY,
+            cast_shadows: CastShadows::On,
+            receive_shadows: true,
         }],
         materials: vec![Material {
             name: "white".into(),
@@ -69,6 +72,7 @@ pub fn point_light(position: Vec3, intensity: f32, range: Option<f32>) -> Light 
         range,
         position,
         direction: Vec3::NEG_Z,
+        shadow: LightShadow::default(),
     }
 }
 
@@ -89,6 +93,7 @@ pub fn render(
             FrameOptions {
                 aovs: true,
                 readback: true,
+                ..Default::default()
             },
         )
         .expect("render")

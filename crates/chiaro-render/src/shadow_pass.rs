@@ -1,0 +1,279 @@
+//! The directional shadow atlas on the GPU: a depth texture, the caster pipelines (one per
+//! slope bias and cull mode, since depth bias is pipeline state in wgpu), and the pass that
+//! draws each tile's casters into its viewport.
+
+use crate::context::GpuContext;
+use crate::gpu_scene::Draw;
+use crate::gpu_types::{GpuCasterView, GpuVertex, MAX_DIRECTIONAL_SHADOW_TILES};
+use crate::shaders;
+use crate::shadow_plan::ShadowPlan;
+use chiaro_math::shadow::culling::caster_in_tile;
+use chiaro_scene::CastShadows;
+use std::collections::HashMap;
+
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+const VIEW_STRIDE: u64 = std::mem::size_of::<GpuCasterView>() as u64;
+
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+struct CasterKey {
+    slope_bias_bits: u32,
+    cull_back: bool,
+    front_cw: bool,
+}
+
+pub struct ShadowPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    pipelines: HashMap<CasterKey, wgpu::RenderPipeline>,
+    views: wgpu::Buffer,
+    /// Depth clamping by the rasterizer (DEPTH_CLIP_CONTROL); else in the vertex shader.
+    unclipped_depth: bool,
+    atlas: wgpu::Texture,
+    pub atlas_view: wgpu::TextureView,
+    pub sampler: wgpu::Sampler,
+}
+
+fn atlas_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("directional shadow atlas"),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: SHADOW_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+impl ShadowPass {
+    pub fn new(ctx: &GpuContext) -> ShadowPass {
+        let device = &ctx.device;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caster layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: true,
+                        min_binding_size: wgpu::BufferSize::new(VIEW_STRIDE),
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("caster pipeline layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let atlas = atlas_texture(device, 1);
+        ShadowPass {
+            module: shaders::module(device, "shadow caster", shaders::SHADOW_CASTER),
+            views: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("caster views"),
+                size: VIEW_STRIDE * MAX_DIRECTIONAL_SHADOW_TILES as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            unclipped_depth: ctx
+                .device
+                .features()
+                .contains(wgpu::Features::DEPTH_CLIP_CONTROL),
+            atlas_view: atlas.create_view(&Default::default()),
+            atlas,
+            sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("shadow comparison sampler"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            }),
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+        }
+    }
+
+    pub fn atlas(&self) -> &wgpu::Texture {
+        &self.atlas
+    }
+
+    /// Makes the atlas `size` texels square (1 when no light casts a shadow).
+    pub fn ensure_atlas(&mut self, device: &wgpu::Device, size: u32) {
+        let size = size.max(1);
+        if self.atlas.width() != size {
+            self.atlas = atlas_texture(device, size);
+            self.atlas_view = self.atlas.create_view(&Default::default());
+        }
+    }
+
+    fn pipeline(&mut self, device: &wgpu::Device, key: CasterKey) -> &wgpu::RenderPipeline {
+        let (module, layout, unclipped) =
+            (&self.module, &self.pipeline_layout, self.unclipped_depth);
+        self.pipelines.entry(key).or_insert_with(|| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(&format!("caster pipeline {key:?}")),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some("vs_caster"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(GpuVertex::layout())],
+                },
+                primitive: wgpu::PrimitiveState {
+                    front_face: if key.front_cw {
+                        wgpu::FrontFace::Cw
+                    } else {
+                        wgpu::FrontFace::Ccw
+                    },
+                    cull_mode: key.cull_back.then_some(wgpu::Face::Back),
+                    unclipped_depth: unclipped,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: SHADOW_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    stencil: Default::default(),
+                    bias: wgpu::DepthBiasState {
+                        constant: 0,
+                        slope_scale: f32::from_bits(key.slope_bias_bits),
+                        clamp: 0.0,
+                    },
+                }),
+                multisample: Default::default(),
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            })
+        })
+    }
+
+    /// Draws every tile's casters. Returns how many draws were issued.
+    pub fn record(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        plan: &ShadowPlan,
+        draws: &[Draw],
+        vertices: &wgpu::Buffer,
+        indices: &wgpu::Buffer,
+        objects: &wgpu::Buffer,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites>,
+    ) -> usize {
+        if plan.tiles.is_empty() {
+            return 0;
+        }
+        let flags = [u32::from(!self.unclipped_depth), 0, 0, 0];
+        for (i, tile) in plan.tiles.iter().enumerate() {
+            let view = GpuCasterView {
+                clip_from_world: tile.clip_from_world,
+                flags,
+                _pad: Default::default(),
+            };
+            ctx.queue.write_buffer(
+                &self.views,
+                i as u64 * VIEW_STRIDE,
+                bytemuck::bytes_of(&view),
+            );
+        }
+        // Which pipeline each draw needs per tile, created before the pass borrows them.
+        let key_for = |d: &Draw, slope_bias: f32| CasterKey {
+            slope_bias_bits: slope_bias.to_bits(),
+            cull_back: d.cast_shadows != CastShadows::TwoSided && !d.double_sided,
+            front_cw: d.mirrored,
+        };
+        let mut tile_draws: Vec<Vec<(&Draw, CasterKey)>> = Vec::with_capacity(plan.tiles.len());
+        for tile in &plan.tiles {
+            let list: Vec<(&Draw, CasterKey)> = draws
+                .iter()
+                .filter(|d| {
+                    d.casts_shadows() && caster_in_tile(&tile.clip_from_world, &d.bounds_ws, true)
+                })
+                .map(|d| (d, key_for(d, tile.slope_bias)))
+                .collect();
+            for (_, key) in &list {
+                self.pipeline(&ctx.device, *key);
+            }
+            tile_draws.push(list);
+        }
+        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("caster bind group"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.views,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(VIEW_STRIDE),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: objects.as_entire_binding(),
+                },
+            ],
+        });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("directional shadow pass"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.atlas_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_vertex_buffer(0, vertices.slice(..));
+        pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+        let mut count = 0;
+        for (i, (tile, list)) in plan.tiles.iter().zip(&tile_draws).enumerate() {
+            let (x, y, size) = tile.viewport;
+            pass.push_debug_group(&format!("shadow tile {i}"));
+            pass.set_viewport(x as f32, y as f32, size as f32, size as f32, 0.0, 1.0);
+            pass.set_scissor_rect(x, y, size, size);
+            pass.set_bind_group(0, &bind_group, &[(i as u64 * VIEW_STRIDE) as u32]);
+            let mut bound = None;
+            for (d, key) in list {
+                if bound != Some(*key) {
+                    pass.set_pipeline(&self.pipelines[key]);
+                    bound = Some(*key);
+                }
+                pass.draw_indexed(
+                    d.first_index..d.first_index + d.index_count,
+                    d.base_vertex,
+                    d.object..d.object + 1,
+                );
+                count += 1;
+            }
+            pass.pop_debug_group();
+        }
+        count
+    }
+}

@@ -1,0 +1,382 @@
+//! The shadow reference: what a perfect shadow map would say, traced per pixel.
+//!
+//! A `Scene`, a `PixelCamera` and one range per light flow in; `ShadowReference` flows out:
+//! for every pixel the surface the camera sees (position, camera-facing geometric normal,
+//! whether it receives shadows) and, per light, whether a shadow ray from that surface
+//! reaches the light. `compare` judges a rendered shadow against it.
+
+use crate::bvh::SceneBvh;
+use chiaro_scene::{Light, LightKind, Scene};
+use glam::{Mat4, Vec2, Vec3};
+use rayon::prelude::*;
+
+/// Shadow rays start this far (relative to the position's largest coordinate, at least
+/// 1 m) off the surface, along its camera-facing normal: 0.1 mm near the origin, 1 cm at
+/// 100 m where one float step is 7.6 µm. Too little and the ray can hit its own triangle,
+/// shadowing lit surfaces (acne in the reference); too much and it starts past casters that
+/// touch the surface, leaking light at contact (peter-panning in the reference).
+pub const SHADOW_RAY_OFFSET_SCALE: f32 = 1.0e-4;
+
+/// Point and spot shadow rays stop this fraction short of the light, so geometry at the
+/// light itself (a bulb mesh around it) does not count.
+const LIGHT_END_MARGIN: f32 = 1.0e-4;
+
+/// A camera as the renderer sees it: the full projection and the image size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelCamera {
+    /// Reverse-Z perspective (clip z = 1 at the near plane, 0 at the far plane or
+    /// infinity) times view-from-world; wgpu NDC, x right and y up.
+    pub clip_from_world: Mat4,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl PixelCamera {
+    /// The ray through the centre of pixel `(x, y)`, counted from the top-left:
+    /// `(origin on the near plane, unit direction)`, or `None` for a singular matrix.
+    pub fn primary_ray(&self, x: u32, y: u32) -> Option<(Vec3, Vec3)> {
+        primary_ray(
+            &self.clip_from_world.inverse(),
+            self.width,
+            self.height,
+            x,
+            y,
+        )
+    }
+}
+
+fn primary_ray(
+    world_from_clip: &Mat4,
+    width: u32,
+    height: u32,
+    x: u32,
+    y: u32,
+) -> Option<(Vec3, Vec3)> {
+    let uv = (Vec2::new(x as f32, y as f32) + 0.5) / Vec2::new(width as f32, height as f32);
+    let ndc = Vec2::new(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    // Reverse-Z: depth 1 is the near plane; 0.5 is a finite point beyond it even for an
+    // infinite projection (twice the near distance).
+    let near = world_from_clip.project_point3(ndc.extend(1.0));
+    let farther = world_from_clip.project_point3(ndc.extend(0.5));
+    let direction = (farther - near).try_normalize()?;
+    near.is_finite().then_some((near, direction))
+}
+
+/// Per-pixel surfaces and per-light visibility, row-major from the top-left.
+#[derive(Clone, Debug)]
+pub struct ShadowReference {
+    pub width: u32,
+    pub height: u32,
+    /// World-space position of the surface seen, `None` for sky.
+    pub position: Vec<Option<Vec3>>,
+    /// Unit geometric normal turned to face the camera; zero for sky.
+    pub normal: Vec<Vec3>,
+    /// The seen instance's `receive_shadows`; false for sky.
+    pub receives: Vec<bool>,
+    /// `visibility[light][pixel]`: 1 where a shadow ray reaches `scene.lights[light]`
+    /// unoccluded, 0 where a caster blocks it, NaN for sky. Computed for every surface,
+    /// whether or not it receives shadows, faces the light, or lies in its range or cone.
+    pub visibility: Vec<Vec<f32>>,
+    /// The range each light was traced with (`ranges` as given, the light's own or
+    /// infinity where missing; infinity for directional lights), for the comparison.
+    pub ranges: Vec<f32>,
+}
+
+impl ShadowReference {
+    pub fn pixel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+}
+
+/// Traces the reference for every light of `scene` as seen by `camera`. `ranges[i]` is
+/// the range the renderer uses for `scene.lights[i]`; it does not change visibility, which
+/// is traced for every surface, and is kept in `ShadowReference::ranges`.
+pub fn trace_shadow_reference(
+    scene: &Scene,
+    camera: &PixelCamera,
+    ranges: &[f32],
+) -> ShadowReference {
+    let _span = tracing::info_span!(
+        "shadow_reference",
+        width = camera.width,
+        height = camera.height,
+        lights = scene.lights.len()
+    )
+    .entered();
+    let bvh = SceneBvh::build(scene);
+    let ranges: Vec<f32> = scene
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, light)| match light.kind {
+            LightKind::Directional => f32::INFINITY,
+            _ => ranges
+                .get(i)
+                .copied()
+                .or(light.range)
+                .unwrap_or(f32::INFINITY),
+        })
+        .collect();
+
+    let world_from_clip = camera.clip_from_world.inverse();
+    let rows: Vec<Row> = (0..camera.height)
+        .into_par_iter()
+        .map(|y| trace_row(scene, &bvh, &world_from_clip, camera, y))
+        .collect();
+
+    let pixels = camera.width as usize * camera.height as usize;
+    let mut reference = ShadowReference {
+        width: camera.width,
+        height: camera.height,
+        position: Vec::with_capacity(pixels),
+        normal: Vec::with_capacity(pixels),
+        receives: Vec::with_capacity(pixels),
+        visibility: vec![Vec::with_capacity(pixels); scene.lights.len()],
+        ranges,
+    };
+    let width = camera.width as usize;
+    for row in rows {
+        reference.position.extend(row.position);
+        reference.normal.extend(row.normal);
+        reference.receives.extend(row.receives);
+        for (light, visibility) in reference.visibility.iter_mut().enumerate() {
+            visibility.extend_from_slice(&row.visibility[light * width..(light + 1) * width]);
+        }
+    }
+    reference
+}
+
+/// One traced row; `visibility` is light-major: `[light * width + x]`.
+struct Row {
+    position: Vec<Option<Vec3>>,
+    normal: Vec<Vec3>,
+    receives: Vec<bool>,
+    visibility: Vec<f32>,
+}
+
+fn trace_row(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    world_from_clip: &Mat4,
+    camera: &PixelCamera,
+    y: u32,
+) -> Row {
+    let width = camera.width as usize;
+    let mut row = Row {
+        position: vec![None; width],
+        normal: vec![Vec3::ZERO; width],
+        receives: vec![false; width],
+        visibility: vec![f32::NAN; width * scene.lights.len()],
+    };
+    for x in 0..width {
+        let Some((origin, direction)) =
+            primary_ray(world_from_clip, camera.width, camera.height, x as u32, y)
+        else {
+            continue;
+        };
+        let Some(hit) = bvh.closest_hit(origin, direction, f32::INFINITY) else {
+            continue;
+        };
+        let facing_normal = if hit.geometric_normal.dot(direction) > 0.0 {
+            -hit.geometric_normal
+        } else {
+            hit.geometric_normal
+        };
+        row.position[x] = Some(hit.position);
+        row.normal[x] = facing_normal;
+        row.receives[x] = scene.instances[hit.instance].receive_shadows;
+        for (light_index, light) in scene.lights.iter().enumerate() {
+            row.visibility[light_index * width + x] =
+                visibility(bvh, light, hit.position, facing_normal);
+        }
+    }
+    row
+}
+
+/// 1 if a shadow ray from just off the surface reaches `light`, 0 if a caster blocks it.
+fn visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3) -> f32 {
+    let offset = SHADOW_RAY_OFFSET_SCALE * position.abs().max_element().max(1.0);
+    let origin = position + facing_normal * offset;
+    let (direction, max_t) = match light.kind {
+        LightKind::Directional => (-light.direction.normalize_or_zero(), f32::INFINITY),
+        LightKind::Point | LightKind::Spot { .. } => {
+            let to_light = light.position - origin;
+            let distance = to_light.length();
+            (to_light / distance, distance * (1.0 - LIGHT_END_MARGIN))
+        }
+    };
+    // A ray the BVH rejects (the light at the origin, a zero direction) is not occluded.
+    if bvh.occluded(origin, direction, max_t) {
+        0.0
+    } else {
+        1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use chiaro_math::camera::perspective_reverse_z;
+    use chiaro_scene::{CastShadows, LightShadow, Mesh, MeshInstance, Primitive, shapes};
+
+    fn mesh(primitive: Primitive) -> Mesh {
+        Mesh {
+            name: String::new(),
+            primitives: vec![primitive],
+        }
+    }
+
+    fn instance(mesh: usize, world_from_local: Mat4) -> MeshInstance {
+        MeshInstance {
+            mesh,
+            node: 0,
+            name: String::new(),
+            world_from_local,
+            cast_shadows: CastShadows::On,
+            receive_shadows: true,
+        }
+    }
+
+    fn light(kind: LightKind, position: Vec3, direction: Vec3) -> Light {
+        Light {
+            name: String::new(),
+            node: 0,
+            kind,
+            color: Vec3::ONE,
+            intensity: 1.0,
+            range: None,
+            position,
+            direction,
+            shadow: LightShadow::default(),
+        }
+    }
+
+    /// A 6 m floor and a unit box floating with its bottom 1 m above it, so the floor under
+    /// it is visible from the side; one sun shining straight down and one point light
+    /// 2 m above the box's top.
+    fn box_scene() -> Scene {
+        Scene {
+            meshes: vec![mesh(shapes::plane(6.0, 3)), mesh(shapes::cuboid(Vec3::ONE))],
+            instances: vec![
+                instance(0, Mat4::IDENTITY),
+                instance(1, Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0))),
+            ],
+            lights: vec![
+                light(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y),
+                light(LightKind::Point, Vec3::new(0.0, 4.0, 0.0), Vec3::NEG_Y),
+            ],
+            ..Scene::default()
+        }
+    }
+
+    /// Looking down at the origin from above and in front.
+    fn camera(width: u32, height: u32) -> PixelCamera {
+        let eye = Vec3::new(0.0, 6.0, 5.0);
+        let view_from_world = Mat4::look_at_rh(eye, Vec3::ZERO, Vec3::Y);
+        let clip_from_view =
+            perspective_reverse_z(60f32.to_radians(), width as f32 / height as f32, 0.1, None);
+        PixelCamera {
+            clip_from_world: clip_from_view * view_from_world,
+            width,
+            height,
+        }
+    }
+
+    #[test]
+    fn primary_rays_go_through_pixel_centres() {
+        let camera = camera(64, 48);
+        let eye = Vec3::new(0.0, 6.0, 5.0);
+        for (x, y) in [(0, 0), (63, 0), (31, 20), (63, 47)] {
+            let (origin, direction) = camera.primary_ray(x, y).unwrap();
+            assert!((origin - eye).length() < 0.2, "origin on the near plane");
+            assert!((direction.length() - 1.0).abs() < 1e-5);
+            let clip = camera.clip_from_world * (origin + direction * 3.0).extend(1.0);
+            let ndc = clip.truncate() / clip.w;
+            let expected_x = (x as f32 + 0.5) / 64.0 * 2.0 - 1.0;
+            let expected_y = 1.0 - (y as f32 + 0.5) / 48.0 * 2.0;
+            assert!((ndc.x - expected_x).abs() < 1e-4, "{ndc} at ({x}, {y})");
+            assert!((ndc.y - expected_y).abs() < 1e-4, "{ndc} at ({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn box_shadows_its_footprint_under_a_straight_down_sun() {
+        let scene = box_scene();
+        let camera = camera(160, 120);
+        let reference = trace_shadow_reference(&scene, &camera, &[0.0, 20.0]);
+        assert_eq!(reference.visibility.len(), 2);
+        assert_eq!(reference.ranges, vec![f32::INFINITY, 20.0]);
+        let sun = &reference.visibility[0];
+        let (mut shadowed, mut lit) = (0, 0);
+        for (i, position) in reference.position.iter().enumerate() {
+            let Some(p) = position else {
+                assert!(sun[i].is_nan());
+                assert_eq!(reference.normal[i], Vec3::ZERO);
+                continue;
+            };
+            let to_camera = Vec3::new(0.0, 6.0, 5.0) - *p;
+            assert!(
+                reference.normal[i].dot(to_camera) > 0.0,
+                "normal faces the camera"
+            );
+            if p.y.abs() > 1e-4 {
+                continue;
+            }
+            let footprint_distance = (p.x.abs() - 0.5).max(p.z.abs() - 0.5);
+            if footprint_distance < -0.02 {
+                assert_eq!(sun[i], 0.0, "floor at {p} is under the box");
+                shadowed += 1;
+            } else if footprint_distance > 0.02 {
+                assert_eq!(sun[i], 1.0, "floor at {p} is in the open");
+                lit += 1;
+            }
+        }
+        assert!(shadowed > 50, "{shadowed} shadowed floor pixels seen");
+        assert!(lit > 1000, "{lit} lit floor pixels seen");
+        assert!(
+            reference.position.iter().any(Option::is_none),
+            "the sky is seen"
+        );
+    }
+
+    #[test]
+    fn point_light_shadow_widens_with_distance() {
+        let scene = box_scene();
+        let reference = trace_shadow_reference(&scene, &camera(160, 120), &[]);
+        // The light at height 4 and the box's top edge at height 2 put the shadow's edge on
+        // the floor at 0.5 * 4 / 2 = 1 m from the centre along each axis.
+        assert_eq!(reference.ranges[1], f32::INFINITY);
+        let point = &reference.visibility[1];
+        let mut shadowed = 0;
+        for (i, position) in reference.position.iter().enumerate() {
+            let Some(p) = position.filter(|p| p.y.abs() < 1e-4) else {
+                continue;
+            };
+            let square_distance = p.x.abs().max(p.z.abs());
+            if square_distance < 0.97 {
+                assert_eq!(point[i], 0.0, "floor at {p} is in the point light's shadow");
+                shadowed += 1;
+            } else if square_distance > 1.03 {
+                assert_eq!(point[i], 1.0, "floor at {p} is lit by the point light");
+            }
+        }
+        assert!(shadowed > 200, "{shadowed}");
+    }
+
+    #[test]
+    fn empty_scene_and_camera_give_empty_reference() {
+        let reference = trace_shadow_reference(&Scene::default(), &camera(0, 0), &[]);
+        assert_eq!(reference.pixel_count(), 0);
+        let reference = trace_shadow_reference(&box_scene(), &camera(8, 0), &[1.0]);
+        assert!(reference.position.is_empty());
+        assert!(reference.visibility.iter().all(Vec::is_empty));
+        let singular = PixelCamera {
+            clip_from_world: Mat4::ZERO,
+            width: 4,
+            height: 4,
+        };
+        let reference = trace_shadow_reference(&box_scene(), &singular, &[]);
+        assert!(reference.position.iter().all(Option::is_none));
+        assert!(reference.visibility[0].iter().all(|v| v.is_nan()));
+    }
+}
