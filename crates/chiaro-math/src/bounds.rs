@@ -10,10 +10,7 @@ pub struct Aabb {
 }
 
 impl Aabb {
-    pub const EMPTY: Aabb = Aabb {
-        min: Vec3::splat(f32::INFINITY),
-        max: Vec3::splat(f32::NEG_INFINITY),
-    };
+    pub const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
 
     pub fn from_points(points: impl IntoIterator<Item = Vec3>) -> Aabb {
         let mut aabb = Aabb::EMPTY;
@@ -33,10 +30,7 @@ impl Aabb {
     }
 
     pub fn union(&self, other: &Aabb) -> Aabb {
-        Aabb {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
+        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
     }
 
     pub fn center(&self) -> Vec3 {
@@ -71,10 +65,7 @@ impl Aabb {
 
     /// The smallest sphere centred on the box that holds it.
     pub fn bounding_sphere(&self) -> Sphere {
-        Sphere {
-            center: self.center(),
-            radius: self.size().length() * 0.5,
-        }
+        Sphere { center: self.center(), radius: self.size().length() * 0.5 }
     }
 }
 

@@ -19,14 +19,7 @@ fn v_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
 
 /// BRDF times cos(theta_l) for unit `n`, `v` (towards the eye) and `l` (towards the light).
 /// Roughness is clamped to 0.03 as the shader clamps it.
-pub fn brdf_cos(
-    base_color: Vec3,
-    metallic: f32,
-    roughness: f32,
-    n: Vec3,
-    v: Vec3,
-    l: Vec3,
-) -> Vec3 {
+pub fn brdf_cos(base_color: Vec3, metallic: f32, roughness: f32, n: Vec3, v: Vec3, l: Vec3) -> Vec3 {
     let n_dot_l = n.dot(l);
     if n_dot_l <= 0.0 {
         return Vec3::ZERO;
@@ -60,10 +53,7 @@ mod tests {
 
     #[test]
     fn no_light_from_below() {
-        assert_eq!(
-            brdf_cos(Vec3::ONE, 0.0, 0.5, Vec3::Y, Vec3::Y, Vec3::NEG_Y),
-            Vec3::ZERO
-        );
+        assert_eq!(brdf_cos(Vec3::ONE, 0.0, 0.5, Vec3::Y, Vec3::Y, Vec3::NEG_Y), Vec3::ZERO);
     }
 
     #[test]
@@ -78,19 +68,12 @@ mod tests {
                 for j in 0..steps * 2 {
                     let theta = (i as f32 + 0.5) / steps as f32 * PI / 2.0;
                     let phi = (j as f32 + 0.5) / (steps * 2) as f32 * 2.0 * PI;
-                    let l = Vec3::new(
-                        theta.sin() * phi.cos(),
-                        theta.cos(),
-                        theta.sin() * phi.sin(),
-                    );
+                    let l = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
                     let d_omega = theta.sin() * (PI / 2.0 / steps as f32) * (PI / steps as f32);
                     sum += brdf_cos(Vec3::ONE, metallic, roughness, n, v, l).x * d_omega;
                 }
             }
-            assert!(
-                sum <= 1.02 && sum > 0.5,
-                "albedo {sum} for {metallic} {roughness}"
-            );
+            assert!(sum <= 1.02 && sum > 0.5, "albedo {sum} for {metallic} {roughness}");
         }
     }
 }

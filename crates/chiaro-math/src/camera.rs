@@ -59,14 +59,10 @@ mod tests {
         for aspect in [0.5f32, 1.0, 2.0] {
             let yfov = 0.8;
             let (world_from_view, near, far) = frame_bounds(&bounds, yfov, aspect);
-            let clip =
-                perspective_reverse_z(yfov, aspect, near, Some(far)) * world_from_view.inverse();
+            let clip = perspective_reverse_z(yfov, aspect, near, Some(far)) * world_from_view.inverse();
             let f = Frustum::from_clip_from_world(&clip);
             for c in bounds.corners() {
-                let inside = f.intersects_sphere(&Sphere {
-                    center: c,
-                    radius: 0.0,
-                });
+                let inside = f.intersects_sphere(&Sphere { center: c, radius: 0.0 });
                 assert!(inside, "corner {c} outside for aspect {aspect}");
             }
         }

@@ -21,19 +21,13 @@ impl Frustum {
         let raw = [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2];
         let planes = raw.map(|p| {
             let len = p.truncate().length();
-            if len < 1e-12 || !len.is_finite() {
-                Vec4::new(0.0, 0.0, 0.0, 1.0)
-            } else {
-                p / len
-            }
+            if len < 1e-12 || !len.is_finite() { Vec4::new(0.0, 0.0, 0.0, 1.0) } else { p / len }
         });
         Frustum { planes }
     }
 
     pub fn intersects_sphere(&self, sphere: &Sphere) -> bool {
-        self.planes
-            .iter()
-            .all(|p| p.truncate().dot(sphere.center) + p.w >= -sphere.radius)
+        self.planes.iter().all(|p| p.truncate().dot(sphere.center) + p.w >= -sphere.radius)
     }
 
     /// Conservative test for a spot light's cone: its apex at `apex`, unit `axis`, half
@@ -49,17 +43,11 @@ pub fn cone_bounding_sphere(apex: Vec3, axis: Vec3, outer_rad: f32, range: f32) 
     if outer_rad > std::f32::consts::FRAC_PI_4 {
         // Wide cones: the sphere through the rim, centred on the cap's centre.
         let (s, c) = outer_rad.sin_cos();
-        Sphere {
-            center: apex + axis * (c * range),
-            radius: s * range,
-        }
+        Sphere { center: apex + axis * (c * range), radius: s * range }
     } else {
         // Narrow cones: the sphere through apex and rim.
         let radius = range / (2.0 * outer_rad.cos());
-        Sphere {
-            center: apex + axis * radius,
-            radius,
-        }
+        Sphere { center: apex + axis * radius, radius }
     }
 }
 
@@ -76,10 +64,7 @@ mod tests {
     #[test]
     fn spheres_in_front_pass_and_behind_fail() {
         let f = Frustum::from_clip_from_world(&camera());
-        let s = |c: Vec3, r: f32| Sphere {
-            center: c,
-            radius: r,
-        };
+        let s = |c: Vec3, r: f32| Sphere { center: c, radius: r };
         assert!(f.intersects_sphere(&s(Vec3::new(0.0, 0.0, -10.0), 1.0)));
         assert!(!f.intersects_sphere(&s(Vec3::new(0.0, 0.0, 10.0), 1.0)));
         // Behind, but its range reaches into view.
@@ -93,15 +78,9 @@ mod tests {
         let proj = Mat4::perspective_infinite_reverse_rh(60f32.to_radians(), 1.0, 0.1);
         let view = Mat4::look_at_rh(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
         let f = Frustum::from_clip_from_world(&(proj * view));
-        let far = Sphere {
-            center: Vec3::new(0.0, 0.0, -1.0e5),
-            radius: 1.0,
-        };
+        let far = Sphere { center: Vec3::new(0.0, 0.0, -1.0e5), radius: 1.0 };
         assert!(f.intersects_sphere(&far));
-        let behind = Sphere {
-            center: Vec3::new(0.0, 0.0, 5.0),
-            radius: 1.0,
-        };
+        let behind = Sphere { center: Vec3::new(0.0, 0.0, 5.0), radius: 1.0 };
         assert!(!f.intersects_sphere(&behind));
     }
 

@@ -100,16 +100,10 @@ pub fn select_other_lights(
     let mut scored: Vec<(usize, f32)> = Vec::with_capacity(lights.len());
     for (index, light) in lights.iter().enumerate() {
         let inside = match light.spot {
-            Some((axis, outer)) => frustum.intersects_sphere(&cone_bounding_sphere(
-                light.position,
-                axis,
-                outer,
-                light.range,
-            )),
-            None => frustum.intersects_sphere(&Sphere {
-                center: light.position,
-                radius: light.range,
-            }),
+            Some((axis, outer)) => {
+                frustum.intersects_sphere(&cone_bounding_sphere(light.position, axis, outer, light.range))
+            }
+            None => frustum.intersects_sphere(&Sphere { center: light.position, radius: light.range }),
         };
         if inside && light.peak_intensity > 0.0 {
             scored.push((index, importance(light, eye)));
@@ -120,11 +114,7 @@ pub fn select_other_lights(
     scored.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
     let dropped = scored.len().saturating_sub(max_lights);
     scored.truncate(max_lights);
-    LightSelection {
-        visible: scored.into_iter().map(|(i, _)| i).collect(),
-        dropped,
-        culled,
-    }
+    LightSelection { visible: scored.into_iter().map(|(i, _)| i).collect(), dropped, culled }
 }
 
 #[cfg(test)]
@@ -184,12 +174,7 @@ mod tests {
     }
 
     fn point(position: Vec3, range: f32, intensity: f32) -> OtherLightBounds {
-        OtherLightBounds {
-            position,
-            range,
-            peak_intensity: intensity,
-            spot: None,
-        }
+        OtherLightBounds { position, range, peak_intensity: intensity, spot: None }
     }
 
     #[test]
@@ -222,9 +207,8 @@ mod tests {
     #[test]
     fn brightest_at_the_eye_win_and_the_rest_are_counted() {
         let (f, eye) = view();
-        let lights: Vec<_> = (0..10)
-            .map(|i| point(Vec3::new(i as f32 - 5.0, 1.0, 0.0), 50.0, 1.0 + i as f32))
-            .collect();
+        let lights: Vec<_> =
+            (0..10).map(|i| point(Vec3::new(i as f32 - 5.0, 1.0, 0.0), 50.0, 1.0 + i as f32)).collect();
         let sel = select_other_lights(&lights, &f, eye, 4);
         assert_eq!(sel.visible.len(), 4);
         assert_eq!(sel.dropped, 6);

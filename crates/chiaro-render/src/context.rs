@@ -37,10 +37,7 @@ impl GpuContext {
         }
         // Depth clamping for shadow casters in front of the near plane; without it the
         // caster shader clamps depth itself.
-        if adapter
-            .features()
-            .contains(wgpu::Features::DEPTH_CLIP_CONTROL)
-        {
+        if adapter.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL) {
             required_features |= wgpu::Features::DEPTH_CLIP_CONTROL;
         }
         let adapter_limits = adapter.limits();
@@ -71,13 +68,7 @@ impl GpuContext {
             device_type = ?adapter_info.device_type,
             "GPU ready"
         );
-        Ok(GpuContext {
-            device,
-            queue,
-            adapter_info,
-            has_timestamps,
-            errors,
-        })
+        Ok(GpuContext { device, queue, adapter_info, has_timestamps, errors })
     }
 
     /// Returns the first GPU error reported since the last call, if any.
@@ -98,9 +89,7 @@ impl GpuContext {
 
     /// Blocks until the GPU has finished all submitted work.
     pub fn wait_idle(&self) -> Result<(), RenderError> {
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RenderError::Gpu(e.to_string()))?;
         Ok(())
     }
 }

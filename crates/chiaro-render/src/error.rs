@@ -10,11 +10,7 @@ pub enum RenderError {
     #[error("could not open the GPU device: {0}")]
     Device(String),
     #[error("output size {width}x{height} is invalid: {reason}")]
-    OutputSize {
-        width: u32,
-        height: u32,
-        reason: String,
-    },
+    OutputSize { width: u32, height: u32, reason: String },
     #[error("GPU error: {0}")]
     Gpu(String),
 }

@@ -5,8 +5,7 @@ use crate::gpu_types::{GpuDirectionalLight, GpuLights, GpuOtherLight};
 use crate::view::View;
 use chiaro_math::Frustum;
 use chiaro_math::light::{
-    LightSelection, MAX_DIRECTIONAL_LIGHTS, OtherLightBounds, derived_range, select_other_lights,
-    spot_angle_params,
+    LightSelection, MAX_DIRECTIONAL_LIGHTS, OtherLightBounds, derived_range, select_other_lights, spot_angle_params,
 };
 use chiaro_scene::{Light, LightKind, Scene, Settings};
 use glam::{Vec2, Vec3};
@@ -27,10 +26,7 @@ pub struct FrameLights {
 /// The range a light is shaded with: its own, or one derived from its intensity.
 pub fn effective_range(light: &Light, settings: &Settings) -> f32 {
     light.range.unwrap_or_else(|| {
-        derived_range(
-            light.intensity * light.color.max_element(),
-            settings.lights.range_threshold_lux,
-        )
+        derived_range(light.intensity * light.color.max_element(), settings.lights.range_threshold_lux)
     })
 }
 
@@ -47,11 +43,7 @@ pub fn prepare_lights(scene: &Scene, view: &View, settings: &Settings) -> FrameL
         .map(|(i, _)| i)
         .take(MAX_DIRECTIONAL_LIGHTS)
         .collect();
-    let directional: Vec<&Light> = scene
-        .lights
-        .iter()
-        .filter(|l| l.kind == LightKind::Directional)
-        .collect();
+    let directional: Vec<&Light> = scene.lights.iter().filter(|l| l.kind == LightKind::Directional).collect();
     let directional_count = directional.len().min(MAX_DIRECTIONAL_LIGHTS);
     for (slot, light) in gpu.directional.iter_mut().zip(&directional) {
         *slot = GpuDirectionalLight {
@@ -67,13 +59,8 @@ pub fn prepare_lights(scene: &Scene, view: &View, settings: &Settings) -> FrameL
         );
     }
 
-    let others: Vec<usize> = scene
-        .lights
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| l.kind != LightKind::Directional)
-        .map(|(i, _)| i)
-        .collect();
+    let others: Vec<usize> =
+        scene.lights.iter().enumerate().filter(|(_, l)| l.kind != LightKind::Directional).map(|(i, _)| i).collect();
     let bounds: Vec<OtherLightBounds> = others
         .iter()
         .map(|&i| {
@@ -107,10 +94,7 @@ pub fn prepare_lights(scene: &Scene, view: &View, settings: &Settings) -> FrameL
         let light = &scene.lights[others[k]];
         other_scene_index.push(others[k]);
         let spot_angles = match light.kind {
-            LightKind::Spot {
-                inner_cone_rad,
-                outer_cone_rad,
-            } => {
+            LightKind::Spot { inner_cone_rad, outer_cone_rad } => {
                 let (a, b) = spot_angle_params(inner_cone_rad, outer_cone_rad);
                 Vec2::new(a, b)
             }

@@ -140,12 +140,7 @@ impl GpuScene {
                     vertices.push(GpuVertex {
                         position: p.positions[i].to_array(),
                         normal: p.normals.get(i).copied().unwrap_or(Vec3::Y).to_array(),
-                        tangent: p
-                            .tangents
-                            .get(i)
-                            .copied()
-                            .unwrap_or(Vec4::new(1.0, 0.0, 0.0, 1.0))
-                            .to_array(),
+                        tangent: p.tangents.get(i).copied().unwrap_or(Vec4::new(1.0, 0.0, 0.0, 1.0)).to_array(),
                         uv0: p.uv0.get(i).copied().unwrap_or_default().to_array(),
                         uv1: p.uv1.get(i).copied().unwrap_or_default().to_array(),
                     });
@@ -169,18 +164,13 @@ impl GpuScene {
         for inst in &scene.instances {
             let object = objects.len() as u32;
             objects.push(GpuObject::new(inst.world_from_local, inst.receive_shadows));
-            for (p, &(first_index, index_count, base_vertex)) in scene.meshes[inst.mesh]
-                .primitives
-                .iter()
-                .zip(&ranges[inst.mesh])
+            for (p, &(first_index, index_count, base_vertex)) in
+                scene.meshes[inst.mesh].primitives.iter().zip(&ranges[inst.mesh])
             {
                 if index_count == 0 {
                     continue;
                 }
-                let material = p
-                    .material
-                    .filter(|&m| m < scene.materials.len())
-                    .unwrap_or(default_material);
+                let material = p.material.filter(|&m| m < scene.materials.len()).unwrap_or(default_material);
                 let m = scene.materials.get(material).cloned().unwrap_or_default();
                 draws.push(Draw {
                     first_index,
@@ -218,11 +208,7 @@ impl GpuScene {
         });
 
         // Textures: each image once; white, flat-normal and black stand-ins.
-        let images: Vec<wgpu::TextureView> = scene
-            .images
-            .iter()
-            .map(|i| upload_image(device, queue, i))
-            .collect();
+        let images: Vec<wgpu::TextureView> = scene.images.iter().map(|i| upload_image(device, queue, i)).collect();
         let white = solid(device, queue, "white", [255, 255, 255, 255]);
         let flat_normal = solid(device, queue, "flat normal", [128, 128, 255, 255]);
         let mut samplers = SamplerCache::default();
@@ -251,10 +237,7 @@ impl GpuScene {
                         None => (*fallback, samplers.get(device, &Default::default())),
                     })
                     .collect();
-                let mut entries = vec![wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                }];
+                let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() }];
                 for (k, (view, sampler)) in resolved.iter().enumerate() {
                     entries.push(wgpu::BindGroupEntry {
                         binding: 1 + 2 * k as u32,
@@ -265,20 +248,10 @@ impl GpuScene {
                         resource: wgpu::BindingResource::Sampler(sampler),
                     });
                 }
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some(&m.name),
-                    layout,
-                    entries: &entries,
-                })
+                device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&m.name), layout, entries: &entries })
             })
             .collect();
-        GpuScene {
-            vertices,
-            indices,
-            objects,
-            materials,
-            draws,
-        }
+        GpuScene { vertices, indices, objects, materials, draws }
     }
 }
 

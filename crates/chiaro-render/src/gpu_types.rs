@@ -69,16 +69,7 @@ impl GpuObject {
         GpuObject {
             world_from_local,
             normal_from_local: world_from_local.inverse().transpose(),
-            flags: [
-                if receives_shadows {
-                    OBJECT_RECEIVES_SHADOWS
-                } else {
-                    0
-                },
-                0,
-                0,
-                0,
-            ],
+            flags: [if receives_shadows { OBJECT_RECEIVES_SHADOWS } else { 0 }, 0, 0, 0],
         }
     }
 }

@@ -12,6 +12,7 @@ pub mod gpu_types;
 mod readback;
 pub mod renderer;
 pub mod shaders;
+pub mod shadow_compare;
 pub mod shadow_pass;
 pub mod shadow_plan;
 mod textures;

@@ -4,26 +4,17 @@ use crate::context::GpuContext;
 use crate::error::RenderError;
 
 /// Reads a whole 2D texture of `bytes_per_pixel`; returns tightly packed rows.
-pub fn read_texture(
-    ctx: &GpuContext,
-    texture: &wgpu::Texture,
-    bytes_per_pixel: u32,
-) -> Result<Vec<u8>, RenderError> {
+pub fn read_texture(ctx: &GpuContext, texture: &wgpu::Texture, bytes_per_pixel: u32) -> Result<Vec<u8>, RenderError> {
     let (width, height) = (texture.width(), texture.height());
     let unpadded = width * bytes_per_pixel;
-    let padded =
-        unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size: padded as u64 * height as u64,
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
-    let mut encoder = ctx
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("readback"),
-        });
+    let mut encoder = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
     encoder.copy_texture_to_buffer(
         texture.as_image_copy(),
         wgpu::TexelCopyBufferInfo {
@@ -53,14 +44,8 @@ pub fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, R
         let _ = sender.send(r);
     });
     ctx.wait_idle()?;
-    receiver
-        .recv()
-        .map_err(|e| RenderError::Gpu(e.to_string()))?
-        .map_err(|e| RenderError::Gpu(e.to_string()))?;
-    let bytes = buffer
-        .get_mapped_range(..)
-        .map_err(|e| RenderError::Gpu(e.to_string()))?
-        .to_vec();
+    receiver.recv().map_err(|e| RenderError::Gpu(e.to_string()))?.map_err(|e| RenderError::Gpu(e.to_string()))?;
+    let bytes = buffer.get_mapped_range(..).map_err(|e| RenderError::Gpu(e.to_string()))?.to_vec();
     buffer.unmap();
     Ok(bytes)
 }

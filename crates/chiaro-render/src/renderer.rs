@@ -30,10 +30,7 @@ const AOV_LIGHT_STRIDE: u64 = std::mem::size_of::<GpuAovLight>() as u64;
 const NO_LIGHT: u32 = u32::MAX;
 
 fn timed_index(pass: &str) -> u32 {
-    TIMED_PASSES
-        .iter()
-        .position(|p| *p == pass)
-        .expect("timed pass") as u32
+    TIMED_PASSES.iter().position(|p| *p == pass).expect("timed pass") as u32
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -182,11 +179,7 @@ fn texture_2d(
 ) -> wgpu::Texture {
     ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
+        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -260,28 +253,21 @@ impl Renderer {
                 count: None,
             }],
         });
-        let scene_pipeline_layout =
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("scene pipeline layout"),
-                bind_group_layouts: &[Some(&frame_layout), Some(&material_layout)],
-                immediate_size: 0,
-            });
-        let shadow_aov_pipeline_layout =
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("shadow aov pipeline layout"),
-                bind_group_layouts: &[
-                    Some(&frame_layout),
-                    Some(&material_layout),
-                    Some(&aov_light_layout),
-                ],
-                immediate_size: 0,
-            });
-        let tonemap_pipeline_layout =
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("tonemap pipeline layout"),
-                bind_group_layouts: &[Some(&tonemap_layout)],
-                immediate_size: 0,
-            });
+        let scene_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene pipeline layout"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&material_layout)],
+            immediate_size: 0,
+        });
+        let shadow_aov_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("shadow aov pipeline layout"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&material_layout), Some(&aov_light_layout)],
+            immediate_size: 0,
+        });
+        let tonemap_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("tonemap pipeline layout"),
+            bind_group_layouts: &[Some(&tonemap_layout)],
+            immediate_size: 0,
+        });
         let tonemap_module = shaders::module(device, "tonemap", shaders::TONEMAP);
         let tonemap_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("tonemap"),
@@ -382,86 +368,61 @@ impl Renderer {
 
     /// Uploads a scene.
     pub fn prepare(&self, scene: &Scene) -> Result<PreparedScene, RenderError> {
-        let gpu = GpuScene::upload(
-            &self.ctx.device,
-            &self.ctx.queue,
-            &self.material_layout,
-            scene,
-        );
+        let gpu = GpuScene::upload(&self.ctx.device, &self.ctx.queue, &self.material_layout, scene);
         self.ctx.take_error()?;
         Ok(PreparedScene { gpu })
     }
 
     /// Binds the per-frame buffers, the scene's objects and the current shadow atlas.
     fn frame_bind_group(&self, prepared: &PreparedScene) -> wgpu::BindGroup {
-        self.ctx
-            .device
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("frame bind group"),
-                layout: &self.frame_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: self.frame_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: self.lights_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: prepared.gpu.objects.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: self.shadows_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: wgpu::BindingResource::TextureView(&self.shadow_pass.atlas_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 5,
-                        resource: wgpu::BindingResource::Sampler(&self.shadow_pass.sampler),
-                    },
-                ],
-            })
+        self.ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame bind group"),
+            layout: &self.frame_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: self.frame_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: self.lights_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: prepared.gpu.objects.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: self.shadows_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&self.shadow_pass.atlas_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::Sampler(&self.shadow_pass.sampler),
+                },
+            ],
+        })
     }
 
     fn pipeline(&mut self, key: PipelineKey) -> &wgpu::RenderPipeline {
         let device = &self.ctx.device;
         type Targets = Vec<Option<wgpu::ColorTargetState>>;
-        let (module, entry, targets, layout): (
-            &wgpu::ShaderModule,
-            &str,
-            Targets,
-            &wgpu::PipelineLayout,
-        ) = match key.pass {
-            PassKind::Aov => (
-                &self.aov_module,
-                "fs_aov",
-                vec![Some(AOV_FORMAT.into()), Some(AOV_FORMAT.into())],
-                &self.scene_pipeline_layout,
-            ),
-            PassKind::ShadowAov => (
-                &self.shadow_aov_module,
-                "fs_shadow_aov",
-                vec![Some(SHADOW_AOV_FORMAT.into())],
-                &self.shadow_aov_pipeline_layout,
-            ),
-            PassKind::Forward => (
-                &self.forward_module,
-                "fs_main",
-                vec![Some(wgpu::ColorTargetState {
-                    format: HDR_FORMAT,
-                    blend: key
-                        .blend
-                        .then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-                &self.scene_pipeline_layout,
-            ),
-        };
+        let (module, entry, targets, layout): (&wgpu::ShaderModule, &str, Targets, &wgpu::PipelineLayout) =
+            match key.pass {
+                PassKind::Aov => (
+                    &self.aov_module,
+                    "fs_aov",
+                    vec![Some(AOV_FORMAT.into()), Some(AOV_FORMAT.into())],
+                    &self.scene_pipeline_layout,
+                ),
+                PassKind::ShadowAov => (
+                    &self.shadow_aov_module,
+                    "fs_shadow_aov",
+                    vec![Some(SHADOW_AOV_FORMAT.into())],
+                    &self.shadow_aov_pipeline_layout,
+                ),
+                PassKind::Forward => (
+                    &self.forward_module,
+                    "fs_main",
+                    vec![Some(wgpu::ColorTargetState {
+                        format: HDR_FORMAT,
+                        blend: key.blend.then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                    &self.scene_pipeline_layout,
+                ),
+            };
         self.pipelines.entry(key).or_insert_with(|| {
             let label = format!("{key:?}");
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -475,11 +436,7 @@ impl Renderer {
                 },
                 primitive: wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: if key.front_cw {
-                        wgpu::FrontFace::Cw
-                    } else {
-                        wgpu::FrontFace::Ccw
-                    },
+                    front_face: if key.front_cw { wgpu::FrontFace::Cw } else { wgpu::FrontFace::Ccw },
                     cull_mode: key.cull_back.then_some(wgpu::Face::Back),
                     ..Default::default()
                 },
@@ -514,23 +471,12 @@ impl Renderer {
                 reason: format!("each side must be between 1 and {max} (this device's limit)"),
             });
         }
-        if self
-            .targets
-            .as_ref()
-            .is_some_and(|t| t.width == width && t.height == height)
-        {
+        if self.targets.as_ref().is_some_and(|t| t.width == width && t.height == height) {
             return Ok(());
         }
         let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         let ctx = &self.ctx;
-        let hdr = texture_2d(
-            ctx,
-            "hdr",
-            width,
-            height,
-            HDR_FORMAT,
-            attach | wgpu::TextureUsages::TEXTURE_BINDING,
-        );
+        let hdr = texture_2d(ctx, "hdr", width, height, HDR_FORMAT, attach | wgpu::TextureUsages::TEXTURE_BINDING);
         let tonemap_bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("tonemap bind group"),
             layout: &self.tonemap_layout,
@@ -543,14 +489,7 @@ impl Renderer {
             width,
             height,
             ldr: texture_2d(ctx, "ldr", width, height, LDR_FORMAT, attach),
-            depth: texture_2d(
-                ctx,
-                "depth",
-                width,
-                height,
-                DEPTH_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            ),
+            depth: texture_2d(ctx, "depth", width, height, DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT),
             aov_position: texture_2d(ctx, "aov position", width, height, AOV_FORMAT, attach),
             aov_normal: texture_2d(ctx, "aov normal depth", width, height, AOV_FORMAT, attach),
             aov_shadow: texture_2d(ctx, "aov shadow", width, height, SHADOW_AOV_FORMAT, attach),
@@ -569,22 +508,17 @@ impl Renderer {
         settings: &Settings,
         options: FrameOptions,
     ) -> Result<FrameOutput, RenderError> {
-        let _span =
-            tracing::info_span!("frame", width = view.width, height = view.height).entered();
+        let _span = tracing::info_span!("frame", width = view.width, height = view.height).entered();
         let start = Instant::now();
         self.ensure_targets(view.width, view.height)?;
         let mut lights = prepare_lights(scene, view, settings);
-        let directional: Vec<&chiaro_scene::Light> = lights
-            .directional_scene_index
-            .iter()
-            .map(|&i| &scene.lights[i])
-            .collect();
+        let directional: Vec<&chiaro_scene::Light> =
+            lights.directional_scene_index.iter().map(|&i| &scene.lights[i]).collect();
         let plan = plan_shadows(view, settings, &directional);
         for (slot, shadow) in lights.gpu.directional.iter_mut().zip(plan.directional) {
             slot.shadow = shadow;
         }
-        self.shadow_pass
-            .ensure_atlas(&self.ctx.device, plan.atlas_size);
+        self.shadow_pass.ensure_atlas(&self.ctx.device, plan.atlas_size);
         let exposure = exposure_scale(settings.render.exposure_ev100);
         let frame = GpuFrame {
             clip_from_world: view.clip_from_world(),
@@ -604,11 +538,8 @@ impl Renderer {
         queue.write_buffer(&self.shadows_buffer, 0, bytemuck::bytes_of(&plan.gpu));
 
         let draws = ordered_draws(&prepared.gpu.draws, view);
-        let passes = [
-            (PassKind::Forward, true),
-            (PassKind::Aov, options.aovs),
-            (PassKind::ShadowAov, options.shadow_aovs),
-        ];
+        let passes =
+            [(PassKind::Forward, true), (PassKind::Aov, options.aovs), (PassKind::ShadowAov, options.shadow_aovs)];
         for d in &draws {
             for (pass, wanted) in passes {
                 if wanted {
@@ -617,52 +548,19 @@ impl Renderer {
             }
         }
         let frame_bind_group = self.frame_bind_group(prepared);
-        let mut encoder = self
-            .ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("frame"),
-            });
+        let mut encoder =
+            self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let shadow_timestamps = timestamp_writes(&self.timestamps, "shadows");
-        let shadow_caster_draws = self.shadow_pass.record(
-            &self.ctx,
-            &mut encoder,
-            &plan,
-            &prepared.gpu.draws,
-            &prepared.gpu.vertices,
-            &prepared.gpu.indices,
-            &prepared.gpu.objects,
-            shadow_timestamps,
-        );
+        let shadow_caster_draws =
+            self.shadow_pass.record(&self.ctx, &mut encoder, &plan, &prepared.gpu, shadow_timestamps);
         let background = Vec3::from(settings.render.background) * exposure;
-        self.record_scene_pass(
-            &mut encoder,
-            prepared,
-            &frame_bind_group,
-            &draws,
-            PassKind::Forward,
-            background,
-            None,
-        );
+        self.record_scene_pass(&mut encoder, prepared, &frame_bind_group, &draws, PassKind::Forward, background, None);
         if options.aovs {
-            self.record_scene_pass(
-                &mut encoder,
-                prepared,
-                &frame_bind_group,
-                &draws,
-                PassKind::Aov,
-                Vec3::ZERO,
-                None,
-            );
+            self.record_scene_pass(&mut encoder, prepared, &frame_bind_group, &draws, PassKind::Aov, Vec3::ZERO, None);
         }
         self.record_tonemap(&mut encoder);
         if let Some(ts) = &self.timestamps {
-            encoder.resolve_query_set(
-                &ts.queries,
-                0..2 * TIMED_PASSES.len() as u32,
-                &ts.resolve,
-                0,
-            );
+            encoder.resolve_query_set(&ts.queries, 0..2 * TIMED_PASSES.len() as u32, &ts.resolve, 0);
             encoder.copy_buffer_to_buffer(&ts.resolve, 0, &ts.readback, 0, ts.resolve.size());
         }
         let cpu_prepare_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -671,24 +569,17 @@ impl Renderer {
         let wall_ms = start.elapsed().as_secs_f64() * 1e3;
         self.ctx.take_error()?;
 
-        let mut timings = FrameTimings {
-            cpu_prepare_ms,
-            gpu_pass_ms: Vec::new(),
-            wall_ms,
-        };
+        let mut timings = FrameTimings { cpu_prepare_ms, gpu_pass_ms: Vec::new(), wall_ms };
         if let Some(ts) = &self.timestamps {
             let bytes = read_buffer(&self.ctx, &ts.readback)?;
             let stamps: &[u64] = bytemuck::cast_slice(&bytes);
             for (i, name) in TIMED_PASSES.iter().enumerate() {
-                let skipped = (*name == "aov" && !options.aovs)
-                    || (*name == "shadows" && plan.tiles.is_empty());
+                let skipped = (*name == "aov" && !options.aovs) || (*name == "shadows" && plan.tiles.is_empty());
                 if skipped {
                     continue;
                 }
                 let ticks = stamps[2 * i + 1].saturating_sub(stamps[2 * i]);
-                timings
-                    .gpu_pass_ms
-                    .push((name, ticks as f64 * ts.period_ns * 1e-6));
+                timings.gpu_pass_ms.push((name, ticks as f64 * ts.period_ns * 1e-6));
             }
         }
         let mut out = FrameOutput {
@@ -705,14 +596,7 @@ impl Renderer {
             self.read_images(&mut out, exposure, options.aovs)?;
         }
         if options.shadow_aovs {
-            out.shadow_aovs = self.render_shadow_aovs(
-                scene,
-                prepared,
-                &frame_bind_group,
-                &draws,
-                &lights,
-                &plan,
-            )?;
+            out.shadow_aovs = self.render_shadow_aovs(scene, prepared, &frame_bind_group, &draws, &lights, &plan)?;
         }
         if options.read_shadow_atlas && plan.atlas_size > 0 {
             let bytes = read_texture(&self.ctx, self.shadow_pass.atlas(), 4)?;
@@ -732,40 +616,25 @@ impl Renderer {
         _plan: &ShadowPlan,
     ) -> Result<Vec<Vec<f32>>, RenderError> {
         let mut out = Vec::with_capacity(scene.lights.len());
-        let aov_bind_group = self
-            .ctx
-            .device
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("aov light bind group"),
-                layout: &self.aov_light_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &self.aov_lights,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(AOV_LIGHT_STRIDE),
-                    }),
-                }],
-            });
+        let aov_bind_group = self.ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("aov light bind group"),
+            layout: &self.aov_light_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &self.aov_lights,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(AOV_LIGHT_STRIDE),
+                }),
+            }],
+        });
         for light_index in 0..scene.lights.len() {
-            let slot = lights
-                .directional_scene_index
-                .iter()
-                .position(|&i| i == light_index)
-                .map_or(NO_LIGHT, |s| s as u32);
-            let value = GpuAovLight {
-                directional_index: slot,
-                _pad: [0; 63],
-            };
-            self.ctx
-                .queue
-                .write_buffer(&self.aov_lights, 0, bytemuck::bytes_of(&value));
+            let slot =
+                lights.directional_scene_index.iter().position(|&i| i == light_index).map_or(NO_LIGHT, |s| s as u32);
+            let value = GpuAovLight { directional_index: slot, _pad: [0; 63] };
+            self.ctx.queue.write_buffer(&self.aov_lights, 0, bytemuck::bytes_of(&value));
             let mut encoder =
-                self.ctx
-                    .device
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("shadow aov"),
-                    });
+                self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("shadow aov") });
             self.record_scene_pass(
                 &mut encoder,
                 prepared,
@@ -779,12 +648,7 @@ impl Renderer {
             let targets = self.targets.as_ref().expect("targets exist");
             let bytes = read_texture(&self.ctx, &targets.aov_shadow, 8)?;
             let pairs: &[[f32; 2]] = bytemuck::cast_slice(&bytes);
-            out.push(
-                pairs
-                    .iter()
-                    .map(|p| if p[1] > 0.5 { p[0] } else { f32::NAN })
-                    .collect(),
-            );
+            out.push(pairs.iter().map(|p| if p[1] > 0.5 { p[0] } else { f32::NAN }).collect());
         }
         self.ctx.take_error()?;
         Ok(out)
@@ -811,12 +675,7 @@ impl Renderer {
             PassKind::Forward => vec![targets.hdr.create_view(&Default::default())],
         };
         let depth_view = targets.depth.create_view(&Default::default());
-        let clear_color = wgpu::Color {
-            r: clear.x as f64,
-            g: clear.y as f64,
-            b: clear.z as f64,
-            a: 0.0,
-        };
+        let clear_color = wgpu::Color { r: clear.x as f64, g: clear.y as f64, b: clear.z as f64, a: 0.0 };
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = color_views
             .iter()
             .map(|view| {
@@ -824,10 +683,7 @@ impl Renderer {
                     view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(clear_color),
-                        store: wgpu::StoreOp::Store,
-                    },
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear_color), store: wgpu::StoreOp::Store },
                 })
             })
             .collect();
@@ -845,10 +701,7 @@ impl Renderer {
             color_attachments: &attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Store,
-                }),
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),
             timestamp_writes,
@@ -873,35 +726,25 @@ impl Renderer {
                 pass.set_bind_group(1, &prepared.gpu.materials[d.material], &[]);
                 bound_material = d.material;
             }
-            pass.draw_indexed(
-                d.first_index..d.first_index + d.index_count,
-                d.base_vertex,
-                d.object..d.object + 1,
-            );
+            pass.draw_indexed(d.first_index..d.first_index + d.index_count, d.base_vertex, d.object..d.object + 1);
         }
     }
 
     fn record_tonemap(&self, encoder: &mut wgpu::CommandEncoder) {
         let targets = self.targets.as_ref().expect("targets exist");
         let view = targets.ldr.create_view(&Default::default());
-        let timestamp_writes = self
-            .timestamps
-            .as_ref()
-            .map(|ts| wgpu::RenderPassTimestampWrites {
-                query_set: &ts.queries,
-                beginning_of_pass_write_index: Some(4),
-                end_of_pass_write_index: Some(5),
-            });
+        let timestamp_writes = self.timestamps.as_ref().map(|ts| wgpu::RenderPassTimestampWrites {
+            query_set: &ts.queries,
+            beginning_of_pass_write_index: Some(4),
+            end_of_pass_write_index: Some(5),
+        });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("tonemap pass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &view,
                 depth_slice: None,
                 resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
             })],
             depth_stencil_attachment: None,
             timestamp_writes,
@@ -913,12 +756,7 @@ impl Renderer {
         pass.draw(0..3, 0..1);
     }
 
-    fn read_images(
-        &self,
-        out: &mut FrameOutput,
-        exposure: f32,
-        aovs: bool,
-    ) -> Result<(), RenderError> {
+    fn read_images(&self, out: &mut FrameOutput, exposure: f32, aovs: bool) -> Result<(), RenderError> {
         let targets = self.targets.as_ref().expect("targets exist");
         let hdr_bytes = read_texture(&self.ctx, &targets.hdr, 8)?;
         let halves: &[u16] = bytemuck::cast_slice(&hdr_bytes);
@@ -953,18 +791,13 @@ impl Renderer {
     }
 }
 
-fn timestamp_writes<'a>(
-    timestamps: &'a Option<Timestamps>,
-    pass: &str,
-) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
+fn timestamp_writes<'a>(timestamps: &'a Option<Timestamps>, pass: &str) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
     let index = timed_index(pass);
-    timestamps
-        .as_ref()
-        .map(|ts| wgpu::RenderPassTimestampWrites {
-            query_set: &ts.queries,
-            beginning_of_pass_write_index: Some(2 * index),
-            end_of_pass_write_index: Some(2 * index + 1),
-        })
+    timestamps.as_ref().map(|ts| wgpu::RenderPassTimestampWrites {
+        query_set: &ts.queries,
+        beginning_of_pass_write_index: Some(2 * index),
+        end_of_pass_write_index: Some(2 * index + 1),
+    })
 }
 
 fn pipeline_key(d: &Draw, pass: PassKind) -> PipelineKey {
@@ -980,16 +813,10 @@ fn pipeline_key(d: &Draw, pass: PassKind) -> PipelineKey {
 /// draws from far to near, so blending composes correctly.
 fn ordered_draws<'a>(draws: &'a [Draw], view: &View) -> Vec<&'a Draw> {
     let eye = view.eye();
-    let (mut blended, mut solid): (Vec<&Draw>, Vec<&Draw>) = draws
-        .iter()
-        .filter(|d| d.visible())
-        .partition(|d| d.alpha_mode == AlphaMode::Blend);
+    let (mut blended, mut solid): (Vec<&Draw>, Vec<&Draw>) =
+        draws.iter().filter(|d| d.visible()).partition(|d| d.alpha_mode == AlphaMode::Blend);
     solid.sort_by_key(|d| (d.double_sided, d.mirrored, d.material));
-    blended.sort_by(|a, b| {
-        b.center_ws
-            .distance_squared(eye)
-            .total_cmp(&a.center_ws.distance_squared(eye))
-    });
+    blended.sort_by(|a, b| b.center_ws.distance_squared(eye).total_cmp(&a.center_ws.distance_squared(eye)));
     solid.extend(blended);
     solid
 }

@@ -3,7 +3,7 @@
 //! draws each tile's casters into its viewport.
 
 use crate::context::GpuContext;
-use crate::gpu_scene::Draw;
+use crate::gpu_scene::{Draw, GpuScene};
 use crate::gpu_types::{GpuCasterView, GpuVertex, MAX_DIRECTIONAL_SHADOW_TILES};
 use crate::shaders;
 use crate::shadow_plan::ShadowPlan;
@@ -37,11 +37,7 @@ pub struct ShadowPass {
 fn atlas_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("directional shadow atlas"),
-        size: wgpu::Extent3d {
-            width: size,
-            height: size,
-            depth_or_array_layers: 1,
-        },
+        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -95,10 +91,7 @@ impl ShadowPass {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            unclipped_depth: ctx
-                .device
-                .features()
-                .contains(wgpu::Features::DEPTH_CLIP_CONTROL),
+            unclipped_depth: ctx.device.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             atlas_view: atlas.create_view(&Default::default()),
             atlas,
             sampler: device.create_sampler(&wgpu::SamplerDescriptor {
@@ -128,8 +121,7 @@ impl ShadowPass {
     }
 
     fn pipeline(&mut self, device: &wgpu::Device, key: CasterKey) -> &wgpu::RenderPipeline {
-        let (module, layout, unclipped) =
-            (&self.module, &self.pipeline_layout, self.unclipped_depth);
+        let (module, layout, unclipped) = (&self.module, &self.pipeline_layout, self.unclipped_depth);
         self.pipelines.entry(key).or_insert_with(|| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(&format!("caster pipeline {key:?}")),
@@ -141,11 +133,7 @@ impl ShadowPass {
                     buffers: &[Some(GpuVertex::layout())],
                 },
                 primitive: wgpu::PrimitiveState {
-                    front_face: if key.front_cw {
-                        wgpu::FrontFace::Cw
-                    } else {
-                        wgpu::FrontFace::Ccw
-                    },
+                    front_face: if key.front_cw { wgpu::FrontFace::Cw } else { wgpu::FrontFace::Ccw },
                     cull_mode: key.cull_back.then_some(wgpu::Face::Back),
                     unclipped_depth: unclipped,
                     ..Default::default()
@@ -175,10 +163,7 @@ impl ShadowPass {
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         plan: &ShadowPlan,
-        draws: &[Draw],
-        vertices: &wgpu::Buffer,
-        indices: &wgpu::Buffer,
-        objects: &wgpu::Buffer,
+        scene: &GpuScene,
         timestamp_writes: Option<wgpu::RenderPassTimestampWrites>,
     ) -> usize {
         if plan.tiles.is_empty() {
@@ -186,16 +171,8 @@ impl ShadowPass {
         }
         let flags = [u32::from(!self.unclipped_depth), 0, 0, 0];
         for (i, tile) in plan.tiles.iter().enumerate() {
-            let view = GpuCasterView {
-                clip_from_world: tile.clip_from_world,
-                flags,
-                _pad: Default::default(),
-            };
-            ctx.queue.write_buffer(
-                &self.views,
-                i as u64 * VIEW_STRIDE,
-                bytemuck::bytes_of(&view),
-            );
+            let view = GpuCasterView { clip_from_world: tile.clip_from_world, flags, _pad: Default::default() };
+            ctx.queue.write_buffer(&self.views, i as u64 * VIEW_STRIDE, bytemuck::bytes_of(&view));
         }
         // Which pipeline each draw needs per tile, created before the pass borrows them.
         let key_for = |d: &Draw, slope_bias: f32| CasterKey {
@@ -205,11 +182,10 @@ impl ShadowPass {
         };
         let mut tile_draws: Vec<Vec<(&Draw, CasterKey)>> = Vec::with_capacity(plan.tiles.len());
         for tile in &plan.tiles {
-            let list: Vec<(&Draw, CasterKey)> = draws
+            let list: Vec<(&Draw, CasterKey)> = scene
+                .draws
                 .iter()
-                .filter(|d| {
-                    d.casts_shadows() && caster_in_tile(&tile.clip_from_world, &d.bounds_ws, true)
-                })
+                .filter(|d| d.casts_shadows() && caster_in_tile(&tile.clip_from_world, &d.bounds_ws, true))
                 .map(|d| (d, key_for(d, tile.slope_bias)))
                 .collect();
             for (_, key) in &list {
@@ -229,10 +205,7 @@ impl ShadowPass {
                         size: wgpu::BufferSize::new(VIEW_STRIDE),
                     }),
                 },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: objects.as_entire_binding(),
-                },
+                wgpu::BindGroupEntry { binding: 1, resource: scene.objects.as_entire_binding() },
             ],
         });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -240,18 +213,15 @@ impl ShadowPass {
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &self.atlas_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),
             timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_vertex_buffer(0, vertices.slice(..));
-        pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.set_vertex_buffer(0, scene.vertices.slice(..));
+        pass.set_index_buffer(scene.indices.slice(..), wgpu::IndexFormat::Uint32);
         let mut count = 0;
         for (i, (tile, list)) in plan.tiles.iter().zip(&tile_draws).enumerate() {
             let (x, y, size) = tile.viewport;
@@ -265,11 +235,7 @@ impl ShadowPass {
                     pass.set_pipeline(&self.pipelines[key]);
                     bound = Some(*key);
                 }
-                pass.draw_indexed(
-                    d.first_index..d.first_index + d.index_count,
-                    d.base_vertex,
-                    d.object..d.object + 1,
-                );
+                pass.draw_indexed(d.first_index..d.first_index + d.index_count, d.base_vertex, d.object..d.object + 1);
                 count += 1;
             }
             pass.pop_debug_group();

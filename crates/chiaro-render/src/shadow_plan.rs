@@ -7,9 +7,7 @@ use crate::view::View;
 use chiaro_math::Sphere;
 use chiaro_math::shadow::bias::cascade_texel_size_ws;
 use chiaro_math::shadow::fade::distance_fade_params;
-use chiaro_math::shadow::{
-    AtlasLayout, ShadowFilter, cascade_splits, fit_cascade, slice_culling_sphere,
-};
+use chiaro_math::shadow::{AtlasLayout, ShadowFilter, cascade_splits, fit_cascade, slice_culling_sphere};
 use chiaro_scene::{CascadeBlend, Light, Settings, ShadowMode};
 use glam::{Mat4, Vec4};
 
@@ -38,22 +36,14 @@ pub struct ShadowPlan {
 pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) -> ShadowPlan {
     let ds = &settings.shadows.directional;
     let filter = ds.shadow_filter();
-    let shadowed: Vec<(usize, &Light)> = directional
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| l.shadow.casts())
-        .map(|(slot, l)| (slot, *l))
-        .collect();
+    let shadowed: Vec<(usize, &Light)> =
+        directional.iter().enumerate().filter(|(_, l)| l.shadow.casts()).map(|(slot, l)| (slot, *l)).collect();
     let cascade_count = ds.cascade_count as usize;
     let max_distance = match view.zfar {
         Some(far) => settings.shadows.max_distance.min(far),
         None => settings.shadows.max_distance,
     };
-    let fade = distance_fade_params(
-        max_distance,
-        settings.shadows.distance_fade,
-        ds.cascade_fade,
-    );
+    let fade = distance_fade_params(max_distance, settings.shadows.distance_fade, ds.cascade_fade);
     let mut gpu = GpuShadows {
         directional_atlas_from_world: [Mat4::IDENTITY; MAX_DIRECTIONAL_SHADOW_TILES],
         culling_spheres: [Vec4::ZERO; 4],
@@ -68,13 +58,8 @@ pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) ->
         },
         _pad: [0; 2],
     };
-    let mut plan = ShadowPlan {
-        gpu,
-        directional: [Vec4::ZERO; 4],
-        atlas_size: 0,
-        tiles: Vec::new(),
-        cascade_spheres: Vec::new(),
-    };
+    let mut plan =
+        ShadowPlan { gpu, directional: [Vec4::ZERO; 4], atlas_size: 0, tiles: Vec::new(), cascade_spheres: Vec::new() };
     if shadowed.is_empty() {
         return plan;
     }
@@ -85,22 +70,14 @@ pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) ->
     let tan_half_fov = (view.yfov_rad * 0.5).tan();
     for (i, &far) in splits.iter().enumerate() {
         let near = if i == 0 { view.znear } else { splits[i - 1] };
-        let sphere_vs =
-            slice_culling_sphere(near, far.max(near + 1e-3), tan_half_fov, view.aspect());
-        let sphere = Sphere {
-            center: view.world_from_view.transform_point3(sphere_vs.center),
-            radius: sphere_vs.radius,
-        };
+        let sphere_vs = slice_culling_sphere(near, far.max(near + 1e-3), tan_half_fov, view.aspect());
+        let sphere =
+            Sphere { center: view.world_from_view.transform_point3(sphere_vs.center), radius: sphere_vs.radius };
         let texel = cascade_texel_size_ws(sphere.radius, tile_size);
         // Shrink by the filter's reach so samples near the edge stay inside the tile.
         let shrunk = (sphere.radius - texel * filter.footprint_texels()).max(sphere.radius * 0.5);
         gpu.culling_spheres[i] = sphere.center.extend(shrunk * shrunk);
-        gpu.cascade_data[i] = Vec4::new(
-            1.0 / (shrunk * shrunk),
-            texel * std::f32::consts::SQRT_2,
-            0.0,
-            0.0,
-        );
+        gpu.cascade_data[i] = Vec4::new(1.0 / (shrunk * shrunk), texel * std::f32::consts::SQRT_2, 0.0, 0.0);
         plan.cascade_spheres.push(sphere);
     }
     for (k, &(slot, light)) in shadowed.iter().enumerate() {
@@ -108,8 +85,7 @@ pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) ->
         for (c, sphere) in plan.cascade_spheres.iter().enumerate() {
             let tile = first_tile + c;
             let fit = fit_cascade(*sphere, light.direction, tile_size, light.shadow.near_plane);
-            gpu.directional_atlas_from_world[tile] =
-                layout.atlas_from_clip(tile) * fit.clip_from_world;
+            gpu.directional_atlas_from_world[tile] = layout.atlas_from_clip(tile) * fit.clip_from_world;
             plan.tiles.push(CasterTile {
                 clip_from_world: fit.clip_from_world,
                 viewport: layout.tile_viewport(tile),
@@ -120,20 +96,11 @@ pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) ->
             ShadowMode::Hard => ShadowFilter::Pcf2x2,
             _ => filter,
         };
-        plan.directional[slot] = Vec4::new(
-            light.shadow.strength,
-            first_tile as f32,
-            light.shadow.normal_bias,
-            light_filter.index() as f32,
-        );
+        plan.directional[slot] =
+            Vec4::new(light.shadow.strength, first_tile as f32, light.shadow.normal_bias, light_filter.index() as f32);
     }
     gpu.cascade_count = cascade_count as u32;
-    gpu.directional_atlas = Vec4::new(
-        ds.atlas_size as f32,
-        1.0 / ds.atlas_size as f32,
-        layout.split as f32,
-        0.0,
-    );
+    gpu.directional_atlas = Vec4::new(ds.atlas_size as f32, 1.0 / ds.atlas_size as f32, layout.split as f32, 0.0);
     plan.gpu = gpu;
     plan.atlas_size = ds.atlas_size;
     plan

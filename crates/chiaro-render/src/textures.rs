@@ -23,11 +23,7 @@ fn downsample(rgba: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
     (out, w, h)
 }
 
-pub fn upload_image(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    image: &Image,
-) -> wgpu::TextureView {
+pub fn upload_image(device: &wgpu::Device, queue: &wgpu::Queue, image: &Image) -> wgpu::TextureView {
     let format = match image.color_space {
         ColorSpace::Srgb => wgpu::TextureFormat::Rgba8UnormSrgb,
         ColorSpace::Linear => wgpu::TextureFormat::Rgba8Unorm,
@@ -35,11 +31,7 @@ pub fn upload_image(
     let mip_level_count = 32 - image.width.max(image.height).max(1).leading_zeros();
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(&image.name),
-        size: wgpu::Extent3d {
-            width: image.width,
-            height: image.height,
-            depth_or_array_layers: 1,
-        },
+        size: wgpu::Extent3d { width: image.width, height: image.height, depth_or_array_layers: 1 },
         mip_level_count,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -60,38 +52,19 @@ pub fn upload_image(
                 aspect: wgpu::TextureAspect::All,
             },
             &data,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(w * 4),
-                rows_per_image: Some(h),
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(w * 4), rows_per_image: Some(h) },
+            wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
         );
     }
     texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
 /// A 1x1 texture of one colour, standing in for a texture a material does not have.
-pub fn solid(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    name: &str,
-    rgba: [u8; 4],
-) -> wgpu::TextureView {
+pub fn solid(device: &wgpu::Device, queue: &wgpu::Queue, name: &str, rgba: [u8; 4]) -> wgpu::TextureView {
     upload_image(
         device,
         queue,
-        &Image {
-            name: name.into(),
-            width: 1,
-            height: 1,
-            rgba8: rgba.to_vec(),
-            color_space: ColorSpace::Linear,
-        },
+        &Image { name: name.into(), width: 1, height: 1, rgba8: rgba.to_vec(), color_space: ColorSpace::Linear },
     )
 }
 
@@ -104,11 +77,7 @@ fn address_mode(mode: WrapMode) -> wgpu::AddressMode {
 }
 
 fn filter(linear: bool) -> wgpu::FilterMode {
-    if linear {
-        wgpu::FilterMode::Linear
-    } else {
-        wgpu::FilterMode::Nearest
-    }
+    if linear { wgpu::FilterMode::Linear } else { wgpu::FilterMode::Nearest }
 }
 
 /// Samplers keyed by their glTF description, so equal samplers are created once.
@@ -134,11 +103,7 @@ impl SamplerCache {
                     } else {
                         wgpu::MipmapFilterMode::Nearest
                     },
-                    anisotropy_clamp: if d.mipmaps && d.mag_linear && d.min_linear {
-                        8
-                    } else {
-                        1
-                    },
+                    anisotropy_clamp: if d.mipmaps && d.mag_linear && d.min_linear { 8 } else { 1 },
                     ..Default::default()
                 })
             })
@@ -152,10 +117,7 @@ mod tests {
 
     #[test]
     fn downsample_averages_and_handles_odd_sizes() {
-        let rgba: Vec<u8> = [0u8, 100, 200, 255]
-            .iter()
-            .flat_map(|&v| [v, v, v, 255])
-            .collect();
+        let rgba: Vec<u8> = [0u8, 100, 200, 255].iter().flat_map(|&v| [v, v, v, 255]).collect();
         let (out, w, h) = downsample(&rgba, 2, 2);
         assert_eq!((w, h), (1, 1));
         assert_eq!(out[0], 139); // (0 + 100 + 200 + 255 + 2) / 4

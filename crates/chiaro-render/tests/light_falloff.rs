@@ -16,22 +16,13 @@ const EYE: Vec3 = Vec3::new(0.0, 6.0, 0.01);
 fn predicted(light: &Light, p: Vec3, range: f32) -> f32 {
     let v = (EYE - p).normalize();
     match light.kind {
-        LightKind::Directional => {
-            light.intensity * brdf_cos(Vec3::ONE, 0.0, 1.0, Vec3::Y, v, -light.direction).x
-        }
+        LightKind::Directional => light.intensity * brdf_cos(Vec3::ONE, 0.0, 1.0, Vec3::Y, v, -light.direction).x,
         LightKind::Point | LightKind::Spot { .. } => {
             let to_light = light.position - p;
             let l = to_light.normalize();
             let mut e = light.intensity * distance_attenuation(to_light.length_squared(), range);
-            if let LightKind::Spot {
-                inner_cone_rad,
-                outer_cone_rad,
-            } = light.kind
-            {
-                e *= spot_attenuation(
-                    light.direction.dot(-l),
-                    spot_angle_params(inner_cone_rad, outer_cone_rad),
-                );
+            if let LightKind::Spot { inner_cone_rad, outer_cone_rad } = light.kind {
+                e *= spot_attenuation(light.direction.dot(-l), spot_angle_params(inner_cone_rad, outer_cone_rad));
             }
             e * brdf_cos(Vec3::ONE, 0.0, 1.0, Vec3::Y, v, l).x
         }
@@ -44,11 +35,7 @@ fn point_light_radiance_follows_inverse_square_within_2_percent() {
     let scene = floor_scene(12.0, EYE, vec![light.clone()]);
     let frame = render(&mut renderer(), &scene, &unlit_settings(), 256);
     let pixels = surface_pixels(&frame);
-    assert!(
-        pixels.len() > 20_000,
-        "floor covers {} pixels",
-        pixels.len()
-    );
+    assert!(pixels.len() > 20_000, "floor covers {} pixels", pixels.len());
 
     // Every pixel against the formula.
     let mut worst = 0.0f32;
@@ -61,24 +48,14 @@ fn point_light_radiance_follows_inverse_square_within_2_percent() {
 
     // The ratio at two known distances, as a photometer would measure it.
     let nearest = |target: Vec3| {
-        pixels
-            .iter()
-            .min_by(|a, b| a.1.distance(target).total_cmp(&b.1.distance(target)))
-            .copied()
-            .unwrap()
+        pixels.iter().min_by(|a, b| a.1.distance(target).total_cmp(&b.1.distance(target))).copied().unwrap()
     };
     let (_, p1, _, l1) = nearest(Vec3::new(0.5, 0.0, 0.0));
     let (_, p2, _, l2) = nearest(Vec3::new(3.0, 0.0, 0.0));
     let measured = l1.x / l2.x;
     let expected = predicted(&light, p1, 100.0) / predicted(&light, p2, 100.0);
-    assert!(
-        expected > 5.0,
-        "the two points must differ a lot: {expected}"
-    );
-    assert!(
-        (measured / expected - 1.0).abs() < 0.02,
-        "ratio {measured} vs {expected}"
-    );
+    assert!(expected > 5.0, "the two points must differ a lot: {expected}");
+    assert!((measured / expected - 1.0).abs() < 0.02, "ratio {measured} vs {expected}");
 }
 
 #[test]
@@ -98,18 +75,11 @@ fn pixels_beyond_a_lights_range_are_exactly_unlit() {
             assert!(radiance.x > 0.0, "unlit at distance {d}");
             let expected = predicted(&light, p, range);
             if expected > 1e-3 {
-                assert!(
-                    (radiance.x / expected - 1.0).abs() < 0.02,
-                    "{} vs {expected} at {d}",
-                    radiance.x
-                );
+                assert!((radiance.x / expected - 1.0).abs() < 0.02, "{} vs {expected} at {d}", radiance.x);
             }
         }
     }
-    assert!(
-        outside > 1000 && inside > 1000,
-        "outside {outside}, inside {inside}"
-    );
+    assert!(outside > 1000 && inside > 1000, "outside {outside}, inside {inside}");
 }
 
 #[test]
@@ -118,10 +88,7 @@ fn spot_light_lights_exactly_its_cone() {
     let light = Light {
         name: "spot".into(),
         node: 3,
-        kind: LightKind::Spot {
-            inner_cone_rad: inner,
-            outer_cone_rad: outer,
-        },
+        kind: LightKind::Spot { inner_cone_rad: inner, outer_cone_rad: outer },
         color: Vec3::ONE,
         intensity: 30.0,
         range: Some(50.0),
@@ -142,35 +109,19 @@ fn spot_light_lights_exactly_its_cone() {
             lit += 1;
         }
         if angle > outer + margin {
-            assert_eq!(
-                radiance,
-                Vec3::ZERO,
-                "lit outside the cone at {} deg",
-                angle.to_degrees()
-            );
+            assert_eq!(radiance, Vec3::ZERO, "lit outside the cone at {} deg", angle.to_degrees());
         } else if angle < outer - margin {
-            assert!(
-                radiance.x > 0.0,
-                "dark inside the cone at {} deg",
-                angle.to_degrees()
-            );
+            assert!(radiance.x > 0.0, "dark inside the cone at {} deg", angle.to_degrees());
         }
         if angle < inner {
             let expected = predicted(&light, p, 50.0);
-            assert!(
-                (radiance.x / expected - 1.0).abs() < 0.02,
-                "{} vs {expected}",
-                radiance.x
-            );
+            assert!((radiance.x / expected - 1.0).abs() < 0.02, "{} vs {expected}", radiance.x);
         }
     }
     // The cone on the floor is a disc of radius 3 tan(30 deg) = 1.73 m.
     assert!(in_cone > 2000, "cone covers {in_cone} pixels");
     let ratio = lit as f32 / in_cone as f32;
-    assert!(
-        (ratio - 1.0).abs() < 0.02,
-        "lit area {lit} vs cone {in_cone}"
-    );
+    assert!((ratio - 1.0).abs() < 0.02, "lit area {lit} vs cone {in_cone}");
 }
 
 #[test]
@@ -191,24 +142,14 @@ fn directional_light_gives_illuminance_times_brdf() {
     let frame = render(&mut renderer(), &scene, &unlit_settings(), 128);
     for &(_, p, _, radiance) in &surface_pixels(&frame) {
         let expected = predicted(&sun, p, 0.0);
-        assert!(
-            (radiance.x / expected - 1.0).abs() < 0.02,
-            "{} vs {expected}",
-            radiance.x
-        );
+        assert!((radiance.x / expected - 1.0).abs() < 0.02, "{} vs {expected}", radiance.x);
     }
 }
 
 #[test]
 fn lights_over_the_limit_are_dropped_by_importance() {
     let lights: Vec<Light> = (0..70)
-        .map(|i| {
-            point_light(
-                Vec3::new((i % 10) as f32 - 4.5, 0.5, (i / 10) as f32 - 3.0),
-                1.0 + i as f32,
-                Some(2.0),
-            )
-        })
+        .map(|i| point_light(Vec3::new((i % 10) as f32 - 4.5, 0.5, (i / 10) as f32 - 3.0), 1.0 + i as f32, Some(2.0)))
         .collect();
     let scene = floor_scene(12.0, EYE, lights);
     let frame = render(&mut renderer(), &scene, &unlit_settings(), 64);

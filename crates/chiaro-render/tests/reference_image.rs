@@ -20,22 +20,9 @@ fn render_rgb(scene: &Scene) -> Vec<u8> {
     let view = View::from_camera(scene, 0, SIZE, SIZE);
     let prepared = renderer.prepare(scene).unwrap();
     let frame: FrameOutput = renderer
-        .render(
-            scene,
-            &prepared,
-            &view,
-            &Settings::default(),
-            FrameOptions {
-                readback: true,
-                ..Default::default()
-            },
-        )
+        .render(scene, &prepared, &view, &Settings::default(), FrameOptions { readback: true, ..Default::default() })
         .unwrap();
-    frame
-        .ldr
-        .chunks_exact(4)
-        .flat_map(|p| [p[0], p[1], p[2]])
-        .collect()
+    frame.ldr.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
 }
 
 fn mean_flip(reference: &[u8], test: &[u8]) -> f32 {
@@ -49,9 +36,7 @@ fn mean_flip(reference: &[u8], test: &[u8]) -> f32 {
 
 fn reference() -> Vec<u8> {
     image::open(REFERENCE)
-        .unwrap_or_else(|e| {
-            panic!("{REFERENCE}: {e} (run with CHIARO_UPDATE_REFERENCE=1 to create it)")
-        })
+        .unwrap_or_else(|e| panic!("{REFERENCE}: {e} (run with CHIARO_UPDATE_REFERENCE=1 to create it)"))
         .to_rgb8()
         .into_raw()
 }
@@ -60,14 +45,7 @@ fn reference() -> Vec<u8> {
 fn demo_matches_the_reference_image() {
     let rendered = render_rgb(&demo_scene(DEMO_OTHER_LIGHTS));
     if std::env::var_os("CHIARO_UPDATE_REFERENCE").is_some() {
-        image::save_buffer(
-            REFERENCE,
-            &rendered,
-            SIZE,
-            SIZE,
-            image::ExtendedColorType::Rgb8,
-        )
-        .unwrap();
+        image::save_buffer(REFERENCE, &rendered, SIZE, SIZE, image::ExtendedColorType::Rgb8).unwrap();
     }
     let mean = mean_flip(&reference(), &rendered);
     eprintln!("mean FLIP against the reference: {mean}");
@@ -77,15 +55,8 @@ fn demo_matches_the_reference_image() {
 #[test]
 fn the_metric_notices_a_moved_light() {
     let mut scene = demo_scene(DEMO_OTHER_LIGHTS);
-    let spot = scene
-        .lights
-        .iter_mut()
-        .find(|l| l.name.starts_with("spot"))
-        .unwrap();
+    let spot = scene.lights.iter_mut().find(|l| l.name.starts_with("spot")).unwrap();
     spot.position.x += 2.0;
     let mean = mean_flip(&reference(), &render_rgb(&scene));
-    assert!(
-        mean > MAX_MEAN_FLIP,
-        "moving a spot light scored only {mean}"
-    );
+    assert!(mean > MAX_MEAN_FLIP, "moving a spot light scored only {mean}");
 }

@@ -13,12 +13,9 @@ fn module(source: &str) -> naga::Module {
 fn every_shader_validates() {
     for (name, source) in shaders::ALL {
         let m = module(source);
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::empty(),
-        )
-        .validate(&m)
-        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+            .validate(&m)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
         assert!(!m.entry_points.is_empty(), "{name} has entry points");
     }
 }
@@ -31,11 +28,7 @@ fn wgsl_size(m: &naga::Module, name: &str) -> u32 {
     let (handle, _) = m
         .types
         .iter()
-        .find(|(_, t)| {
-            t.name
-                .as_deref()
-                .is_some_and(|n| n == name || n.ends_with(&suffix))
-        })
+        .find(|(_, t)| t.name.as_deref().is_some_and(|n| n == name || n.ends_with(&suffix)))
         .unwrap_or_else(|| panic!("struct {name} not found"));
     layouter[handle].size
 }
@@ -61,10 +54,7 @@ fn gpu_structs_match_wgsl_layout() {
 fn light_limits_match_the_shader_constants() {
     let forward = module(shaders::FORWARD);
     for (name, value) in [
-        (
-            "MAX_DIRECTIONAL_LIGHTS",
-            chiaro_math::light::MAX_DIRECTIONAL_LIGHTS,
-        ),
+        ("MAX_DIRECTIONAL_LIGHTS", chiaro_math::light::MAX_DIRECTIONAL_LIGHTS),
         ("MAX_OTHER_LIGHTS", chiaro_math::light::MAX_OTHER_LIGHTS),
     ] {
         let (_, c) = forward

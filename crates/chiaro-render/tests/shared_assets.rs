@@ -9,10 +9,7 @@ use common::*;
 use std::path::PathBuf;
 
 fn asset_scenes() -> Vec<PathBuf> {
-    let root = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/assets"
-    ));
+    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets"));
     let mut scenes = Vec::new();
     let mut stack = vec![root.clone()];
     while let Some(dir) = stack.pop() {
@@ -27,11 +24,7 @@ fn asset_scenes() -> Vec<PathBuf> {
         }
     }
     scenes.sort();
-    assert!(
-        scenes.len() >= 6,
-        "expected the six shared scenes under {}, found {scenes:?}",
-        root.display()
-    );
+    assert!(scenes.len() >= 6, "expected the six shared scenes under {}, found {scenes:?}", root.display());
     scenes
 }
 
@@ -46,40 +39,20 @@ fn every_shared_scene_renders() {
         } else {
             View::from_camera(&scene, 0, 128, 128)
         };
-        let prepared = renderer
-            .prepare(&scene)
-            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let prepared = renderer.prepare(&scene).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let frame = renderer
             .render(
                 &scene,
                 &prepared,
                 &view,
                 &settings,
-                FrameOptions {
-                    aovs: true,
-                    readback: true,
-                    ..Default::default()
-                },
+                FrameOptions { aovs: true, readback: true, ..Default::default() },
             )
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let surfaces = surface_pixels(&frame);
-        assert!(
-            surfaces.len() > 100,
-            "{}: only {} pixels covered",
-            path.display(),
-            surfaces.len()
-        );
-        assert!(
-            frame.hdr.iter().all(|p| p.iter().all(|c| c.is_finite())),
-            "{}: non-finite radiance",
-            path.display()
-        );
+        assert!(surfaces.len() > 100, "{}: only {} pixels covered", path.display(), surfaces.len());
+        assert!(frame.hdr.iter().all(|p| p.iter().all(|c| c.is_finite())), "{}: non-finite radiance", path.display());
         let lit = surfaces.iter().filter(|s| s.3.max_element() > 0.0).count();
-        assert!(
-            lit * 100 > surfaces.len(),
-            "{}: only {lit} of {} pixels lit",
-            path.display(),
-            surfaces.len()
-        );
+        assert!(lit * 100 > surfaces.len(), "{}: only {lit} of {} pixels lit", path.display(), surfaces.len());
     }
 }

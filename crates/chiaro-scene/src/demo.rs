@@ -19,13 +19,7 @@ const PALETTE: [Vec3; 6] = [
 ];
 
 fn material(name: &str, color: Vec3, metallic: f32, roughness: f32) -> Material {
-    Material {
-        name: name.into(),
-        base_color: color.extend(1.0),
-        metallic,
-        roughness,
-        ..Material::default()
-    }
+    Material { name: name.into(), base_color: color.extend(1.0), metallic, roughness, ..Material::default() }
 }
 
 /// The demo scene with `other_lights` point and spot lights (alternating, spots first),
@@ -40,18 +34,9 @@ pub fn demo_scene(other_lights: usize) -> Scene {
             material("chalk", Vec3::splat(0.85), 0.0, 0.9),
         ],
         meshes: vec![
-            Mesh {
-                name: "floor".into(),
-                primitives: vec![shapes::plane(24.0, 8)],
-            },
-            Mesh {
-                name: "box".into(),
-                primitives: vec![shapes::cuboid(Vec3::ONE)],
-            },
-            Mesh {
-                name: "sphere".into(),
-                primitives: vec![shapes::sphere(0.5, 48, 24)],
-            },
+            Mesh { name: "floor".into(), primitives: vec![shapes::plane(24.0, 8)] },
+            Mesh { name: "box".into(), primitives: vec![shapes::cuboid(Vec3::ONE)] },
+            Mesh { name: "sphere".into(), primitives: vec![shapes::sphere(0.5, 48, 24)] },
         ],
         ..Scene::default()
     };
@@ -81,12 +66,7 @@ pub fn demo_scene(other_lights: usize) -> Scene {
     };
     place(0, "floor", Mat4::IDENTITY);
     let boxes = [
-        (
-            Vec3::new(-2.5, 0.75, -1.0),
-            Vec3::new(1.5, 1.5, 1.5),
-            0.5,
-            1,
-        ),
+        (Vec3::new(-2.5, 0.75, -1.0), Vec3::new(1.5, 1.5, 1.5), 0.5, 1),
         (Vec3::new(2.0, 1.0, -2.5), Vec3::new(1.0, 2.0, 1.0), -0.3, 4),
         (Vec3::new(0.5, 0.4, 2.0), Vec3::new(2.0, 0.8, 0.8), 0.9, 1),
         (Vec3::new(-4.5, 1.5, -4.5), Vec3::new(1.0, 3.0, 1.0), 0.0, 4),
@@ -127,11 +107,7 @@ pub fn demo_scene(other_lights: usize) -> Scene {
         let t = (i as f32 + 0.5) / other_lights.max(1) as f32;
         let angle = i as f32 * 2.399_963;
         let radius = 2.0 + 7.0 * t.sqrt();
-        let position = Vec3::new(
-            radius * angle.cos(),
-            1.2 + 1.8 * ((i % 3) as f32 / 2.0),
-            radius * angle.sin(),
-        );
+        let position = Vec3::new(radius * angle.cos(), 1.2 + 1.8 * ((i % 3) as f32 / 2.0), radius * angle.sin());
         let color = PALETTE[i % PALETTE.len()];
         let (kind, direction, intensity, range) = if i % 2 == 0 {
             let target = Vec3::new(position.x * 0.6, 0.0, position.z * 0.6);
@@ -145,12 +121,7 @@ pub fn demo_scene(other_lights: usize) -> Scene {
                 Some(9.0),
             )
         } else {
-            (
-                LightKind::Point,
-                Vec3::NEG_Y,
-                8.0,
-                Some(5.0 + (i % 4) as f32),
-            )
+            (LightKind::Point, Vec3::NEG_Y, 8.0, Some(5.0 + (i % 4) as f32))
         };
         let kind_name = if i % 2 == 0 { "spot" } else { "point" };
         scene.lights.push(Light {
@@ -189,19 +160,9 @@ mod tests {
         for n in [0, 4, 16, 64] {
             let s = demo_scene(n);
             assert_eq!(s.lights.len(), n + 1);
-            assert_eq!(
-                s.lights
-                    .iter()
-                    .filter(|l| l.kind == LightKind::Directional)
-                    .count(),
-                1
-            );
+            assert_eq!(s.lights.iter().filter(|l| l.kind == LightKind::Directional).count(), 1);
             if n >= 2 {
-                assert!(
-                    s.lights
-                        .iter()
-                        .any(|l| matches!(l.kind, LightKind::Spot { .. }))
-                );
+                assert!(s.lights.iter().any(|l| matches!(l.kind, LightKind::Spot { .. })));
                 assert!(s.lights.iter().any(|l| l.kind == LightKind::Point));
             }
         }

@@ -62,10 +62,7 @@ pub struct LightSettings {
 
 impl Default for LightSettings {
     fn default() -> Self {
-        LightSettings {
-            max_other_lights: chiaro_math::light::MAX_OTHER_LIGHTS as u32,
-            range_threshold_lux: 0.01,
-        }
+        LightSettings { max_other_lights: chiaro_math::light::MAX_OTHER_LIGHTS as u32, range_threshold_lux: 0.01 }
     }
 }
 
@@ -78,9 +75,7 @@ pub struct CameraSettings {
 
 impl Default for CameraSettings {
     fn default() -> Self {
-        CameraSettings {
-            auto_yfov_deg: 45.0,
-        }
+        CameraSettings { auto_yfov_deg: 45.0 }
     }
 }
 
@@ -111,11 +106,7 @@ pub struct ShadowSettings {
 
 impl Default for ShadowSettings {
     fn default() -> Self {
-        ShadowSettings {
-            max_distance: 100.0,
-            distance_fade: 0.1,
-            directional: DirectionalShadowSettings::default(),
-        }
+        ShadowSettings { max_distance: 100.0, distance_fade: 0.1, directional: DirectionalShadowSettings::default() }
     }
 }
 
@@ -161,24 +152,16 @@ impl DirectionalShadowSettings {
 #[derive(Debug, thiserror::Error)]
 pub enum SettingsError {
     #[error("{path}: cannot read settings: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    Io { path: PathBuf, source: std::io::Error },
     #[error("{path}: {message}")]
     Invalid { path: PathBuf, message: String },
 }
 
 impl Settings {
     pub fn load(path: &Path) -> Result<Settings, SettingsError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SettingsError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Settings::parse(&text).map_err(|message| SettingsError::Invalid {
-            path: path.to_path_buf(),
-            message,
-        })
+        let text =
+            std::fs::read_to_string(path).map_err(|source| SettingsError::Io { path: path.to_path_buf(), source })?;
+        Settings::parse(&text).map_err(|message| SettingsError::Invalid { path: path.to_path_buf(), message })
     }
 
     /// Parses and validates TOML text; the error names the offending key.
@@ -197,10 +180,7 @@ impl Settings {
         check_range("render.width", r.width as f32, 1.0, 16384.0)?;
         check_range("render.height", r.height as f32, 1.0, 16384.0)?;
         check_range("render.exposure_ev100", r.exposure_ev100, -30.0, 30.0)?;
-        for (key, values) in [
-            ("render.ambient", r.ambient),
-            ("render.background", r.background),
-        ] {
+        for (key, values) in [("render.ambient", r.ambient), ("render.background", r.background)] {
             for v in values {
                 check_range(key, v, 0.0, 1.0e6)?;
             }
@@ -218,12 +198,7 @@ impl Settings {
                 l.range_threshold_lux
             ));
         }
-        check_range(
-            "camera.auto_yfov_deg",
-            self.camera.auto_yfov_deg,
-            1.0,
-            179.0,
-        )?;
+        check_range("camera.auto_yfov_deg", self.camera.auto_yfov_deg, 1.0, 179.0)?;
         let sh = &self.shadows;
         check_range("shadows.max_distance", sh.max_distance, 0.1, 10000.0)?;
         check_range("shadows.distance_fade", sh.distance_fade, 0.001, 1.0)?;
@@ -240,25 +215,12 @@ impl Settings {
                 d.filter
             ));
         }
-        check_range(
-            "shadows.directional.cascade_count",
-            d.cascade_count as f32,
-            1.0,
-            4.0,
-        )?;
+        check_range("shadows.directional.cascade_count", d.cascade_count as f32, 1.0, 4.0)?;
         let r = d.cascade_ratios;
-        if !(r.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0) && r[0] < r[1] && r[1] < r[2])
-        {
-            return Err(format!(
-                "shadows.directional.cascade_ratios: {r:?} must increase strictly between 0 and 1"
-            ));
+        if !(r.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0) && r[0] < r[1] && r[1] < r[2]) {
+            return Err(format!("shadows.directional.cascade_ratios: {r:?} must increase strictly between 0 and 1"));
         }
-        check_range(
-            "shadows.directional.cascade_fade",
-            d.cascade_fade,
-            0.001,
-            1.0,
-        )?;
+        check_range("shadows.directional.cascade_fade", d.cascade_fade, 0.001, 1.0)?;
         Ok(())
     }
 }
@@ -318,22 +280,10 @@ mod tests {
         assert_eq!(s.shadows.directional.shadow_filter(), ShadowFilter::Tent5x5);
         assert_eq!(s.shadows.directional.cascade_blend, CascadeBlend::Dither);
         for (text, key) in [
-            (
-                "[shadows.directional]\natlas_size = 3000\n",
-                "shadows.directional.atlas_size",
-            ),
-            (
-                "[shadows.directional]\nfilter = \"gauss\"\n",
-                "shadows.directional.filter",
-            ),
-            (
-                "[shadows.directional]\ncascade_count = 5\n",
-                "shadows.directional.cascade_count",
-            ),
-            (
-                "[shadows.directional]\ncascade_ratios = [0.5, 0.2, 0.7]\n",
-                "shadows.directional.cascade_ratios",
-            ),
+            ("[shadows.directional]\natlas_size = 3000\n", "shadows.directional.atlas_size"),
+            ("[shadows.directional]\nfilter = \"gauss\"\n", "shadows.directional.filter"),
+            ("[shadows.directional]\ncascade_count = 5\n", "shadows.directional.cascade_count"),
+            ("[shadows.directional]\ncascade_ratios = [0.5, 0.2, 0.7]\n", "shadows.directional.cascade_ratios"),
             ("[shadows]\nmax_distance = -1\n", "shadows.max_distance"),
         ] {
             let e = Settings::parse(text).unwrap_err();

@@ -20,8 +20,7 @@ pub fn plane(size: f32, divisions: u32) -> Primitive {
         for i in 0..=n {
             let u = i as f32 / n as f32;
             let v = j as f32 / n as f32;
-            p.positions
-                .push(Vec3::new((u - 0.5) * size, 0.0, (v - 0.5) * size));
+            p.positions.push(Vec3::new((u - 0.5) * size, 0.0, (v - 0.5) * size));
             p.normals.push(Vec3::Y);
             p.tangents.push(Vec4::new(1.0, 0.0, 0.0, 1.0));
             p.uv0.push(Vec2::new(u, v) * size);
@@ -62,8 +61,7 @@ pub fn cuboid(extents: Vec3) -> Primitive {
             p.tangents.push(tangent.extend(1.0));
             p.uv0.push(Vec2::new((s + 1.0) * 0.5, (1.0 - t) * 0.5));
         }
-        p.indices
-            .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
+        p.indices.extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
     }
     finish(p)
 }
@@ -78,15 +76,10 @@ pub fn sphere(radius: f32, segments: u32, rings: u32) -> Primitive {
         for s in 0..=segments {
             let u = s as f32 / segments as f32;
             let phi = u * std::f32::consts::TAU;
-            let normal = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                -theta.sin() * phi.sin(),
-            );
+            let normal = Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin());
             p.positions.push(normal * radius);
             p.normals.push(normal);
-            p.tangents
-                .push(Vec3::new(-phi.sin(), 0.0, -phi.cos()).extend(1.0));
+            p.tangents.push(Vec3::new(-phi.sin(), 0.0, -phi.cos()).extend(1.0));
             p.uv0.push(Vec2::new(u, v));
         }
     }
@@ -121,28 +114,17 @@ mod tests {
             if face.length() < 1e-9 {
                 continue;
             }
-            let n = p.normals[tri[0] as usize]
-                + p.normals[tri[1] as usize]
-                + p.normals[tri[2] as usize];
+            let n = p.normals[tri[0] as usize] + p.normals[tri[1] as usize] + p.normals[tri[2] as usize];
             assert!(face.dot(n) > 0.0, "triangle {tri:?} winds inward");
         }
     }
 
     #[test]
     fn shapes_wind_outward_and_have_unit_normals() {
-        for p in [
-            plane(4.0, 3),
-            cuboid(Vec3::new(1.0, 2.0, 3.0)),
-            sphere(1.5, 16, 8),
-        ] {
+        for p in [plane(4.0, 3), cuboid(Vec3::new(1.0, 2.0, 3.0)), sphere(1.5, 16, 8)] {
             assert_outward_winding(&p);
             assert!(p.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-4));
-            assert!(
-                p.tangents
-                    .iter()
-                    .zip(&p.normals)
-                    .all(|(t, n)| t.truncate().dot(*n).abs() < 1e-4)
-            );
+            assert!(p.tangents.iter().zip(&p.normals).all(|(t, n)| t.truncate().dot(*n).abs() < 1e-4));
             assert_eq!(p.positions.len(), p.uv0.len());
             assert!(p.indices.iter().all(|&i| (i as usize) < p.positions.len()));
         }

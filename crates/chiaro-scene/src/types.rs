@@ -107,11 +107,7 @@ pub struct UvTransform {
 
 impl Default for UvTransform {
     fn default() -> Self {
-        UvTransform {
-            offset: Vec2::ZERO,
-            rotation_rad: 0.0,
-            scale: Vec2::ONE,
-        }
+        UvTransform { offset: Vec2::ZERO, rotation_rad: 0.0, scale: Vec2::ONE }
     }
 }
 
@@ -119,11 +115,7 @@ impl UvTransform {
     /// The 3x2 matrix (column-major: three columns of two rows) the shader applies.
     pub fn matrix(&self) -> [Vec2; 3] {
         let (s, c) = self.rotation_rad.sin_cos();
-        [
-            Vec2::new(c * self.scale.x, -s * self.scale.x),
-            Vec2::new(s * self.scale.y, c * self.scale.y),
-            self.offset,
-        ]
+        [Vec2::new(c * self.scale.x, -s * self.scale.x), Vec2::new(s * self.scale.y, c * self.scale.y), self.offset]
     }
 }
 
@@ -207,10 +199,7 @@ pub enum LightKind {
     /// Intensity in candela.
     Point,
     /// Intensity in candela; glTF half-angles of the cone.
-    Spot {
-        inner_cone_rad: f32,
-        outer_cone_rad: f32,
-    },
+    Spot { inner_cone_rad: f32, outer_cone_rad: f32 },
 }
 
 /// Realtime shadows of a light: `none`, `hard` (the 2x2 filter whatever the settings say)
@@ -243,13 +232,7 @@ pub struct LightShadow {
 
 impl Default for LightShadow {
     fn default() -> Self {
-        LightShadow {
-            mode: ShadowMode::Soft,
-            strength: 1.0,
-            depth_bias: 1.0,
-            normal_bias: 1.0,
-            near_plane: 0.0,
-        }
+        LightShadow { mode: ShadowMode::Soft, strength: 1.0, depth_bias: 1.0, normal_bias: 1.0, near_plane: 0.0 }
     }
 }
 
@@ -309,20 +292,13 @@ impl Scene {
     /// World-space bounds of every mesh instance.
     pub fn bounds(&self) -> Aabb {
         self.instances.iter().fold(Aabb::EMPTY, |acc, inst| {
-            let local = self.meshes[inst.mesh]
-                .primitives
-                .iter()
-                .fold(Aabb::EMPTY, |b, p| b.union(&p.bounds));
+            let local = self.meshes[inst.mesh].primitives.iter().fold(Aabb::EMPTY, |b, p| b.union(&p.bounds));
             acc.union(&local.transformed(&inst.world_from_local))
         })
     }
 
     pub fn triangle_count(&self) -> usize {
-        self.instances
-            .iter()
-            .flat_map(|inst| &self.meshes[inst.mesh].primitives)
-            .map(Primitive::triangle_count)
-            .sum()
+        self.instances.iter().flat_map(|inst| &self.meshes[inst.mesh].primitives).map(Primitive::triangle_count).sum()
     }
 
     /// Finds a camera by name (camera or node name) or by index in `cameras`.

@@ -38,12 +38,7 @@ pub fn flat_normals(positions: &[Vec3]) -> Vec<Vec3> {
 /// Where a vertex is shared by triangles whose tangents differ, the last one written wins,
 /// as in Bevy; files that need split tangents split their vertices at UV seams already.
 /// Degenerate corners (zero-area UVs) get a tangent perpendicular to the normal.
-pub fn mikktspace_tangents(
-    positions: &[Vec3],
-    normals: &[Vec3],
-    uvs: &[Vec2],
-    indices: &[u32],
-) -> Option<Vec<Vec4>> {
+pub fn mikktspace_tangents(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u32]) -> Option<Vec<Vec4>> {
     struct Geometry<'a> {
         positions: &'a [Vec3],
         normals: &'a [Vec3],
@@ -82,19 +77,11 @@ pub fn mikktspace_tangents(
     }
 
     debug_assert!(normals.len() == positions.len() && uvs.len() == positions.len());
-    let mut geometry = Geometry {
-        positions,
-        normals,
-        uvs,
-        indices,
-        tangents: vec![Vec4::ZERO; positions.len()],
-    };
+    let mut geometry = Geometry { positions, normals, uvs, indices, tangents: vec![Vec4::ZERO; positions.len()] };
     // MikkTSpace is a port of C code with raw indexing; inputs are finite and in range,
     // but a panic inside it must still not take the caller down with the user's file.
-    let ok = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        mikktspace::generate_tangents(&mut geometry)
-    }))
-    .unwrap_or(false);
+    let ok = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| mikktspace::generate_tangents(&mut geometry)))
+        .unwrap_or(false);
     if !ok {
         return None;
     }
@@ -106,10 +93,7 @@ pub fn mikktspace_tangents(
 /// A unit tangent perpendicular to each normal, `w = 1`: enough for shading without a
 /// normal map, where the tangent frame is never used.
 pub fn perpendicular_tangents(normals: &[Vec3]) -> Vec<Vec4> {
-    normals
-        .iter()
-        .map(|n| n.any_orthonormal_vector().extend(1.0))
-        .collect()
+    normals.iter().map(|n| n.any_orthonormal_vector().extend(1.0)).collect()
 }
 
 /// Makes every tangent unit length with `w = ±1`, replacing non-finite or zero-length ones
@@ -141,18 +125,9 @@ mod tests {
     #[test]
     fn upright_quad_gets_plus_x_tangent_and_plus_y_bitangent() {
         // glTF UVs: v = 0 at the top of the image, which sits at y = 1.
-        let positions = [
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-        ];
-        let uvs = [
-            Vec2::new(0.0, 1.0),
-            Vec2::new(1.0, 1.0),
-            Vec2::new(1.0, 0.0),
-            Vec2::new(0.0, 0.0),
-        ];
+        let positions =
+            [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let uvs = [Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::new(1.0, 0.0), Vec2::new(0.0, 0.0)];
         let normals = [Vec3::Z; 4];
         let tangents = mikktspace_tangents(&positions, &normals, &uvs, &[0, 1, 2, 0, 2, 3])
             .expect("mikktspace succeeds on a quad");
@@ -176,10 +151,7 @@ mod tests {
 
     #[test]
     fn repair_replaces_zero_tangents() {
-        let mut tangents = [
-            Vec4::new(0.0, 0.0, 0.0, -1.0),
-            Vec4::new(2.0, 0.0, 0.0, 0.5),
-        ];
+        let mut tangents = [Vec4::new(0.0, 0.0, 0.0, -1.0), Vec4::new(2.0, 0.0, 0.0, 0.5)];
         repair_tangents(&mut tangents, &[Vec3::Z, Vec3::Z]);
         assert!(tangents[0].truncate().dot(Vec3::Z).abs() < 1e-5);
         assert_eq!(tangents[0].w, -1.0);

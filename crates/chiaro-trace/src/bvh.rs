@@ -69,15 +69,9 @@ impl SceneBvh {
             .instances
             .par_iter()
             .enumerate()
-            .flat_map_iter(|(index, instance)| {
-                world_triangles(scene, instance).map(move |tri| (tri, index as u32))
-            })
+            .flat_map_iter(|(index, instance)| world_triangles(scene, instance).map(move |tri| (tri, index as u32)))
             .collect();
-        let instance_masks = scene
-            .instances
-            .iter()
-            .map(|instance| instance_mask(instance.cast_shadows))
-            .collect();
+        let instance_masks = scene.instances.iter().map(|instance| instance_mask(instance.cast_shadows)).collect();
         // Not `Scene::triangle_count`, which trusts every instance's mesh index.
         let submitted: usize = scene
             .instances
@@ -93,39 +87,21 @@ impl SceneBvh {
             );
         }
         if gathered.is_empty() {
-            return SceneBvh {
-                bvh: None,
-                triangles: Vec::new(),
-                triangle_instance: Vec::new(),
-                instance_masks,
-            };
+            return SceneBvh { bvh: None, triangles: Vec::new(), triangle_instance: Vec::new(), instance_masks };
         }
 
         let source: Vec<Triangle> = gathered.iter().map(|(tri, _)| *tri).collect();
-        let bvh = build_cwbvh_from_tris(
-            &source,
-            BvhBuildParams::medium_build(),
-            &mut Duration::default(),
-        );
+        let bvh = build_cwbvh_from_tris(&source, BvhBuildParams::medium_build(), &mut Duration::default());
         // With pre-splits a triangle may be referenced from several leaves; copying per
         // reference keeps every lookup direct.
-        let (triangles, triangle_instance) = bvh
-            .primitive_indices
-            .iter()
-            .map(|&i| gathered[i as usize])
-            .unzip();
+        let (triangles, triangle_instance) = bvh.primitive_indices.iter().map(|&i| gathered[i as usize]).unzip();
         tracing::debug!(
             triangles = source.len(),
             nodes = bvh.nodes.len(),
             ms = start.elapsed().as_secs_f64() * 1e3,
             "built scene BVH"
         );
-        SceneBvh {
-            bvh: Some(bvh),
-            triangles,
-            triangle_instance,
-            instance_masks,
-        }
+        SceneBvh { bvh: Some(bvh), triangles, triangle_instance, instance_masks }
     }
 
     /// Number of triangle references in the hierarchy (the valid triangles, unless a
@@ -141,9 +117,7 @@ impl SceneBvh {
         let bvh = self.bvh.as_ref()?;
         let ray = make_ray(origin, direction, max_t)?;
         let mut ray_hit = RayHit::none();
-        let found = bvh.ray_traverse(ray, &mut ray_hit, |ray, id| {
-            self.intersect_masked(ray, id, VISIBLE)
-        });
+        let found = bvh.ray_traverse(ray, &mut ray_hit, |ray, id| self.intersect_masked(ray, id, VISIBLE));
         if !found {
             return None;
         }
@@ -178,52 +152,29 @@ impl SceneBvh {
 
 /// An obvhs ray, or `None` where obvhs's finiteness assumptions would not hold.
 fn make_ray(origin: Vec3, direction: Vec3, max_t: f32) -> Option<Ray> {
-    let valid =
-        origin.is_finite() && direction.is_finite() && direction != Vec3::ZERO && max_t > 0.0;
+    let valid = origin.is_finite() && direction.is_finite() && direction != Vec3::ZERO && max_t > 0.0;
     // obvhs inverts a -0.0 component to -1/EPSILON but picks the node slab order from
     // `direction < 0.0`, which is false for -0.0: the two disagree and the ray misses every
     // node. Adding +0.0 turns -0.0 into +0.0 and leaves every other value as it is.
     let direction = direction + Vec3::ZERO;
-    valid.then(|| {
-        Ray::new(
-            origin.to_array().into(),
-            direction.to_array().into(),
-            0.0,
-            max_t,
-        )
-    })
+    valid.then(|| Ray::new(origin.to_array().into(), direction.to_array().into(), 0.0, max_t))
 }
 
 /// The valid world-space triangles of one instance, as obvhs triangles.
-fn world_triangles<'a>(
-    scene: &'a Scene,
-    instance: &'a MeshInstance,
-) -> impl Iterator<Item = Triangle> + 'a {
-    let primitives = scene
-        .meshes
-        .get(instance.mesh)
-        .map(|mesh| mesh.primitives.as_slice())
-        .unwrap_or_default();
+fn world_triangles<'a>(scene: &'a Scene, instance: &'a MeshInstance) -> impl Iterator<Item = Triangle> + 'a {
+    let primitives = scene.meshes.get(instance.mesh).map(|mesh| mesh.primitives.as_slice()).unwrap_or_default();
     let world_from_local = instance.world_from_local;
     primitives.iter().flat_map(move |primitive| {
-        primitive
-            .indices
-            .chunks_exact(3)
-            .filter_map(move |corners| {
-                let mut world = [Vec3::ZERO; 3];
-                for (w, &index) in world.iter_mut().zip(corners) {
-                    *w = world_from_local
-                        .transform_point3(*primitive.positions.get(index as usize)?);
-                }
-                let [a, b, c] = world;
-                // Catches non-finite corners too: their cross product does not normalise.
-                (b - a).cross(c - a).try_normalize()?;
-                Some(Triangle {
-                    v0: a.to_array().into(),
-                    v1: b.to_array().into(),
-                    v2: c.to_array().into(),
-                })
-            })
+        primitive.indices.chunks_exact(3).filter_map(move |corners| {
+            let mut world = [Vec3::ZERO; 3];
+            for (w, &index) in world.iter_mut().zip(corners) {
+                *w = world_from_local.transform_point3(*primitive.positions.get(index as usize)?);
+            }
+            let [a, b, c] = world;
+            // Catches non-finite corners too: their cross product does not normalise.
+            (b - a).cross(c - a).try_normalize()?;
+            Some(Triangle { v0: a.to_array().into(), v1: b.to_array().into(), v2: c.to_array().into() })
+        })
     })
 }
 
@@ -236,21 +187,11 @@ mod tests {
     use std::sync::OnceLock;
 
     fn instance(mesh: usize, world_from_local: Mat4, cast_shadows: CastShadows) -> MeshInstance {
-        MeshInstance {
-            mesh,
-            node: 0,
-            name: String::new(),
-            world_from_local,
-            cast_shadows,
-            receive_shadows: true,
-        }
+        MeshInstance { mesh, node: 0, name: String::new(), world_from_local, cast_shadows, receive_shadows: true }
     }
 
     fn mesh(primitive: Primitive) -> Mesh {
-        Mesh {
-            name: String::new(),
-            primitives: vec![primitive],
-        }
+        Mesh { name: String::new(), primitives: vec![primitive] }
     }
 
     /// A floor, two turned boxes and a squashed sphere, apart from one another, with every
@@ -263,11 +204,7 @@ mod tests {
                 mesh(shapes::sphere(0.7, 16, 8)),
             ],
             instances: vec![
-                instance(
-                    0,
-                    Mat4::from_translation(Vec3::new(0.0, -1.0, 0.0)),
-                    CastShadows::On,
-                ),
+                instance(0, Mat4::from_translation(Vec3::new(0.0, -1.0, 0.0)), CastShadows::On),
                 instance(
                     1,
                     Mat4::from_rotation_translation(
@@ -317,12 +254,7 @@ mod tests {
         max_t: f32,
         accept: impl Fn(CastShadows) -> bool,
     ) -> Option<(f32, usize)> {
-        let ray = Ray::new(
-            origin.to_array().into(),
-            direction.to_array().into(),
-            0.0,
-            max_t,
-        );
+        let ray = Ray::new(origin.to_array().into(), direction.to_array().into(), 0.0, max_t);
         let mut best: Option<(f32, usize)> = None;
         for (index, inst) in scene.instances.iter().enumerate() {
             if !accept(inst.cast_shadows) {
@@ -330,18 +262,12 @@ mod tests {
             }
             for primitive in &scene.meshes[inst.mesh].primitives {
                 for corners in primitive.indices.chunks_exact(3) {
-                    let [a, b, c] = [0, 1, 2].map(|k| {
-                        inst.world_from_local
-                            .transform_point3(primitive.positions[corners[k] as usize])
-                    });
+                    let [a, b, c] = [0, 1, 2]
+                        .map(|k| inst.world_from_local.transform_point3(primitive.positions[corners[k] as usize]));
                     if (b - a).cross(c - a).try_normalize().is_none() {
                         continue;
                     }
-                    let tri = Triangle {
-                        v0: a.to_array().into(),
-                        v1: b.to_array().into(),
-                        v2: c.to_array().into(),
-                    };
+                    let tri = Triangle { v0: a.to_array().into(), v1: b.to_array().into(), v2: c.to_array().into() };
                     let t = tri.intersect(&ray);
                     if t < max_t && best.is_none_or(|(best_t, _)| t < best_t) {
                         best = Some((t, index));
@@ -361,14 +287,7 @@ mod tests {
             .prop_filter("distinct", |(o, target, _)| o.distance(*target) > 1e-3)
             .prop_map(|(origin, target, max_t)| (origin, target - origin, max_t));
         // Axis directions as negation makes them, with -0.0 components.
-        let axes = [
-            Vec3::X,
-            Vec3::Y,
-            Vec3::Z,
-            Vec3::NEG_X,
-            Vec3::NEG_Y,
-            Vec3::NEG_Z,
-        ];
+        let axes = [Vec3::X, Vec3::Y, Vec3::Z, Vec3::NEG_X, Vec3::NEG_Y, Vec3::NEG_Z];
         let axial = (point(3.0), proptest::sample::select(axes.to_vec()), max_t)
             .prop_map(|(origin, axis, max_t)| (origin, -axis, max_t));
         prop_oneof![3 => aimed, 1 => axial]
@@ -414,8 +333,7 @@ mod tests {
             .filter(|_| {
                 let origin = Vec3::new(next(), next(), next()) * 6.0;
                 let target = Vec3::new(next(), next(), next()) * 2.0;
-                bvh.closest_hit(origin, target - origin, f32::INFINITY)
-                    .is_some()
+                bvh.closest_hit(origin, target - origin, f32::INFINITY).is_some()
             })
             .count();
         assert!(hits > 500, "{hits} of 1000 aimed rays hit");
@@ -467,11 +385,7 @@ mod tests {
         // Negated axis directions carry -0.0 components.
         assert!(bvh.occluded(origin, -Vec3::NEG_Y, 2.1));
         assert!(bvh.occluded(Vec3::new(0.1, 2.5, 0.1), -Vec3::Y, 1.0));
-        assert_eq!(
-            bvh.closest_hit(Vec3::new(0.1, 2.5, 0.1), -Vec3::Y, 9.0)
-                .map(|h| h.instance),
-            Some(1)
-        );
+        assert_eq!(bvh.closest_hit(Vec3::new(0.1, 2.5, 0.1), -Vec3::Y, 9.0).map(|h| h.instance), Some(1));
         // max_t is exclusive of the surface itself.
         assert!(!bvh.occluded(Vec3::new(0.1, 2.5, 0.1), Vec3::NEG_Y, 0.5));
     }
@@ -479,23 +393,14 @@ mod tests {
     #[test]
     fn invalid_geometry_and_rays_are_skipped() {
         let mut primitive = Primitive {
-            positions: vec![
-                Vec3::ZERO,
-                Vec3::X,
-                Vec3::Z,
-                Vec3::new(f32::NAN, 0.0, 0.0),
-                Vec3::X * 2.0,
-            ],
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Z, Vec3::new(f32::NAN, 0.0, 0.0), Vec3::X * 2.0],
             ..Primitive::default()
         };
         // Valid, non-finite corner, zero area, index out of range, then a partial triangle.
         primitive.indices = vec![0, 2, 1, 0, 3, 1, 0, 1, 4, 0, 1, 9, 0, 1];
         let scene = Scene {
             meshes: vec![mesh(primitive)],
-            instances: vec![
-                instance(0, Mat4::IDENTITY, CastShadows::On),
-                instance(7, Mat4::IDENTITY, CastShadows::On),
-            ],
+            instances: vec![instance(0, Mat4::IDENTITY, CastShadows::On), instance(7, Mat4::IDENTITY, CastShadows::On)],
             ..Scene::default()
         };
         let bvh = SceneBvh::build(&scene);
@@ -508,11 +413,7 @@ mod tests {
 
         let empty = SceneBvh::build(&Scene::default());
         assert_eq!(empty.triangle_count(), 0);
-        assert!(
-            empty
-                .closest_hit(down, Vec3::NEG_Y, f32::INFINITY)
-                .is_none()
-        );
+        assert!(empty.closest_hit(down, Vec3::NEG_Y, f32::INFINITY).is_none());
         assert!(!empty.occluded(down, Vec3::NEG_Y, f32::INFINITY));
     }
 }

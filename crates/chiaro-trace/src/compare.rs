@@ -80,11 +80,7 @@ impl LightComparison {
     }
 
     fn share(&self, count: usize) -> f64 {
-        if self.compared == 0 {
-            0.0
-        } else {
-            count as f64 / self.compared as f64
-        }
+        if self.compared == 0 { 0.0 } else { count as f64 / self.compared as f64 }
     }
 }
 
@@ -100,14 +96,7 @@ pub fn compare_light(
     light: &Light,
     range: f32,
 ) -> LightComparison {
-    let verdicts = classify_pixels(
-        rendered_shadow,
-        rendered_position,
-        reference,
-        light_index,
-        light,
-        range,
-    );
+    let verdicts = classify_pixels(rendered_shadow, rendered_position, reference, light_index, light, range);
     let mut comparison = LightComparison::default();
     for verdict in verdicts {
         match verdict {
@@ -131,17 +120,10 @@ pub fn difference_image(
     light: &Light,
     range: f32,
 ) -> Vec<[u8; 4]> {
-    classify_pixels(
-        rendered_shadow,
-        rendered_position,
-        reference,
-        light_index,
-        light,
-        range,
-    )
-    .into_iter()
-    .map(PixelVerdict::color)
-    .collect()
+    classify_pixels(rendered_shadow, rendered_position, reference, light_index, light, range)
+        .into_iter()
+        .map(PixelVerdict::color)
+        .collect()
 }
 
 /// Each pixel's verdict, row-major, one per reference pixel. Pixels missing from the
@@ -161,51 +143,37 @@ pub fn classify_pixels(
     let Some(visibility) = reference.visibility.get(light_index) else {
         return verdicts;
     };
-    let consistent = [
-        visibility.len(),
-        reference.position.len(),
-        reference.normal.len(),
-        reference.receives.len(),
-    ]
-    .iter()
-    .all(|&len| len == pixels);
+    let consistent = [visibility.len(), reference.position.len(), reference.normal.len(), reference.receives.len()]
+        .iter()
+        .all(|&len| len == pixels);
     if !consistent {
         return verdicts;
     }
     let near_edge = shadow_edge_band(visibility, width, height, EDGE_BAND_PX);
 
-    verdicts
-        .par_iter_mut()
-        .enumerate()
-        .for_each(|(i, verdict)| {
-            let (Some(position), Some(&rendered), Some(Some(rendered_position))) = (
-                reference.position[i],
-                rendered_shadow.get(i),
-                rendered_position.get(i),
-            ) else {
-                return;
-            };
-            let compared = reference.receives[i]
-                && !near_edge[i]
-                && rendered.is_finite()
-                && rendered_position.distance(position) <= POSITION_TOLERANCE_M
-                && light_reaches(light, range, position, reference.normal[i]);
-            if !compared {
-                return;
-            }
-            let expected = visibility[i];
-            *verdict = if (rendered - expected).abs() <= DISAGREEMENT_THRESHOLD {
-                if expected >= 0.5 {
-                    PixelVerdict::AgreeLit
-                } else {
-                    PixelVerdict::AgreeShadowed
-                }
-            } else if rendered < expected {
-                PixelVerdict::FalseShadow
-            } else {
-                PixelVerdict::MissedShadow
-            };
-        });
+    verdicts.par_iter_mut().enumerate().for_each(|(i, verdict)| {
+        let (Some(position), Some(&rendered), Some(Some(rendered_position))) =
+            (reference.position[i], rendered_shadow.get(i), rendered_position.get(i))
+        else {
+            return;
+        };
+        let compared = reference.receives[i]
+            && !near_edge[i]
+            && rendered.is_finite()
+            && rendered_position.distance(position) <= POSITION_TOLERANCE_M
+            && light_reaches(light, range, position, reference.normal[i]);
+        if !compared {
+            return;
+        }
+        let expected = visibility[i];
+        *verdict = if (rendered - expected).abs() <= DISAGREEMENT_THRESHOLD {
+            if expected >= 0.5 { PixelVerdict::AgreeLit } else { PixelVerdict::AgreeShadowed }
+        } else if rendered < expected {
+            PixelVerdict::FalseShadow
+        } else {
+            PixelVerdict::MissedShadow
+        };
+    });
     verdicts
 }
 
@@ -222,10 +190,7 @@ fn light_reaches(light: &Light, range: f32, position: Vec3, normal: Vec3) -> boo
         }
     };
     let in_cone = match light.kind {
-        LightKind::Spot {
-            inner_cone_rad,
-            outer_cone_rad,
-        } => {
+        LightKind::Spot { inner_cone_rad, outer_cone_rad } => {
             let params = spot_angle_params(inner_cone_rad, outer_cone_rad);
             spot_attenuation(light.direction.dot(-to_light), params) > 0.0
         }
@@ -243,8 +208,7 @@ fn light_reaches(light: &Light, range: f32, position: Vec3, normal: Vec3) -> boo
 /// `(2 * radius + 1)²` (14 instead of 49 for a radius of 3).
 fn shadow_edge_band(values: &[f32], width: usize, height: usize, radius: usize) -> Vec<bool> {
     debug_assert_eq!(values.len(), width * height);
-    let window =
-        |centre: usize, len: usize| centre.saturating_sub(radius)..(centre + radius + 1).min(len);
+    let window = |centre: usize, len: usize| centre.saturating_sub(radius)..(centre + radius + 1).min(len);
     let mut row_min = vec![f32::INFINITY; values.len()];
     let mut row_max = vec![f32::NEG_INFINITY; values.len()];
     for y in 0..height {
@@ -302,9 +266,7 @@ mod tests {
 
     /// A floor seen from above: pixel (x, y) at (x, 0, y) decimetres, facing up; all lit.
     fn floor_reference() -> ShadowReference {
-        let position: Vec<_> = (0..W * H)
-            .map(|i| Some(Vec3::new((i % W) as f32, 0.0, (i / W) as f32) * 0.1))
-            .collect();
+        let position: Vec<_> = (0..W * H).map(|i| Some(Vec3::new((i % W) as f32, 0.0, (i / W) as f32) * 0.1)).collect();
         ShadowReference {
             width: W as u32,
             height: H as u32,
@@ -316,12 +278,7 @@ mod tests {
         }
     }
 
-    fn compare(
-        rendered: &[f32],
-        reference: &ShadowReference,
-        light: &Light,
-        range: f32,
-    ) -> LightComparison {
+    fn compare(rendered: &[f32], reference: &ShadowReference, light: &Light, range: f32) -> LightComparison {
         compare_light(rendered, &reference.position, reference, 0, light, range)
     }
 
@@ -333,14 +290,7 @@ mod tests {
         rendered[6] = 0.4;
         rendered[7] = 0.6; // within the threshold
         let result = compare(&rendered, &reference, &sun(), f32::INFINITY);
-        assert_eq!(
-            result,
-            LightComparison {
-                compared: W * H,
-                false_shadow: 2,
-                missed_shadow: 0
-            }
-        );
+        assert_eq!(result, LightComparison { compared: W * H, false_shadow: 2, missed_shadow: 0 });
         assert!((result.disagreement() - 2.0 / (W * H) as f64).abs() < 1e-12);
         assert_eq!(result.missed_share(), 0.0);
 
@@ -364,11 +314,7 @@ mod tests {
                 1 => 0.011,
                 _ => f32::NAN,
             };
-            *p = if offset.is_nan() {
-                None
-            } else {
-                p.map(|p| p + Vec3::Y * offset)
-            };
+            *p = if offset.is_nan() { None } else { p.map(|p| p + Vec3::Y * offset) };
         }
         let result = compare_light(&rendered, &positions, &reference, 0, &sun(), f32::INFINITY);
         assert_eq!(result.compared, (0..W * H).filter(|i| i % 3 == 0).count());
@@ -381,30 +327,15 @@ mod tests {
         let rendered = vec![1.0; W * H];
         // The sun from below lights nothing.
         let under = light(LightKind::Directional, Vec3::ZERO, Vec3::Y);
-        assert_eq!(
-            compare(&rendered, &reference, &under, f32::INFINITY).compared,
-            0
-        );
+        assert_eq!(compare(&rendered, &reference, &under, f32::INFINITY).compared, 0);
         reference.receives[..W].fill(false);
-        assert_eq!(
-            compare(&rendered, &reference, &sun(), f32::INFINITY).compared,
-            W * (H - 1)
-        );
+        assert_eq!(compare(&rendered, &reference, &sun(), f32::INFINITY).compared, W * (H - 1));
         reference.position[W] = None;
-        assert_eq!(
-            compare(&rendered, &reference, &sun(), f32::INFINITY).compared,
-            W * (H - 1) - 1
-        );
+        assert_eq!(compare(&rendered, &reference, &sun(), f32::INFINITY).compared, W * (H - 1) - 1);
         // Out of range: the light index, and short rendered arrays.
-        assert_eq!(
-            compare_light(&rendered, &reference.position, &reference, 1, &sun(), 1.0).compared,
-            0
-        );
+        assert_eq!(compare_light(&rendered, &reference.position, &reference, 1, &sun(), 1.0).compared, 0);
         // Row 0 does not receive and pixel W is sky: W - 1 of the first two rows count.
-        assert_eq!(
-            compare(&rendered[..W * 2], &reference, &sun(), f32::INFINITY).compared,
-            W - 1
-        );
+        assert_eq!(compare(&rendered[..W * 2], &reference, &sun(), f32::INFINITY).compared, W - 1);
     }
 
     #[test]
@@ -414,20 +345,10 @@ mod tests {
         let centre = Vec3::new(1.0, 0.5, 0.5);
         let point = light(LightKind::Point, centre, Vec3::NEG_Y);
         let range = 1.0;
-        let expected = reference
-            .position
-            .iter()
-            .filter(|p| p.unwrap().distance(centre) < range)
-            .count();
+        let expected = reference.position.iter().filter(|p| p.unwrap().distance(centre) < range).count();
         assert!(expected > 10 && expected < W * H);
-        assert_eq!(
-            compare(&rendered, &reference, &point, range).compared,
-            expected
-        );
-        assert_eq!(
-            compare(&rendered, &reference, &point, f32::INFINITY).compared,
-            W * H
-        );
+        assert_eq!(compare(&rendered, &reference, &point, range).compared, expected);
+        assert_eq!(compare(&rendered, &reference, &point, f32::INFINITY).compared, W * H);
     }
 
     #[test]
@@ -436,14 +357,7 @@ mod tests {
         let rendered = vec![1.0; W * H];
         let apex = Vec3::new(1.0, 0.5, 0.5);
         let (inner, outer) = (0.3f32, 0.6f32);
-        let spot = light(
-            LightKind::Spot {
-                inner_cone_rad: inner,
-                outer_cone_rad: outer,
-            },
-            apex,
-            Vec3::NEG_Y,
-        );
+        let spot = light(LightKind::Spot { inner_cone_rad: inner, outer_cone_rad: outer }, apex, Vec3::NEG_Y);
         // Inside the outer cone: the angle from straight down is below `outer`.
         let expected = reference
             .position
@@ -463,10 +377,7 @@ mod tests {
             .count();
         assert_eq!(near_rim, 0, "no pixel sits on the rim");
         assert!(expected > 10 && expected < W * H);
-        assert_eq!(
-            compare(&rendered, &reference, &spot, 10.0).compared,
-            expected
-        );
+        assert_eq!(compare(&rendered, &reference, &spot, 10.0).compared, expected);
     }
 
     #[test]
@@ -484,14 +395,7 @@ mod tests {
         }
         // Everything rendered wrong, so every compared pixel counts.
         let rendered: Vec<f32> = reference.visibility[0].iter().map(|v| 1.0 - v).collect();
-        let verdicts = classify_pixels(
-            &rendered,
-            &reference.position,
-            &reference,
-            0,
-            &sun(),
-            f32::INFINITY,
-        );
+        let verdicts = classify_pixels(&rendered, &reference.position, &reference, 0, &sun(), f32::INFINITY);
         for y in 0..H {
             for x in 0..W {
                 let verdict = verdicts[y * W + x];
@@ -529,22 +433,15 @@ mod tests {
             for x in 0..width {
                 let value = values[y * width + x];
                 let r = EDGE_BAND_PX as i64;
-                let differs = (-r..=r)
-                    .flat_map(|dy| (-r..=r).map(move |dx| (dx, dy)))
-                    .any(|(dx, dy)| {
-                        let (xx, yy) = (x as i64 + dx, y as i64 + dy);
-                        let inside =
-                            (0..width as i64).contains(&xx) && (0..height as i64).contains(&yy);
-                        inside && {
-                            let other = values[yy as usize * width + xx as usize];
-                            other.is_finite() && other != value
-                        }
-                    });
-                assert_eq!(
-                    band[y * width + x],
-                    value.is_finite() && differs,
-                    "({x}, {y})"
-                );
+                let differs = (-r..=r).flat_map(|dy| (-r..=r).map(move |dx| (dx, dy))).any(|(dx, dy)| {
+                    let (xx, yy) = (x as i64 + dx, y as i64 + dy);
+                    let inside = (0..width as i64).contains(&xx) && (0..height as i64).contains(&yy);
+                    inside && {
+                        let other = values[yy as usize * width + xx as usize];
+                        other.is_finite() && other != value
+                    }
+                });
+                assert_eq!(band[y * width + x], value.is_finite() && differs, "({x}, {y})");
             }
         }
     }

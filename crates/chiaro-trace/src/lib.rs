@@ -10,7 +10,5 @@ pub mod compare;
 pub mod reference;
 
 pub use bvh::{Hit, SceneBvh};
-pub use compare::{
-    LightComparison, PixelVerdict, classify_pixels, compare_light, difference_image,
-};
+pub use compare::{LightComparison, PixelVerdict, classify_pixels, compare_light, difference_image};
 pub use reference::{PixelCamera, ShadowReference, trace_shadow_reference};

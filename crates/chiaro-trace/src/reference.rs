@@ -35,23 +35,11 @@ impl PixelCamera {
     /// The ray through the centre of pixel `(x, y)`, counted from the top-left:
     /// `(origin on the near plane, unit direction)`, or `None` for a singular matrix.
     pub fn primary_ray(&self, x: u32, y: u32) -> Option<(Vec3, Vec3)> {
-        primary_ray(
-            &self.clip_from_world.inverse(),
-            self.width,
-            self.height,
-            x,
-            y,
-        )
+        primary_ray(&self.clip_from_world.inverse(), self.width, self.height, x, y)
     }
 }
 
-fn primary_ray(
-    world_from_clip: &Mat4,
-    width: u32,
-    height: u32,
-    x: u32,
-    y: u32,
-) -> Option<(Vec3, Vec3)> {
+fn primary_ray(world_from_clip: &Mat4, width: u32, height: u32, x: u32, y: u32) -> Option<(Vec3, Vec3)> {
     let uv = (Vec2::new(x as f32, y as f32) + 0.5) / Vec2::new(width as f32, height as f32);
     let ndc = Vec2::new(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     // Reverse-Z: depth 1 is the near plane; 0.5 is a finite point beyond it even for an
@@ -91,11 +79,7 @@ impl ShadowReference {
 /// Traces the reference for every light of `scene` as seen by `camera`. `ranges[i]` is
 /// the range the renderer uses for `scene.lights[i]`; it does not change visibility, which
 /// is traced for every surface, and is kept in `ShadowReference::ranges`.
-pub fn trace_shadow_reference(
-    scene: &Scene,
-    camera: &PixelCamera,
-    ranges: &[f32],
-) -> ShadowReference {
+pub fn trace_shadow_reference(scene: &Scene, camera: &PixelCamera, ranges: &[f32]) -> ShadowReference {
     let _span = tracing::info_span!(
         "shadow_reference",
         width = camera.width,
@@ -110,19 +94,13 @@ pub fn trace_shadow_reference(
         .enumerate()
         .map(|(i, light)| match light.kind {
             LightKind::Directional => f32::INFINITY,
-            _ => ranges
-                .get(i)
-                .copied()
-                .or(light.range)
-                .unwrap_or(f32::INFINITY),
+            _ => ranges.get(i).copied().or(light.range).unwrap_or(f32::INFINITY),
         })
         .collect();
 
     let world_from_clip = camera.clip_from_world.inverse();
-    let rows: Vec<Row> = (0..camera.height)
-        .into_par_iter()
-        .map(|y| trace_row(scene, &bvh, &world_from_clip, camera, y))
-        .collect();
+    let rows: Vec<Row> =
+        (0..camera.height).into_par_iter().map(|y| trace_row(scene, &bvh, &world_from_clip, camera, y)).collect();
 
     let pixels = camera.width as usize * camera.height as usize;
     let mut reference = ShadowReference {
@@ -154,13 +132,7 @@ struct Row {
     visibility: Vec<f32>,
 }
 
-fn trace_row(
-    scene: &Scene,
-    bvh: &SceneBvh,
-    world_from_clip: &Mat4,
-    camera: &PixelCamera,
-    y: u32,
-) -> Row {
+fn trace_row(scene: &Scene, bvh: &SceneBvh, world_from_clip: &Mat4, camera: &PixelCamera, y: u32) -> Row {
     let width = camera.width as usize;
     let mut row = Row {
         position: vec![None; width],
@@ -169,25 +141,19 @@ fn trace_row(
         visibility: vec![f32::NAN; width * scene.lights.len()],
     };
     for x in 0..width {
-        let Some((origin, direction)) =
-            primary_ray(world_from_clip, camera.width, camera.height, x as u32, y)
-        else {
+        let Some((origin, direction)) = primary_ray(world_from_clip, camera.width, camera.height, x as u32, y) else {
             continue;
         };
         let Some(hit) = bvh.closest_hit(origin, direction, f32::INFINITY) else {
             continue;
         };
-        let facing_normal = if hit.geometric_normal.dot(direction) > 0.0 {
-            -hit.geometric_normal
-        } else {
-            hit.geometric_normal
-        };
+        let facing_normal =
+            if hit.geometric_normal.dot(direction) > 0.0 { -hit.geometric_normal } else { hit.geometric_normal };
         row.position[x] = Some(hit.position);
         row.normal[x] = facing_normal;
         row.receives[x] = scene.instances[hit.instance].receive_shadows;
         for (light_index, light) in scene.lights.iter().enumerate() {
-            row.visibility[light_index * width + x] =
-                visibility(bvh, light, hit.position, facing_normal);
+            row.visibility[light_index * width + x] = visibility(bvh, light, hit.position, facing_normal);
         }
     }
     row
@@ -206,11 +172,7 @@ fn visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3
         }
     };
     // A ray the BVH rejects (the light at the origin, a zero direction) is not occluded.
-    if bvh.occluded(origin, direction, max_t) {
-        0.0
-    } else {
-        1.0
-    }
+    if bvh.occluded(origin, direction, max_t) { 0.0 } else { 1.0 }
 }
 
 #[cfg(test)]
@@ -220,10 +182,7 @@ mod tests {
     use chiaro_scene::{CastShadows, LightShadow, Mesh, MeshInstance, Primitive, shapes};
 
     fn mesh(primitive: Primitive) -> Mesh {
-        Mesh {
-            name: String::new(),
-            primitives: vec![primitive],
-        }
+        Mesh { name: String::new(), primitives: vec![primitive] }
     }
 
     fn instance(mesh: usize, world_from_local: Mat4) -> MeshInstance {
@@ -257,10 +216,7 @@ mod tests {
     fn box_scene() -> Scene {
         Scene {
             meshes: vec![mesh(shapes::plane(6.0, 3)), mesh(shapes::cuboid(Vec3::ONE))],
-            instances: vec![
-                instance(0, Mat4::IDENTITY),
-                instance(1, Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0))),
-            ],
+            instances: vec![instance(0, Mat4::IDENTITY), instance(1, Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0)))],
             lights: vec![
                 light(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y),
                 light(LightKind::Point, Vec3::new(0.0, 4.0, 0.0), Vec3::NEG_Y),
@@ -273,13 +229,8 @@ mod tests {
     fn camera(width: u32, height: u32) -> PixelCamera {
         let eye = Vec3::new(0.0, 6.0, 5.0);
         let view_from_world = Mat4::look_at_rh(eye, Vec3::ZERO, Vec3::Y);
-        let clip_from_view =
-            perspective_reverse_z(60f32.to_radians(), width as f32 / height as f32, 0.1, None);
-        PixelCamera {
-            clip_from_world: clip_from_view * view_from_world,
-            width,
-            height,
-        }
+        let clip_from_view = perspective_reverse_z(60f32.to_radians(), width as f32 / height as f32, 0.1, None);
+        PixelCamera { clip_from_world: clip_from_view * view_from_world, width, height }
     }
 
     #[test]
@@ -315,10 +266,7 @@ mod tests {
                 continue;
             };
             let to_camera = Vec3::new(0.0, 6.0, 5.0) - *p;
-            assert!(
-                reference.normal[i].dot(to_camera) > 0.0,
-                "normal faces the camera"
-            );
+            assert!(reference.normal[i].dot(to_camera) > 0.0, "normal faces the camera");
             if p.y.abs() > 1e-4 {
                 continue;
             }
@@ -333,10 +281,7 @@ mod tests {
         }
         assert!(shadowed > 50, "{shadowed} shadowed floor pixels seen");
         assert!(lit > 1000, "{lit} lit floor pixels seen");
-        assert!(
-            reference.position.iter().any(Option::is_none),
-            "the sky is seen"
-        );
+        assert!(reference.position.iter().any(Option::is_none), "the sky is seen");
     }
 
     #[test]
@@ -370,11 +315,7 @@ mod tests {
         let reference = trace_shadow_reference(&box_scene(), &camera(8, 0), &[1.0]);
         assert!(reference.position.is_empty());
         assert!(reference.visibility.iter().all(Vec::is_empty));
-        let singular = PixelCamera {
-            clip_from_world: Mat4::ZERO,
-            width: 4,
-            height: 4,
-        };
+        let singular = PixelCamera { clip_from_world: Mat4::ZERO, width: 4, height: 4 };
         let reference = trace_shadow_reference(&box_scene(), &singular, &[]);
         assert!(reference.position.iter().all(Option::is_none));
         assert!(reference.visibility[0].iter().all(|v| v.is_nan()));

@@ -40,29 +40,15 @@ struct Stats {
 fn stats(mut v: Vec<f64>) -> Stats {
     v.sort_by(f64::total_cmp);
     let n = v.len();
-    let median = if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    };
-    Stats {
-        median,
-        min: v[0],
-        max: v[n - 1],
-    }
+    let median = if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) };
+    Stats { median, min: v[0], max: v[n - 1] }
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
     anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
     let settings = load_settings(args.settings.as_deref())?;
     let scene = load_scene(args.scene.as_deref(), args.demo_lights)?;
-    let view = choose_view(
-        &scene,
-        args.camera.as_deref(),
-        &settings,
-        args.width,
-        args.height,
-    )?;
+    let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
     let options = FrameOptions::default();
@@ -96,12 +82,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     if frames[0].timings.gpu_total_ms().is_some() {
         rows.push((
             "gpu frame (timestamps)".into(),
-            stats(
-                frames
-                    .iter()
-                    .filter_map(|f| f.timings.gpu_total_ms())
-                    .collect(),
-            ),
+            stats(frames.iter().filter_map(|f| f.timings.gpu_total_ms()).collect()),
         ));
         for (i, (pass, _)) in frames[0].timings.gpu_pass_ms.iter().enumerate() {
             rows.push((
@@ -110,20 +91,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
             ));
         }
     }
-    rows.push((
-        "wall frame (submit to idle)".into(),
-        stats(frames.iter().map(|f| f.timings.wall_ms).collect()),
-    ));
-    rows.push((
-        "cpu prepare".into(),
-        stats(frames.iter().map(|f| f.timings.cpu_prepare_ms).collect()),
-    ));
+    rows.push(("wall frame (submit to idle)".into(), stats(frames.iter().map(|f| f.timings.wall_ms).collect())));
+    rows.push(("cpu prepare".into(), stats(frames.iter().map(|f| f.timings.cpu_prepare_ms).collect())));
     println!("{:<28} {:>10} {:>10} {:>10}", "ms", "median", "min", "max");
     for (label, s) in rows {
-        println!(
-            "{label:<28} {:>10.3} {:>10.3} {:>10.3}",
-            s.median, s.min, s.max
-        );
+        println!("{label:<28} {:>10.3} {:>10.3} {:>10.3}", s.median, s.min, s.max);
     }
     Ok(())
 }

@@ -22,11 +22,7 @@ pub fn run(args: InfoArgs) -> Result<()> {
     );
     for (i, m) in scene.meshes.iter().enumerate() {
         let tris: usize = m.primitives.iter().map(|p| p.triangle_count()).sum();
-        println!(
-            "  mesh {i} '{}': {} primitives, {tris} triangles",
-            m.name,
-            m.primitives.len()
-        );
+        println!("  mesh {i} '{}': {} primitives, {tris} triangles", m.name, m.primitives.len());
     }
     println!("materials: {}", scene.materials.len());
     for (i, m) in scene.materials.iter().enumerate() {
@@ -63,10 +59,7 @@ pub fn run(args: InfoArgs) -> Result<()> {
         count(|k| matches!(k, LightKind::Spot { .. }))
     );
     for l in &scene.lights {
-        let range = l
-            .range
-            .map(|r| format!("{r} m"))
-            .unwrap_or_else(|| "none (derived)".into());
+        let range = l.range.map(|r| format!("{r} m")).unwrap_or_else(|| "none (derived)".into());
         let color = l.color.to_array();
         match l.kind {
             LightKind::Directional => println!(
@@ -83,10 +76,7 @@ pub fn run(args: InfoArgs) -> Result<()> {
                 l.intensity,
                 l.position.to_array()
             ),
-            LightKind::Spot {
-                inner_cone_rad,
-                outer_cone_rad,
-            } => println!(
+            LightKind::Spot { inner_cone_rad, outer_cone_rad } => println!(
                 "  node {} '{}': spot, {} cd, color {color:.3?}, range {range}, cone {:.1}..{:.1} deg, position {:.3?}, direction {:.3?}",
                 l.node,
                 l.name,
@@ -106,29 +96,16 @@ pub fn run(args: InfoArgs) -> Result<()> {
             c.node,
             c.yfov_rad.to_degrees(),
             c.znear,
-            c.zfar
-                .map(|f| f.to_string())
-                .unwrap_or_else(|| "infinite".into())
+            c.zfar.map(|f| f.to_string()).unwrap_or_else(|| "infinite".into())
         );
     }
     let b = scene.bounds();
     if b.is_empty() {
         println!("bounds: empty");
     } else {
-        println!(
-            "bounds: min {:.3?}, max {:.3?}",
-            b.min.to_array(),
-            b.max.to_array()
-        );
+        println!("bounds: min {:.3?}, max {:.3?}", b.min.to_array(), b.max.to_array());
     }
-    println!(
-        "ignored: {}",
-        if scene.ignored.is_empty() {
-            "nothing"
-        } else {
-            ""
-        }
-    );
+    println!("ignored: {}", if scene.ignored.is_empty() { "nothing" } else { "" });
     for reason in &scene.ignored {
         println!("  {reason}");
     }

@@ -2,20 +2,18 @@
 //! benchmark frames. A thin layer over chiaro-scene and chiaro-render.
 
 mod bench;
+mod compare;
 mod info;
 mod output;
 mod render;
 mod scene_source;
+mod shadow_args;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(
-    name = "chiaro",
-    version,
-    about = "Real-time light and shadow renderer for glTF scenes"
-)]
+#[command(name = "chiaro", version, about = "Real-time light and shadow renderer for glTF scenes")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -29,6 +27,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Time frames of a scene (or the demo) and print a table.
     Bench(bench::BenchArgs),
+    /// Compare realtime shadows with a CPU ray-traced reference, per light.
+    Compare(compare::CompareArgs),
 }
 
 fn main() -> ExitCode {
@@ -45,6 +45,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Info(args) => info::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Compare(args) => compare::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

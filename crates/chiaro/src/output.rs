@@ -14,20 +14,9 @@ fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
         .prefix(".chiaro-")
         .suffix(".tmp")
         .tempfile_in(dir)
-        .with_context(|| {
-            format!(
-                "{}: cannot create a file in {}",
-                path.display(),
-                dir.display()
-            )
-        })?;
+        .with_context(|| format!("{}: cannot create a file in {}", path.display(), dir.display()))?;
     write(tmp.path()).with_context(|| format!("{}: cannot write image", path.display()))?;
-    tmp.persist(path).with_context(|| {
-        format!(
-            "{}: cannot move the finished image into place",
-            path.display()
-        )
-    })?;
+    tmp.persist(path).with_context(|| format!("{}: cannot move the finished image into place", path.display()))?;
     Ok(())
 }
 
@@ -63,9 +52,7 @@ pub fn write_exr_single(path: &Path, width: u32, height: u32, values: &[f32]) ->
         let pixels = SpecificChannels::build()
             .with_channel("Y")
             .with_pixel_fn(|p: Vec2<usize>| (values[p.1 * width as usize + p.0],));
-        Image::from_channels((width as usize, height as usize), pixels)
-            .write()
-            .to_file(tmp)?;
+        Image::from_channels((width as usize, height as usize), pixels).write().to_file(tmp)?;
         Ok(())
     })
 }
@@ -78,29 +65,24 @@ pub enum OutputFormat {
 }
 
 pub fn output_format(path: &Path) -> Result<OutputFormat> {
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
+    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
         Some("png") => Ok(OutputFormat::Png),
         Some("exr") => Ok(OutputFormat::Exr),
         other => bail!(
             "{}: unsupported output format {} (use .png or .exr)",
             path.display(),
-            other
-                .map(|e| format!("'.{e}'"))
-                .unwrap_or_else(|| "(no extension)".into())
+            other.map(|e| format!("'.{e}'")).unwrap_or_else(|| "(no extension)".into())
         ),
     }
 }
 
 /// `<stem>.<kind>.exr` beside `output`.
 pub fn aov_path(output: &Path, kind: &str) -> PathBuf {
-    let stem = output
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "chiaro".into());
-    output.with_file_name(format!("{stem}.{kind}.exr"))
+    sibling_path(output, &format!("{kind}.exr"))
+}
+
+/// `<stem>.<suffix>` beside `output`.
+pub fn sibling_path(output: &Path, suffix: &str) -> PathBuf {
+    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "chiaro".into());
+    output.with_file_name(format!("{stem}.{suffix}"))
 }

@@ -1,9 +1,8 @@
 //! `chiaro render`: one frame to an image, with optional AOVs beside it.
 
-use crate::output::{
-    OutputFormat, aov_path, output_format, write_exr_rgb, write_exr_single, write_png,
-};
+use crate::output::{OutputFormat, aov_path, output_format, sibling_path, write_exr_rgb, write_exr_single, write_png};
 use crate::scene_source::{choose_view, load_scene, load_settings};
+use crate::shadow_args::ShadowArgs;
 use anyhow::Result;
 use chiaro_render::{FrameOptions, GpuContext, Renderer};
 use chiaro_scene::demo::DEMO_OTHER_LIGHTS;
@@ -18,6 +17,16 @@ pub enum Aov {
     Normal,
     /// Linear view depth, one float32 channel.
     Depth,
+    /// Per light, `<stem>.shadow.<node>.exr`: the realtime shadow attenuation used.
+    Shadow,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Debug {
+    /// Tint the image by directional shadow cascade.
+    Cascades,
+    /// Also write the directional shadow atlas as `<stem>.shadow-atlas.png`.
+    ShadowAtlas,
 }
 
 #[derive(Args)]
@@ -48,6 +57,11 @@ pub struct RenderArgs {
     /// Point and spot lights in the demo scene.
     #[arg(long, default_value_t = DEMO_OTHER_LIGHTS)]
     pub demo_lights: usize,
+    /// Debug views (repeatable).
+    #[arg(long, value_enum)]
+    pub debug: Vec<Debug>,
+    #[command(flatten)]
+    pub shadow: ShadowArgs,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
@@ -55,9 +69,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     if let Some(ev) = args.exposure {
         settings.render.exposure_ev100 = ev;
-        settings
-            .validate()
-            .map_err(|e| anyhow::anyhow!("--exposure: {e}"))?;
+        settings.validate().map_err(|e| anyhow::anyhow!("--exposure: {e}"))?;
     }
     let width = args.width.unwrap_or(settings.render.width);
     let height = args.height.unwrap_or(settings.render.height);
@@ -65,10 +77,13 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
+    let wants = |aov: Aov| args.aov.contains(&aov);
     let options = FrameOptions {
-        aovs: !args.aov.is_empty(),
+        aovs: wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Depth),
+        shadow_aovs: wants(Aov::Shadow),
         readback: true,
-        ..Default::default()
+        debug_cascades: args.debug.contains(&Debug::Cascades),
+        read_shadow_atlas: args.debug.contains(&Debug::ShadowAtlas),
     };
     let frame = renderer.render(&scene, &prepared, &view, &settings, options)?;
     match format {
@@ -81,23 +96,28 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if let Some(aovs) = &frame.aovs {
         for aov in &args.aov {
             match aov {
-                Aov::Position => write_exr_rgb(
-                    &aov_path(&args.output, "position"),
-                    width,
-                    height,
-                    &aovs.position_ws,
-                )?,
-                Aov::Normal => write_exr_rgb(
-                    &aov_path(&args.output, "normal"),
-                    width,
-                    height,
-                    &aovs.normal_ws,
-                )?,
-                Aov::Depth => {
-                    write_exr_single(&aov_path(&args.output, "depth"), width, height, &aovs.depth)?
-                }
+                Aov::Position => write_exr_rgb(&aov_path(&args.output, "position"), width, height, &aovs.position_ws)?,
+                Aov::Normal => write_exr_rgb(&aov_path(&args.output, "normal"), width, height, &aovs.normal_ws)?,
+                Aov::Depth => write_exr_single(&aov_path(&args.output, "depth"), width, height, &aovs.depth)?,
+                Aov::Shadow => {}
             }
         }
+    }
+    for (light, shadow) in scene.lights.iter().zip(&frame.shadow_aovs) {
+        let path = aov_path(&args.output, &format!("shadow.{}", light.node));
+        write_exr_single(&path, width, height, shadow)?;
+    }
+    if let Some((size, depths)) = &frame.shadow_atlas {
+        let grey: Vec<u8> = depths
+            .iter()
+            .flat_map(|d| {
+                let v = (d.clamp(0.0, 1.0) * 255.0).round() as u8;
+                [v, v, v, 255]
+            })
+            .collect();
+        write_png(&sibling_path(&args.output, "shadow-atlas.png"), *size, *size, &grey)?;
+    } else if args.debug.contains(&Debug::ShadowAtlas) {
+        tracing::warn!("no light casts a directional shadow: no atlas to write");
     }
     eprintln!(
         "chiaro: wrote {} ({width}x{height}, {} point/spot lights shaded, {:.1} ms)",

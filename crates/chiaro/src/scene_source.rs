@@ -34,40 +34,21 @@ pub fn check_size(width: u32, height: u32) -> Result<()> {
 }
 
 /// The requested camera (name or index), the scene's first camera, or a framing camera.
-pub fn choose_view(
-    scene: &Scene,
-    camera: Option<&str>,
-    settings: &Settings,
-    width: u32,
-    height: u32,
-) -> Result<View> {
+pub fn choose_view(scene: &Scene, camera: Option<&str>, settings: &Settings, width: u32, height: u32) -> Result<View> {
     check_size(width, height)?;
     match camera {
         Some(key) => {
             let index = scene.find_camera(key).with_context(|| {
-                let names: Vec<String> = scene
-                    .cameras
-                    .iter()
-                    .enumerate()
-                    .map(|(i, c)| format!("{i}: {}", c.name))
-                    .collect();
+                let names: Vec<String> =
+                    scene.cameras.iter().enumerate().map(|(i, c)| format!("{i}: {}", c.name)).collect();
                 format!(
                     "no camera '{key}' in the scene (cameras: {})",
-                    if names.is_empty() {
-                        "none".to_string()
-                    } else {
-                        names.join(", ")
-                    }
+                    if names.is_empty() { "none".to_string() } else { names.join(", ") }
                 )
             })?;
             Ok(View::from_camera(scene, index, width, height))
         }
         None if !scene.cameras.is_empty() => Ok(View::from_camera(scene, 0, width, height)),
-        None => Ok(View::framing(
-            scene,
-            settings.camera.auto_yfov_deg.to_radians(),
-            width,
-            height,
-        )),
+        None => Ok(View::framing(scene, settings.camera.auto_yfov_deg.to_radians(), width, height)),
     }
 }

@@ -6,15 +6,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// A triangle's three positions as a data URI.
-const TRIANGLE_BUFFER: &str =
-    "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIC/";
+const TRIANGLE_BUFFER: &str = "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIC/";
 
-fn triangle_gltf(
-    nodes: &str,
-    buffer_uri: &str,
-    byte_length: u32,
-    position_accessor: u32,
-) -> String {
+fn triangle_gltf(nodes: &str, buffer_uri: &str, byte_length: u32, position_accessor: u32) -> String {
     format!(
         r#"{{
   "asset": {{"version": "2.0"}},
@@ -46,11 +40,7 @@ fn chiaro(args: &[&str], env: &[(&str, &str)], dir: &Path) -> Run {
     for (k, v) in env {
         cmd.env(k, v);
     }
-    let Output {
-        status,
-        stdout,
-        stderr,
-    } = cmd.output().expect("run chiaro");
+    let Output { status, stdout, stderr } = cmd.output().expect("run chiaro");
     Run {
         code: status.code().unwrap_or(-1),
         stderr: String::from_utf8_lossy(&stderr).into_owned(),
@@ -60,19 +50,11 @@ fn chiaro(args: &[&str], env: &[(&str, &str)], dir: &Path) -> Run {
 
 /// The error line, without lavapipe's harmless XDG_RUNTIME_DIR complaints.
 fn error_lines(run: &Run) -> Vec<&str> {
-    run.stderr
-        .lines()
-        .filter(|l| l.starts_with("chiaro: error:"))
-        .collect()
+    run.stderr.lines().filter(|l| l.starts_with("chiaro: error:")).collect()
 }
 
 /// Writes `files` into a fresh folder, renders `scene` there, and checks the failure.
-fn expect_failure(
-    files: &[(&str, &[u8])],
-    args: &[&str],
-    env: &[(&str, &str)],
-    must_contain: &[&str],
-) {
+fn expect_failure(files: &[(&str, &[u8])], args: &[&str], env: &[(&str, &str)], must_contain: &[&str]) {
     let dir = tempfile::tempdir().unwrap();
     for (name, content) in files {
         std::fs::write(dir.path().join(name), content).unwrap();
@@ -99,12 +81,7 @@ fn expect_failure(
 
 #[test]
 fn missing_file() {
-    expect_failure(
-        &[],
-        &["render", "nowhere.gltf", "-o", "out.png"],
-        &[],
-        &["nowhere.gltf", "cannot read"],
-    );
+    expect_failure(&[], &["render", "nowhere.gltf", "-o", "out.png"], &[], &["nowhere.gltf", "cannot read"]);
 }
 
 #[test]
@@ -120,10 +97,7 @@ fn not_gltf() {
 #[test]
 fn broken_json() {
     expect_failure(
-        &[(
-            "broken.gltf",
-            br#"{"asset": {"version": "2.0"}, "nodes": [ "#,
-        )],
+        &[("broken.gltf", br#"{"asset": {"version": "2.0"}, "nodes": [ "#)],
         &["render", "broken.gltf", "-o", "out.png"],
         &[],
         &["broken.gltf"],
@@ -165,20 +139,15 @@ fn accessor_index_out_of_range() {
 
 #[test]
 fn unsupported_image_format() {
-    let gltf = good_triangle()
-        .replace(r#""POSITION": 0}"#, r#""POSITION": 0}, "material": 0"#)
-        .replace(
-            r#""asset": {"version": "2.0"},"#,
-            r#""asset": {"version": "2.0"},
+    let gltf = good_triangle().replace(r#""POSITION": 0}"#, r#""POSITION": 0}, "material": 0"#).replace(
+        r#""asset": {"version": "2.0"},"#,
+        r#""asset": {"version": "2.0"},
   "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
   "textures": [{"source": 0}],
   "images": [{"uri": "texture.gif"}],"#,
-        );
+    );
     expect_failure(
-        &[
-            ("textured.gltf", gltf.as_bytes()),
-            ("texture.gif", b"GIF89a\x01\x00\x01\x00\x00\x00\x00;"),
-        ],
+        &[("textured.gltf", gltf.as_bytes()), ("texture.gif", b"GIF89a\x01\x00\x01\x00\x00\x00\x00;")],
         &["render", "textured.gltf", "-o", "out.png"],
         &[],
         &["textured.gltf", "image"],
@@ -199,7 +168,11 @@ fn non_finite_transform() {
 
 #[test]
 fn unsupported_required_extension() {
-    let gltf = good_triangle().replacen('{', r#"{"extensionsRequired": ["KHR_draco_mesh_compression"], "extensionsUsed": ["KHR_draco_mesh_compression"],"#, 1);
+    let gltf = good_triangle().replacen(
+        '{',
+        r#"{"extensionsRequired": ["KHR_draco_mesh_compression"], "extensionsUsed": ["KHR_draco_mesh_compression"],"#,
+        1,
+    );
     expect_failure(
         &[("draco.gltf", gltf.as_bytes())],
         &["render", "draco.gltf", "-o", "out.png"],
@@ -210,24 +183,12 @@ fn unsupported_required_extension() {
 
 #[test]
 fn zero_size_output() {
-    expect_failure(
-        &[],
-        &["render", "--width", "0", "-o", "out.png"],
-        &[],
-        &["0x720", "at least 1"],
-    );
+    expect_failure(&[], &["render", "--width", "0", "-o", "out.png"], &[], &["0x720", "at least 1"]);
 }
 
 #[test]
 fn absurd_output_size() {
-    expect_failure(
-        &[],
-        &[
-            "render", "--width", "4000000", "--height", "4", "-o", "out.png",
-        ],
-        &[],
-        &["4000000x4"],
-    );
+    expect_failure(&[], &["render", "--width", "4000000", "--height", "4", "-o", "out.png"], &[], &["4000000x4"]);
 }
 
 #[test]
@@ -257,12 +218,7 @@ fn out_of_range_setting() {
 
 #[test]
 fn unknown_camera() {
-    expect_failure(
-        &[],
-        &["render", "--camera", "nosuch", "-o", "out.png"],
-        &[],
-        &["nosuch", "demo camera"],
-    );
+    expect_failure(&[], &["render", "--camera", "nosuch", "-o", "out.png"], &[], &["nosuch", "demo camera"]);
 }
 
 #[test]
@@ -270,10 +226,7 @@ fn no_gpu_adapter() {
     expect_failure(
         &[],
         &["render", "-o", "out.png"],
-        &[
-            ("VK_ICD_FILENAMES", "/nonexistent/icd.json"),
-            ("VK_DRIVER_FILES", "/nonexistent/icd.json"),
-        ],
+        &[("VK_ICD_FILENAMES", "/nonexistent/icd.json"), ("VK_DRIVER_FILES", "/nonexistent/icd.json")],
         &["no GPU adapter", "mesa-vulkan-drivers"],
     );
 }
@@ -282,12 +235,7 @@ fn read_exr_channels(path: &Path) -> Vec<(String, Vec<f32>)> {
     use exr::prelude::*;
     let image = read_all_flat_layers_from_file(path).unwrap();
     let layer = &image.layer_data[0];
-    layer
-        .channel_data
-        .list
-        .iter()
-        .map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect()))
-        .collect()
+    layer.channel_data.list.iter().map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect())).collect()
 }
 
 #[test]
@@ -295,8 +243,8 @@ fn demo_render_writes_png_and_aovs() {
     let dir = tempfile::tempdir().unwrap();
     let run = chiaro(
         &[
-            "render", "--width", "96", "--height", "64", "-o", "demo.png", "--aov", "position",
-            "--aov", "normal", "--aov", "depth",
+            "render", "--width", "96", "--height", "64", "-o", "demo.png", "--aov", "position", "--aov", "normal",
+            "--aov", "depth",
         ],
         &[],
         dir.path(),
@@ -314,10 +262,7 @@ fn demo_render_writes_png_and_aovs() {
     assert_eq!(z.len(), 96 * 64);
     // The demo camera sees sky at the top and the floor at the bottom.
     assert!(!z[0].is_finite(), "top-left is sky");
-    assert!(
-        z[z.len() - 1].is_finite() && z[z.len() - 1] > 0.0,
-        "bottom row is floor"
-    );
+    assert!(z[z.len() - 1].is_finite() && z[z.len() - 1] > 0.0, "bottom row is floor");
     let sky = position[0].1.iter().filter(|v| !v.is_finite()).count();
     assert!(sky > 0 && sky < 96 * 64);
     // Normals of covered pixels are unit length.
@@ -333,25 +278,12 @@ fn demo_render_writes_png_and_aovs() {
 #[test]
 fn exr_output_is_linear_radiance() {
     let dir = tempfile::tempdir().unwrap();
-    let run = chiaro(
-        &[
-            "render", "--width", "64", "--height", "48", "-o", "demo.exr",
-        ],
-        &[],
-        dir.path(),
-    );
+    let run = chiaro(&["render", "--width", "64", "--height", "48", "-o", "demo.exr"], &[], dir.path());
     assert_eq!(run.code, 0, "{}", run.stderr);
     let channels = read_exr_channels(&dir.path().join("demo.exr"));
     assert_eq!(channels.len(), 3);
-    assert!(
-        channels
-            .iter()
-            .all(|(_, v)| v.iter().all(|x| x.is_finite() && *x >= 0.0))
-    );
-    assert!(
-        channels[0].1.iter().any(|&x| x > 0.05),
-        "some pixels are lit"
-    );
+    assert!(channels.iter().all(|(_, v)| v.iter().all(|x| x.is_finite() && *x >= 0.0)));
+    assert!(channels[0].1.iter().any(|&x| x > 0.05), "some pixels are lit");
 }
 
 #[test]
@@ -369,13 +301,7 @@ fn info_lists_lights_and_cameras() {
 fn triangle_without_camera_is_framed_and_rendered() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("tri.gltf"), good_triangle()).unwrap();
-    let run = chiaro(
-        &[
-            "render", "tri.gltf", "--width", "32", "--height", "32", "-o", "tri.png",
-        ],
-        &[],
-        dir.path(),
-    );
+    let run = chiaro(&["render", "tri.gltf", "--width", "32", "--height", "32", "-o", "tri.png"], &[], dir.path());
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(dir.path().join("tri.png").exists());
 }
@@ -384,29 +310,12 @@ fn triangle_without_camera_is_framed_and_rendered() {
 fn bench_prints_a_table() {
     let dir = tempfile::tempdir().unwrap();
     let run = chiaro(
-        &[
-            "bench",
-            "--width",
-            "64",
-            "--height",
-            "64",
-            "--frames",
-            "3",
-            "--warmup",
-            "1",
-            "--demo-lights",
-            "4",
-        ],
+        &["bench", "--width", "64", "--height", "64", "--frames", "3", "--warmup", "1", "--demo-lights", "4"],
         &[],
         dir.path(),
     );
     assert_eq!(run.code, 0, "{}", run.stderr);
-    for row in [
-        "median",
-        "wall frame",
-        "cpu prepare",
-        "4 point/spot lights shaded",
-    ] {
+    for row in ["median", "wall frame", "cpu prepare", "4 point/spot lights shaded"] {
         assert!(run.stdout.contains(row), "missing '{row}': {}", run.stdout);
     }
 }

@@ -30,14 +30,8 @@ mod tests {
         assert!((texel - 20.0 / 2048.0).abs() < 1e-7);
         let hard = normal_bias_ws(texel, ShadowFilter::Pcf2x2);
         assert!((hard - texel * std::f32::consts::SQRT_2).abs() < 1e-7);
-        assert!(
-            normal_bias_ws(texel, ShadowFilter::Tent7x7)
-                > normal_bias_ws(texel, ShadowFilter::Tent5x5)
-        );
-        assert!(
-            normal_bias_ws(texel, ShadowFilter::Tent5x5)
-                > normal_bias_ws(texel, ShadowFilter::Tent3x3)
-        );
+        assert!(normal_bias_ws(texel, ShadowFilter::Tent7x7) > normal_bias_ws(texel, ShadowFilter::Tent5x5));
+        assert!(normal_bias_ws(texel, ShadowFilter::Tent5x5) > normal_bias_ws(texel, ShadowFilter::Tent3x3));
         assert!(normal_bias_ws(texel, ShadowFilter::Tent3x3) > hard);
     }
 }

@@ -8,15 +8,7 @@ use glam::{Mat4, Vec3};
 /// Far distance of each cascade: `ratios[i] * max_distance`, the last at `max_distance`.
 /// With the defaults (0.1, 0.25, 0.5) and 100 m: 10, 25, 50, 100 m.
 pub fn cascade_splits(max_distance: f32, ratios: [f32; 3], count: usize) -> Vec<f32> {
-    (0..count)
-        .map(|i| {
-            if i + 1 == count {
-                max_distance
-            } else {
-                ratios[i] * max_distance
-            }
-        })
-        .collect()
+    (0..count).map(|i| if i + 1 == count { max_distance } else { ratios[i] * max_distance }).collect()
 }
 
 /// The smallest sphere around the slice of a symmetric perspective frustum between view
@@ -32,13 +24,8 @@ pub fn slice_culling_sphere(near: f32, far: f32, tan_half_fov_y: f32, aspect: f3
     let k = tan_half_fov_y * (1.0 + aspect * aspect).sqrt();
     let (a, b) = (near * k, far * k);
     let z = ((far * far - near * near + b * b - a * a) / (2.0 * (far - near))).clamp(near, far);
-    let radius = ((z - near).powi(2) + a * a)
-        .sqrt()
-        .max(((far - z).powi(2) + b * b).sqrt());
-    Sphere {
-        center: Vec3::new(0.0, 0.0, -z),
-        radius,
-    }
+    let radius = ((z - near).powi(2) + a * a).sqrt().max(((far - z).powi(2) + b * b).sqrt());
+    Sphere { center: Vec3::new(0.0, 0.0, -z), radius }
 }
 
 /// Everything the GPU needs about one cascade of one light.
@@ -58,34 +45,22 @@ pub struct CascadeFit {
 /// it by whole texels. `near_plane_offset` pulls the near plane towards the light so that
 /// casters just outside the sphere still land in front of it (depth clamping flattens
 /// those further out onto the near plane).
-pub fn fit_cascade(
-    sphere: Sphere,
-    light_direction: Vec3,
-    tile_size: u32,
-    near_plane_offset: f32,
-) -> CascadeFit {
+pub fn fit_cascade(sphere: Sphere, light_direction: Vec3, tile_size: u32, near_plane_offset: f32) -> CascadeFit {
     let dir = light_direction.normalize();
     let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
     // Light space without translation: the snapping grid is anchored at the world origin.
     let light_from_world = Mat4::look_to_rh(Vec3::ZERO, dir, up);
     let texel = 2.0 * sphere.radius / tile_size as f32;
     let center_ls = light_from_world.transform_point3(sphere.center);
-    let snapped_ls = Vec3::new(
-        (center_ls.x / texel).floor() * texel,
-        (center_ls.y / texel).floor() * texel,
-        center_ls.z,
-    );
+    let snapped_ls =
+        Vec3::new((center_ls.x / texel).floor() * texel, (center_ls.y / texel).floor() * texel, center_ls.z);
     let center = light_from_world.inverse().transform_point3(snapped_ls);
     let r = sphere.radius;
     // The eye sits on the light's side of the sphere, looking along the light.
     let near_offset = near_plane_offset.max(0.0);
     let view = Mat4::look_to_rh(center - dir * (r + near_offset), dir, up);
     let projection = Mat4::orthographic_rh(-r, r, -r, r, 0.0, 2.0 * r + near_offset);
-    CascadeFit {
-        sphere: Sphere { center, radius: r },
-        clip_from_world: projection * view,
-        texel_size_ws: texel,
-    }
+    CascadeFit { sphere: Sphere { center, radius: r }, clip_from_world: projection * view, texel_size_ws: texel }
 }
 
 #[cfg(test)]
@@ -95,14 +70,8 @@ mod tests {
 
     #[test]
     fn splits_follow_the_ratios() {
-        assert_eq!(
-            cascade_splits(100.0, [0.1, 0.25, 0.5], 4),
-            vec![10.0, 25.0, 50.0, 100.0]
-        );
-        assert_eq!(
-            cascade_splits(100.0, [0.1, 0.25, 0.5], 2),
-            vec![10.0, 100.0]
-        );
+        assert_eq!(cascade_splits(100.0, [0.1, 0.25, 0.5], 4), vec![10.0, 25.0, 50.0, 100.0]);
+        assert_eq!(cascade_splits(100.0, [0.1, 0.25, 0.5], 2), vec![10.0, 100.0]);
         assert_eq!(cascade_splits(40.0, [0.1, 0.25, 0.5], 1), vec![40.0]);
     }
 
@@ -151,10 +120,7 @@ mod tests {
     #[test]
     fn cascade_projection_holds_its_sphere() {
         let dir = Vec3::new(0.2, -1.0, 0.1).normalize();
-        let sphere = Sphere {
-            center: Vec3::new(4.0, 2.0, -7.0),
-            radius: 6.0,
-        };
+        let sphere = Sphere { center: Vec3::new(4.0, 2.0, -7.0), radius: 6.0 };
         let fit = fit_cascade(sphere, dir, 2048, 2.0);
         for axis in [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z] {
             // Inner points of the sphere (one texel of snapping slack) map inside clip space.
@@ -164,14 +130,8 @@ mod tests {
             assert!((0.0..=1.0).contains(&c.z), "{axis}: depth {}", c.z);
         }
         // Depth grows away from the light.
-        let near = fit
-            .clip_from_world
-            .project_point3(sphere.center - dir * 3.0)
-            .z;
-        let far = fit
-            .clip_from_world
-            .project_point3(sphere.center + dir * 3.0)
-            .z;
+        let near = fit.clip_from_world.project_point3(sphere.center - dir * 3.0).z;
+        let far = fit.clip_from_world.project_point3(sphere.center + dir * 3.0).z;
         assert!(near < far);
     }
 }

@@ -33,31 +33,12 @@ mod tests {
             * Mat4::look_to_rh(Vec3::new(0.0, 0.0, 10.0), Vec3::NEG_Z, Vec3::Y);
         let cube = |c: Vec3| Aabb::from_points([c - 0.5, c + 0.5]);
         assert!(caster_in_tile(&clip, &cube(Vec3::ZERO), true));
-        assert!(!caster_in_tile(
-            &clip,
-            &cube(Vec3::new(8.0, 0.0, 0.0)),
-            true
-        ));
-        assert!(!caster_in_tile(
-            &clip,
-            &cube(Vec3::new(0.0, -8.0, 0.0)),
-            true
-        ));
-        assert!(
-            !caster_in_tile(&clip, &cube(Vec3::new(0.0, 0.0, -30.0)), true),
-            "beyond the far plane"
-        );
+        assert!(!caster_in_tile(&clip, &cube(Vec3::new(8.0, 0.0, 0.0)), true));
+        assert!(!caster_in_tile(&clip, &cube(Vec3::new(0.0, -8.0, 0.0)), true));
+        assert!(!caster_in_tile(&clip, &cube(Vec3::new(0.0, 0.0, -30.0)), true), "beyond the far plane");
         // Between the light and its near plane: kept when pancaking, culled otherwise.
-        assert!(caster_in_tile(
-            &clip,
-            &cube(Vec3::new(0.0, 0.0, 15.0)),
-            true
-        ));
-        assert!(!caster_in_tile(
-            &clip,
-            &cube(Vec3::new(0.0, 0.0, 15.0)),
-            false
-        ));
+        assert!(caster_in_tile(&clip, &cube(Vec3::new(0.0, 0.0, 15.0)), true));
+        assert!(!caster_in_tile(&clip, &cube(Vec3::new(0.0, 0.0, 15.0)), false));
         assert!(!caster_in_tile(&clip, &Aabb::EMPTY, true));
     }
 }

@@ -15,12 +15,8 @@ pub enum ShadowFilter {
 }
 
 impl ShadowFilter {
-    pub const ALL: [ShadowFilter; 4] = [
-        ShadowFilter::Pcf2x2,
-        ShadowFilter::Tent3x3,
-        ShadowFilter::Tent5x5,
-        ShadowFilter::Tent7x7,
-    ];
+    pub const ALL: [ShadowFilter; 4] =
+        [ShadowFilter::Pcf2x2, ShadowFilter::Tent3x3, ShadowFilter::Tent5x5, ShadowFilter::Tent7x7];
 
     /// The tutorial's `filter + 1`: how many texels the filter reaches, for normal bias
     /// and for shrinking culling spheres.
@@ -87,23 +83,11 @@ pub fn tent_texel_weights(filter: ShadowFilter, offset: f32) -> Vec<f32> {
     match filter {
         ShadowFilter::Pcf2x2 => vec![1.0],
         ShadowFilter::Tent3x3 => a.iter().map(|w| w * 0.44444).collect(),
-        ShadowFilter::Tent5x5 => [a[0], u[1], a[1] + 1.0, a[2] + 1.0, u[2], a[3]]
+        ShadowFilter::Tent5x5 => [a[0], u[1], a[1] + 1.0, a[2] + 1.0, u[2], a[3]].iter().map(|w| w * 0.16).collect(),
+        ShadowFilter::Tent7x7 => [a[0], u[1], u[1] + 1.0, a[1] + 2.0, a[2] + 2.0, u[2] + 1.0, u[2], a[3]]
             .iter()
-            .map(|w| w * 0.16)
+            .map(|w| w * 0.081632)
             .collect(),
-        ShadowFilter::Tent7x7 => [
-            a[0],
-            u[1],
-            u[1] + 1.0,
-            a[1] + 2.0,
-            a[2] + 2.0,
-            u[2] + 1.0,
-            u[2],
-            a[3],
-        ]
-        .iter()
-        .map(|w| w * 0.081632)
-        .collect(),
     }
 }
 

@@ -7,8 +7,7 @@
 use chiaro_render::renderer::FrameOutput;
 use chiaro_render::{FrameOptions, GpuContext, Renderer, View};
 use chiaro_scene::{
-    Camera, CastShadows, Light, LightKind, LightShadow, Material, Mesh, MeshInstance, Scene,
-    Settings, shapes,
+    Camera, CastShadows, Light, LightKind, LightShadow, Material, Mesh, MeshInstance, Scene, Settings, shapes,
 };
 use glam::{Mat4, Vec3};
 
@@ -29,10 +28,7 @@ pub fn floor_scene(size: f32, eye: Vec3, lights: Vec<Light>) -> Scene {
     let mut floor = shapes::plane(size, 4);
     floor.material = Some(0);
     Scene {
-        meshes: vec![Mesh {
-            name: "floor".into(),
-            primitives: vec![floor],
-        }],
+        meshes: vec![Mesh { name: "floor".into(), primitives: vec![floor] }],
         instances: vec![MeshInstance {
             mesh: 0,
             node: 0,
@@ -76,26 +72,11 @@ pub fn point_light(position: Vec3, intensity: f32, range: Option<f32>) -> Light 
     }
 }
 
-pub fn render(
-    renderer: &mut Renderer,
-    scene: &Scene,
-    settings: &Settings,
-    size: u32,
-) -> FrameOutput {
+pub fn render(renderer: &mut Renderer, scene: &Scene, settings: &Settings, size: u32) -> FrameOutput {
     let view = View::from_camera(scene, 0, size, size);
     let prepared = renderer.prepare(scene).expect("prepare");
     renderer
-        .render(
-            scene,
-            &prepared,
-            &view,
-            settings,
-            FrameOptions {
-                aovs: true,
-                readback: true,
-                ..Default::default()
-            },
-        )
+        .render(scene, &prepared, &view, settings, FrameOptions { aovs: true, readback: true, ..Default::default() })
         .expect("render")
 }
 
@@ -106,12 +87,7 @@ pub fn surface_pixels(frame: &FrameOutput) -> Vec<(usize, Vec3, Vec3, Vec3)> {
         .filter(|&i| aovs.position_ws[i][0].is_finite())
         .map(|i| {
             let h = frame.hdr[i];
-            (
-                i,
-                Vec3::from(aovs.position_ws[i]),
-                Vec3::from(aovs.normal_ws[i]),
-                Vec3::new(h[0], h[1], h[2]),
-            )
+            (i, Vec3::from(aovs.position_ws[i]), Vec3::from(aovs.normal_ws[i]), Vec3::new(h[0], h[1], h[2]))
         })
         .collect()
 }

@@ -15,31 +15,21 @@ use std::borrow::Cow;
 const MAX_ACCESSOR_COUNT: usize = 1 << 26;
 
 impl<'a> Loader<'a> {
-    pub(super) fn load_buffers(
-        &self,
-        bin: Option<&'a [u8]>,
-    ) -> Result<Vec<Cow<'a, [u8]>>, SceneError> {
+    pub(super) fn load_buffers(&self, bin: Option<&'a [u8]>) -> Result<Vec<Cow<'a, [u8]>>, SceneError> {
         let mut buffers = Vec::with_capacity(self.root.buffers.len());
         for (index, buffer) in self.root.buffers.iter().enumerate() {
             let label = object_label("buffer", index, buffer.uri.as_deref(), None);
             let data: Cow<'a, [u8]> = match &buffer.uri {
-                None => Cow::Borrowed(bin.ok_or_else(|| {
-                    self.invalid(format!(
-                        "{label} has no uri and the file has no binary chunk"
-                    ))
-                })?),
+                None => Cow::Borrowed(
+                    bin.ok_or_else(|| self.invalid(format!("{label} has no uri and the file has no binary chunk")))?,
+                ),
                 Some(uri) => Cow::Owned(
-                    uri::read_uri(self.base_dir, uri)
-                        .map_err(|e| self.invalid(format!("{label}: {e}")))?
-                        .bytes,
+                    uri::read_uri(self.base_dir, uri).map_err(|e| self.invalid(format!("{label}: {e}")))?.bytes,
                 ),
             };
             let declared = buffer.byte_length.0;
             if (data.len() as u64) < declared {
-                return Err(self.invalid(format!(
-                    "{label} is {} bytes but the file says {declared}",
-                    data.len()
-                )));
+                return Err(self.invalid(format!("{label} is {} bytes but the file says {declared}", data.len())));
             }
             buffers.push(data);
         }
@@ -47,10 +37,7 @@ impl<'a> Loader<'a> {
     }
 
     /// The bytes of a buffer view and its stride, checked to lie inside its buffer.
-    pub(super) fn view_bytes(
-        &self,
-        view_index: usize,
-    ) -> Result<(&[u8], Option<usize>), SceneError> {
+    pub(super) fn view_bytes(&self, view_index: usize) -> Result<(&[u8], Option<usize>), SceneError> {
         let view = &self.root.buffer_views[view_index];
         let buffer = &self.buffers[view.buffer.value()];
         let offset = view.byte_offset.map_or(0, |o| o.0);
@@ -78,29 +65,20 @@ impl<'a> Loader<'a> {
         debug_assert!((1..=4).contains(&dims));
         let accessor = &self.root.accessors[index];
         let label = format!("accessor {index} ({what})");
-        let (Checked::Valid(component), Checked::Valid(ty)) =
-            (accessor.component_type, accessor.type_)
-        else {
+        let (Checked::Valid(component), Checked::Valid(ty)) = (accessor.component_type, accessor.type_) else {
             return Err(self.invalid(format!("{label} has an invalid type")));
         };
         let component = component.0;
         let expected = [Type::Scalar, Type::Vec2, Type::Vec3, Type::Vec4][dims - 1];
         if ty != expected {
-            return Err(self.invalid(format!(
-                "{label} is {}, expected {}",
-                type_name(ty),
-                type_name(expected)
-            )));
+            return Err(self.invalid(format!("{label} is {}, expected {}", type_name(ty), type_name(expected))));
         }
-        let count = usize::try_from(accessor.count.0)
-            .ok()
-            .filter(|&c| c <= MAX_ACCESSOR_COUNT)
-            .ok_or_else(|| {
-                self.invalid(format!(
-                    "{label} has {} elements, more than Chiaro reads ({MAX_ACCESSOR_COUNT})",
-                    accessor.count.0
-                ))
-            })?;
+        let count = usize::try_from(accessor.count.0).ok().filter(|&c| c <= MAX_ACCESSOR_COUNT).ok_or_else(|| {
+            self.invalid(format!(
+                "{label} has {} elements, more than Chiaro reads ({MAX_ACCESSOR_COUNT})",
+                accessor.count.0
+            ))
+        })?;
         let element_size = dims * component.size();
         let mut bytes = Vec::new();
 
@@ -140,9 +118,7 @@ impl<'a> Loader<'a> {
         if let Some(sparse) = &accessor.sparse {
             let n = sparse.count.0;
             if n > count as u64 {
-                return Err(self.invalid(format!(
-                    "{label} replaces {n} sparse elements but has only {count}"
-                )));
+                return Err(self.invalid(format!("{label} replaces {n} sparse elements but has only {count}")));
             }
             let n = n as usize;
             let Checked::Valid(index_type) = sparse.indices.component_type else {
@@ -164,67 +140,42 @@ impl<'a> Loader<'a> {
             for k in 0..n {
                 let target = read_index(index_type, &indices[k * index_type.size()..])
                     .filter(|&t| (t as usize) < count)
-                    .ok_or_else(|| {
-                        self.invalid(format!("{label} has a sparse index out of range"))
-                    })? as usize;
+                    .ok_or_else(|| self.invalid(format!("{label} has a sparse index out of range")))?
+                    as usize;
                 bytes[target * element_size..(target + 1) * element_size]
                     .copy_from_slice(&values[k * element_size..(k + 1) * element_size]);
             }
         }
 
-        Ok(Packed {
-            component,
-            normalized: accessor.normalized,
-            dims,
-            bytes,
-        })
+        Ok(Packed { component, normalized: accessor.normalized, dims, bytes })
     }
 
-    fn sparse_slice(
-        &self,
-        view_index: usize,
-        offset: u64,
-        length: usize,
-        label: &str,
-    ) -> Result<&[u8], SceneError> {
+    fn sparse_slice(&self, view_index: usize, offset: u64, length: usize, label: &str) -> Result<&[u8], SceneError> {
         let (view, _) = self.view_bytes(view_index)?;
         offset
             .checked_add(length as u64)
             .filter(|&end| end <= view.len() as u64)
             .map(|end| &view[offset as usize..end as usize])
-            .ok_or_else(|| {
-                self.invalid(format!(
-                    "{label}: sparse data runs past the end of buffer view {view_index}"
-                ))
-            })
+            .ok_or_else(|| self.invalid(format!("{label}: sparse data runs past the end of buffer view {view_index}")))
     }
 
     /// Float elements of `N` components, integer formats converted as
     /// KHR_mesh_quantization and glTF's normalized-integer rules say.
-    pub(super) fn read_floats<const N: usize>(
-        &self,
-        index: usize,
-        what: &str,
-    ) -> Result<Vec<[f32; N]>, SceneError> {
+    pub(super) fn read_floats<const N: usize>(&self, index: usize, what: &str) -> Result<Vec<[f32; N]>, SceneError> {
         let packed = self.read_packed(index, N, what)?;
         let size = packed.component.size();
         Ok(packed
             .bytes
             .chunks_exact(packed.dims * size)
             .map(|element| {
-                std::array::from_fn(|c| {
-                    component_to_f32(packed.component, packed.normalized, &element[c * size..])
-                })
+                std::array::from_fn(|c| component_to_f32(packed.component, packed.normalized, &element[c * size..]))
             })
             .collect())
     }
 
     pub(super) fn read_indices(&self, index: usize, what: &str) -> Result<Vec<u32>, SceneError> {
         let packed = self.read_packed(index, 1, what)?;
-        if !matches!(
-            packed.component,
-            ComponentType::U8 | ComponentType::U16 | ComponentType::U32
-        ) {
+        if !matches!(packed.component, ComponentType::U8 | ComponentType::U16 | ComponentType::U32) {
             return Err(self.invalid(format!(
                 "accessor {index} ({what}) has component type {:?}; indices must be unsigned \
                  integers",
@@ -232,11 +183,7 @@ impl<'a> Loader<'a> {
             )));
         }
         let size = packed.component.size();
-        Ok(packed
-            .bytes
-            .chunks_exact(size)
-            .filter_map(|b| read_index(packed.component, b))
-            .collect())
+        Ok(packed.bytes.chunks_exact(size).filter_map(|b| read_index(packed.component, b)).collect())
     }
 }
 
@@ -266,19 +213,11 @@ fn component_to_f32(component: ComponentType, normalized: bool, b: &[u8]) -> f32
         }
         ComponentType::I16 => {
             let v = f32::from(i16::from_le_bytes([b[0], b[1]]));
-            if normalized {
-                (v / 32767.0).max(-1.0)
-            } else {
-                v
-            }
+            if normalized { (v / 32767.0).max(-1.0) } else { v }
         }
         ComponentType::U32 => {
             let v = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-            if normalized {
-                (f64::from(v) / f64::from(u32::MAX)) as f32
-            } else {
-                v as f32
-            }
+            if normalized { (f64::from(v) / f64::from(u32::MAX)) as f32 } else { v as f32 }
         }
     }
 }
@@ -299,12 +238,8 @@ fn type_name(ty: json::accessor::Type) -> &'static str {
 fn read_index(component: ComponentType, b: &[u8]) -> Option<u32> {
     match component {
         ComponentType::U8 => b.first().map(|&v| u32::from(v)),
-        ComponentType::U16 => b
-            .get(..2)
-            .map(|b| u32::from(u16::from_le_bytes([b[0], b[1]]))),
-        ComponentType::U32 => b
-            .get(..4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+        ComponentType::U16 => b.get(..2).map(|b| u32::from(u16::from_le_bytes([b[0], b[1]]))),
+        ComponentType::U32 => b.get(..4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
         _ => None,
     }
 }

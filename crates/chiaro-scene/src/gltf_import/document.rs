@@ -20,31 +20,18 @@ pub(super) struct Document<'a> {
 
 impl<'a> Document<'a> {
     pub(super) fn parse(path: &Path, bytes: &'a [u8]) -> Result<Document<'a>, SceneError> {
-        let parse_error = |message: String| SceneError::Parse {
-            path: path.to_path_buf(),
-            message,
-        };
-        let (json_bytes, bin) = if bytes.starts_with(b"glTF") {
-            split_glb(bytes).map_err(parse_error)?
-        } else {
-            (bytes, None)
-        };
-        let json_bytes = json_bytes
-            .strip_prefix(b"\xEF\xBB\xBF")
-            .unwrap_or(json_bytes);
-        let raw: Value =
-            serde_json::from_slice(json_bytes).map_err(|e| parse_error(e.to_string()))?;
+        let parse_error = |message: String| SceneError::Parse { path: path.to_path_buf(), message };
+        let (json_bytes, bin) =
+            if bytes.starts_with(b"glTF") { split_glb(bytes).map_err(parse_error)? } else { (bytes, None) };
+        let json_bytes = json_bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(json_bytes);
+        let raw: Value = serde_json::from_slice(json_bytes).map_err(|e| parse_error(e.to_string()))?;
         if !raw.is_object() {
             return Err(parse_error("the document is not a JSON object".into()));
         }
         check_required_extensions(path, &raw)?;
-        let root: json::Root =
-            serde_json::from_slice(json_bytes).map_err(|e| parse_error(e.to_string()))?;
+        let root: json::Root = serde_json::from_slice(json_bytes).map_err(|e| parse_error(e.to_string()))?;
         if !root.asset.version.starts_with("2.") {
-            return Err(parse_error(format!(
-                "asset version is {}; Chiaro reads glTF 2.x",
-                root.asset.version
-            )));
+            return Err(parse_error(format!("asset version is {}; Chiaro reads glTF 2.x", root.asset.version)));
         }
         validate(path, &raw, &root)?;
         Ok(Document { raw, root, bin })

@@ -54,16 +54,12 @@ pub(super) fn light_shadow(extras: Option<&RawValue>) -> Result<LightShadow, Str
         Some("hard") => ShadowMode::Hard,
         Some("soft") => ShadowMode::Soft,
         Some(other) => {
-            return Err(format!(
-                "extras.shadows: '{other}' is not none, hard or soft"
-            ));
+            return Err(format!("extras.shadows: '{other}' is not none, hard or soft"));
         }
     };
     let strength = non_negative("shadowStrength", e.shadow_strength, d.strength)?;
     if strength > 1.0 {
-        return Err(format!(
-            "extras.shadowStrength: {strength} must be between 0 and 1"
-        ));
+        return Err(format!("extras.shadowStrength: {strength} must be between 0 and 1"));
     }
     Ok(LightShadow {
         mode,
@@ -87,9 +83,7 @@ pub(super) fn node_shadows(node: &json::scene::Node) -> Result<(CastShadows, boo
             "two-sided" => CastShadows::TwoSided,
             "shadows-only" => CastShadows::ShadowsOnly,
             other => {
-                return Err(format!(
-                    "extras.castShadows: '{other}' is not on, off, two-sided or shadows-only"
-                ));
+                return Err(format!("extras.castShadows: '{other}' is not on, off, two-sided or shadows-only"));
             }
         },
         Some(other) => return Err(format!("extras.castShadows: {other} is not a string")),
@@ -116,10 +110,7 @@ mod tests {
         assert_eq!(s.normal_bias, 2.0);
         assert_eq!(s.depth_bias, LightShadow::default().depth_bias);
         assert_eq!(light_shadow(None).unwrap(), LightShadow::default());
-        assert_eq!(
-            light_shadow(Some(&raw(r#""a note""#))).unwrap(),
-            LightShadow::default()
-        );
+        assert_eq!(light_shadow(Some(&raw(r#""a note""#))).unwrap(), LightShadow::default());
     }
 
     #[test]
@@ -137,10 +128,8 @@ mod tests {
 
     #[test]
     fn node_extras_choose_casting() {
-        let node = |extras: &str| json::scene::Node {
-            extras: Some(raw(extras)),
-            ..serde_json::from_str("{}").unwrap()
-        };
+        let node =
+            |extras: &str| json::scene::Node { extras: Some(raw(extras)), ..serde_json::from_str("{}").unwrap() };
         assert_eq!(
             node_shadows(&node(r#"{"castShadows": "shadows-only"}"#)).unwrap(),
             (CastShadows::ShadowsOnly, true)
@@ -149,16 +138,7 @@ mod tests {
             node_shadows(&node(r#"{"castShadows": false, "receiveShadows": false}"#)).unwrap(),
             (CastShadows::Off, false)
         );
-        assert_eq!(
-            node_shadows(&node(r#"{"castShadows": "two-sided"}"#))
-                .unwrap()
-                .0,
-            CastShadows::TwoSided
-        );
-        assert!(
-            node_shadows(&node(r#"{"castShadows": "sometimes"}"#))
-                .unwrap_err()
-                .contains("castShadows")
-        );
+        assert_eq!(node_shadows(&node(r#"{"castShadows": "two-sided"}"#)).unwrap().0, CastShadows::TwoSided);
+        assert!(node_shadows(&node(r#"{"castShadows": "sometimes"}"#)).unwrap_err().contains("castShadows"));
     }
 }

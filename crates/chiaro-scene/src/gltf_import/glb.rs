@@ -13,16 +13,11 @@ pub(super) fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> 
         return Err("GLB header is truncated".into());
     };
     if version != 2 {
-        return Err(format!(
-            "GLB container version {version}; Chiaro reads version 2"
-        ));
+        return Err(format!("GLB container version {version}; Chiaro reads version 2"));
     }
     let length = length as usize;
     if length > bytes.len() {
-        return Err(format!(
-            "GLB header says {length} bytes but the file has {}",
-            bytes.len()
-        ));
+        return Err(format!("GLB header says {length} bytes but the file has {}", bytes.len()));
     }
     let mut offset = 12;
     let mut json_chunk = None;

@@ -51,8 +51,7 @@ impl Loader<'_> {
                 image.mime_type.as_ref().map(|m| m.0.to_ascii_lowercase()),
             ),
             (None, Some(uri)) => {
-                let data = uri::read_uri(self.base_dir, uri)
-                    .map_err(|e| self.invalid(format!("{label}: {e}")))?;
+                let data = uri::read_uri(self.base_dir, uri).map_err(|e| self.invalid(format!("{label}: {e}")))?;
                 let mime = image
                     .mime_type
                     .as_ref()
@@ -67,21 +66,17 @@ impl Loader<'_> {
         if let Some(mime) = mime.as_deref()
             && !matches!(mime, "image/png" | "image/jpeg" | "image/jpg")
         {
-            return Err(self.invalid(format!(
-                "{label}: unsupported image format {mime}; Chiaro reads PNG and JPEG"
-            )));
+            return Err(self.invalid(format!("{label}: unsupported image format {mime}; Chiaro reads PNG and JPEG")));
         }
         let format = match image::guess_format(&bytes) {
             Ok(format @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => format,
             Ok(other) => {
-                return Err(self.invalid(format!(
-                    "{label}: unsupported image format ({other:?}); Chiaro reads PNG and JPEG"
-                )));
+                return Err(
+                    self.invalid(format!("{label}: unsupported image format ({other:?}); Chiaro reads PNG and JPEG"))
+                );
             }
             Err(_) => {
-                return Err(self.invalid(format!(
-                    "{label}: unsupported image format; Chiaro reads PNG and JPEG"
-                )));
+                return Err(self.invalid(format!("{label}: unsupported image format; Chiaro reads PNG and JPEG")));
             }
         };
         let decoded = image::load_from_memory_with_format(&bytes, format)
@@ -92,12 +87,6 @@ impl Loader<'_> {
             .clone()
             .or_else(|| image.uri.clone().filter(|u| !u.starts_with("data:")))
             .unwrap_or_else(|| format!("image {index}"));
-        Ok(Image {
-            name,
-            width: rgba.width(),
-            height: rgba.height(),
-            rgba8: rgba.into_raw(),
-            color_space,
-        })
+        Ok(Image { name, width: rgba.width(), height: rgba.height(), rgba8: rgba.into_raw(), color_space })
     }
 }

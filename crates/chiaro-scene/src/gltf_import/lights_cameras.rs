@@ -16,11 +16,8 @@ impl Loader<'_> {
         use json::extensions::scene::khr_lights_punctual::Type;
 
         let node = &self.root.nodes[placement.node];
-        let Some(light_index) = node
-            .extensions
-            .as_ref()
-            .and_then(|e| e.khr_lights_punctual.as_ref())
-            .map(|l| l.light.value())
+        let Some(light_index) =
+            node.extensions.as_ref().and_then(|e| e.khr_lights_punctual.as_ref()).map(|l| l.light.value())
         else {
             return Ok(None);
         };
@@ -31,23 +28,15 @@ impl Loader<'_> {
             .and_then(|e| e.khr_lights_punctual.as_ref())
             .and_then(|l| l.lights.get(light_index))
         else {
-            return Err(self.invalid(format!(
-                "node {}: light {light_index} is out of range",
-                placement.node
-            )));
+            return Err(self.invalid(format!("node {}: light {light_index} is out of range", placement.node)));
         };
         let label = object_label("light", light_index, None, light.name.as_deref());
         let color = Vec3::from_array(light.color);
         if !color.is_finite() || color.min_element() < 0.0 {
-            return Err(self.invalid(format!(
-                "{label}: colour {color} is not a linear RGB colour"
-            )));
+            return Err(self.invalid(format!("{label}: colour {color} is not a linear RGB colour")));
         }
         if !light.intensity.is_finite() || light.intensity < 0.0 {
-            return Err(self.invalid(format!(
-                "{label}: intensity {} is negative or not finite",
-                light.intensity
-            )));
+            return Err(self.invalid(format!("{label}: intensity {} is negative or not finite", light.intensity)));
         }
         if let Some(range) = light.range
             && !(range.is_finite() && range > 0.0)
@@ -58,39 +47,29 @@ impl Loader<'_> {
             (Checked::Valid(Type::Directional), _) => LightKind::Directional,
             (Checked::Valid(Type::Point), _) => LightKind::Point,
             (Checked::Valid(Type::Spot), Some(spot)) => {
-                let (inner, outer) = spot_cone(spot.inner_cone_angle, spot.outer_cone_angle)
-                    .ok_or_else(|| {
-                        self.invalid(format!(
-                            "{label}: spot cone angles must satisfy 0 <= inner ({}) < outer \
+                let (inner, outer) = spot_cone(spot.inner_cone_angle, spot.outer_cone_angle).ok_or_else(|| {
+                    self.invalid(format!(
+                        "{label}: spot cone angles must satisfy 0 <= inner ({}) < outer \
                              ({}) <= pi/2",
-                            spot.inner_cone_angle, spot.outer_cone_angle
-                        ))
-                    })?;
-                LightKind::Spot {
-                    inner_cone_rad: inner,
-                    outer_cone_rad: outer,
-                }
+                        spot.inner_cone_angle, spot.outer_cone_angle
+                    ))
+                })?;
+                LightKind::Spot { inner_cone_rad: inner, outer_cone_rad: outer }
             }
             _ => return Err(self.invalid(format!("{label}: invalid light type"))),
         };
-        let shadow = super::extras::light_shadow(light.extras.as_deref())
-            .map_err(|e| self.invalid(format!("{label}: {e}")))?;
+        let shadow =
+            super::extras::light_shadow(light.extras.as_deref()).map_err(|e| self.invalid(format!("{label}: {e}")))?;
         let world = placement.world_from_local;
         Ok(Some(Light {
-            name: light
-                .name
-                .clone()
-                .or_else(|| node.name.clone())
-                .unwrap_or_else(|| format!("light {light_index}")),
+            name: light.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("light {light_index}")),
             node: placement.node,
             kind,
             color,
             intensity: light.intensity,
             range: light.range,
             position: world.w_axis.truncate(),
-            direction: world
-                .transform_vector3(Vec3::NEG_Z)
-                .normalize_or(Vec3::NEG_Z),
+            direction: world.transform_vector3(Vec3::NEG_Z).normalize_or(Vec3::NEG_Z),
             shadow,
         }))
     }
@@ -105,9 +84,7 @@ impl Loader<'_> {
         let perspective = match (camera.type_, &camera.perspective) {
             (Checked::Valid(json::camera::Type::Perspective), Some(p)) => p,
             (Checked::Valid(json::camera::Type::Perspective), None) => {
-                return Err(self.invalid(format!(
-                    "{label}: type is perspective but it has no perspective parameters"
-                )));
+                return Err(self.invalid(format!("{label}: type is perspective but it has no perspective parameters")));
             }
             _ => {
                 self.ignored.push(format!(
@@ -136,17 +113,10 @@ impl Loader<'_> {
             return Err(self.invalid(format!("{label}: aspect ratio {aspect} is not positive")));
         }
         let world_from_view = without_scale(placement.world_from_local).ok_or_else(|| {
-            self.invalid(format!(
-                "{label} on node {}: the node's transform is degenerate",
-                placement.node
-            ))
+            self.invalid(format!("{label} on node {}: the node's transform is degenerate", placement.node))
         })?;
         Ok(Some(Camera {
-            name: camera
-                .name
-                .clone()
-                .or_else(|| node.name.clone())
-                .unwrap_or_else(|| format!("camera {camera_index}")),
+            name: camera.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("camera {camera_index}")),
             node: placement.node,
             yfov_rad: yfov,
             znear,
@@ -164,12 +134,7 @@ fn without_scale(m: Mat4) -> Option<Mat4> {
     let y_in = m.y_axis.truncate();
     let y = (y_in - z * z.dot(y_in)).try_normalize()?;
     let x = y.cross(z);
-    Some(Mat4::from_cols(
-        x.extend(0.0),
-        y.extend(0.0),
-        z.extend(0.0),
-        m.w_axis,
-    ))
+    Some(Mat4::from_cols(x.extend(0.0), y.extend(0.0), z.extend(0.0), m.w_axis))
 }
 
 /// Validated spot cone half-angles: `0 <= inner < outer <= pi/2`. `inner == outer` (a
@@ -183,10 +148,6 @@ fn spot_cone(inner: f32, outer: f32) -> Option<(f32, f32)> {
         return None;
     }
     let outer = outer.min(half_pi);
-    let inner = if inner >= outer - EPS {
-        (outer - EPS).max(0.0)
-    } else {
-        inner
-    };
+    let inner = if inner >= outer - EPS { (outer - EPS).max(0.0) } else { inner };
     Some((inner, outer))
 }

@@ -6,9 +6,7 @@
 
 use super::{Loader, object_label};
 use crate::error::SceneError;
-use crate::types::{
-    AlphaMode, ColorSpace, Material, SamplerDesc, TextureRef, UvTransform, WrapMode,
-};
+use crate::types::{AlphaMode, ColorSpace, Material, SamplerDesc, TextureRef, UvTransform, WrapMode};
 use glam::{Vec2, Vec3, Vec4};
 use gltf::json;
 use json::validation::Checked;
@@ -24,11 +22,7 @@ impl Loader<'_> {
     ) -> Result<Material, SceneError> {
         let m = &self.root.materials[index];
         let label = object_label("material", index, None, m.name.as_deref());
-        let raw = self
-            .raw
-            .get("materials")
-            .and_then(|ms| ms.get(index))
-            .unwrap_or(&Value::Null);
+        let raw = self.raw.get("materials").and_then(|ms| ms.get(index)).unwrap_or(&Value::Null);
         let raw_pbr = raw.get("pbrMetallicRoughness").unwrap_or(&Value::Null);
         let pbr = &m.pbr_metallic_roughness;
 
@@ -38,8 +32,7 @@ impl Loader<'_> {
                            info: Option<&Value>,
                            color_space: ColorSpace|
          -> Result<TextureRef, SceneError> {
-            let reference =
-                self.texture_ref(&format!("{label} {slot}"), texture, tex_coord, info)?;
+            let reference = self.texture_ref(&format!("{label} {slot}"), texture, tex_coord, info)?;
             let used = &mut image_uses[reference.image];
             if *used != Some(ColorSpace::Srgb) {
                 *used = Some(color_space);
@@ -98,16 +91,10 @@ impl Loader<'_> {
             None => None,
         };
 
-        let emissive_strength = m
-            .extensions
-            .as_ref()
-            .and_then(|e| e.emissive_strength.as_ref())
-            .map_or(1.0, |s| s.emissive_strength.0);
+        let emissive_strength =
+            m.extensions.as_ref().and_then(|e| e.emissive_strength.as_ref()).map_or(1.0, |s| s.emissive_strength.0);
         let material = Material {
-            name: m
-                .name
-                .clone()
-                .unwrap_or_else(|| format!("material {index}")),
+            name: m.name.clone().unwrap_or_else(|| format!("material {index}")),
             base_color: Vec4::from_array(pbr.base_color_factor.0),
             base_color_texture,
             metallic: pbr.metallic_factor.0,
@@ -170,23 +157,13 @@ impl Loader<'_> {
         }
 
         let gltf_texture = &self.root.textures[texture];
-        let sampler = gltf_texture
-            .sampler
-            .map(|s| sampler_desc(&self.root.samplers[s.value()]))
-            .unwrap_or_default();
-        let mut reference = TextureRef {
-            image: gltf_texture.source.value(),
-            sampler,
-            tex_coord,
-            transform: UvTransform::default(),
-        };
-        let transform_json = info
-            .and_then(|i| i.get("extensions"))
-            .and_then(|e| e.get("KHR_texture_transform"));
+        let sampler = gltf_texture.sampler.map(|s| sampler_desc(&self.root.samplers[s.value()])).unwrap_or_default();
+        let mut reference =
+            TextureRef { image: gltf_texture.source.value(), sampler, tex_coord, transform: UvTransform::default() };
+        let transform_json = info.and_then(|i| i.get("extensions")).and_then(|e| e.get("KHR_texture_transform"));
         if let Some(value) = transform_json {
-            let t: TextureTransform = serde_json::from_value(value.clone()).map_err(|e| {
-                self.invalid(format!("{label}: invalid KHR_texture_transform: {e}"))
-            })?;
+            let t: TextureTransform = serde_json::from_value(value.clone())
+                .map_err(|e| self.invalid(format!("{label}: invalid KHR_texture_transform: {e}")))?;
             reference.transform = UvTransform {
                 offset: Vec2::from_array(t.offset),
                 rotation_rad: t.rotation,
@@ -201,10 +178,7 @@ impl Loader<'_> {
             }
         }
         if reference.tex_coord > 1 {
-            self.ignored.push(format!(
-                "{label}: TEXCOORD_{} is not read, uses TEXCOORD_0",
-                reference.tex_coord
-            ));
+            self.ignored.push(format!("{label}: TEXCOORD_{} is not read, uses TEXCOORD_0", reference.tex_coord));
             reference.tex_coord = 0;
         }
         Ok(reference)
@@ -221,9 +195,7 @@ fn sampler_desc(sampler: &json::texture::Sampler) -> SamplerDesc {
     let (min_linear, mipmaps) = match sampler.min_filter {
         Some(Checked::Valid(MinFilter::Nearest)) => (false, false),
         Some(Checked::Valid(MinFilter::Linear)) => (true, false),
-        Some(Checked::Valid(MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear)) => {
-            (false, true)
-        }
+        Some(Checked::Valid(MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear)) => (false, true),
         _ => (true, true),
     };
     SamplerDesc {

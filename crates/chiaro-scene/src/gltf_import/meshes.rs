@@ -14,11 +14,7 @@ use gltf::json;
 use json::validation::Checked;
 
 impl Loader<'_> {
-    pub(super) fn mesh(
-        &mut self,
-        index: usize,
-        materials: &[Material],
-    ) -> Result<Mesh, SceneError> {
+    pub(super) fn mesh(&mut self, index: usize, materials: &[Material]) -> Result<Mesh, SceneError> {
         let mesh = &self.root.meshes[index];
         let label = object_label("mesh", index, None, mesh.name.as_deref());
         let mut primitives = Vec::new();
@@ -28,10 +24,7 @@ impl Loader<'_> {
                 primitives.push(primitive);
             }
         }
-        Ok(Mesh {
-            name: mesh.name.clone().unwrap_or_else(|| format!("mesh {index}")),
-            primitives,
-        })
+        Ok(Mesh { name: mesh.name.clone().unwrap_or_else(|| format!("mesh {index}")), primitives })
     }
 
     fn primitive(
@@ -43,20 +36,13 @@ impl Loader<'_> {
         use json::mesh::{Mode, Semantic};
 
         let mode = match primitive.mode {
-            Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => {
-                mode
-            }
+            Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => mode,
             _ => {
                 self.tally.points_or_lines += 1;
                 return Ok(None);
             }
         };
-        let attribute = |semantic: Semantic| {
-            primitive
-                .attributes
-                .get(&Checked::Valid(semantic))
-                .map(|a| a.value())
-        };
+        let attribute = |semantic: Semantic| primitive.attributes.get(&Checked::Valid(semantic)).map(|a| a.value());
         let Some(position_accessor) = attribute(Semantic::Positions) else {
             self.tally.without_positions += 1;
             return Ok(None);
@@ -86,20 +72,17 @@ impl Loader<'_> {
             if count == vertex_count {
                 Ok(())
             } else {
-                Err(self.invalid(format!(
-                    "{label}: {name} has {count} values but POSITION has {vertex_count}"
-                )))
+                Err(self.invalid(format!("{label}: {name} has {count} values but POSITION has {vertex_count}")))
             }
         };
 
         let indices = match primitive.indices {
             Some(accessor) => {
-                let indices =
-                    self.read_indices(accessor.value(), &format!("indices of {label}"))?;
+                let indices = self.read_indices(accessor.value(), &format!("indices of {label}"))?;
                 if let Some(&bad) = indices.iter().find(|&&i| i as usize >= vertex_count) {
-                    return Err(self.invalid(format!(
-                        "{label}: index {bad} is out of range for {vertex_count} vertices"
-                    )));
+                    return Err(
+                        self.invalid(format!("{label}: index {bad} is out of range for {vertex_count} vertices"))
+                    );
                 }
                 indices
             }
@@ -132,12 +115,7 @@ impl Loader<'_> {
             Some(accessor) => {
                 let normals = self.read_floats::<3>(accessor, &format!("NORMAL of {label}"))?;
                 check_count("NORMAL", normals.len())?;
-                Some(
-                    normals
-                        .into_iter()
-                        .map(|n| Vec3::from_array(n).normalize_or(Vec3::Z))
-                        .collect::<Vec<_>>(),
-                )
+                Some(normals.into_iter().map(|n| Vec3::from_array(n).normalize_or(Vec3::Z)).collect::<Vec<_>>())
             }
             None => None,
         };
@@ -165,10 +143,8 @@ impl Loader<'_> {
         };
 
         let material = primitive.material.map(|m| m.value());
-        let normal_map_uv_set = material
-            .and_then(|m| materials.get(m))
-            .and_then(|m| m.normal_texture)
-            .map(|t| t.tex_coord);
+        let normal_map_uv_set =
+            material.and_then(|m| materials.get(m)).and_then(|m| m.normal_texture).map(|t| t.tex_coord);
         let tangents = match (tangents.take(), normal_map_uv_set) {
             (Some(tangents), _) => tangents,
             (None, Some(set)) => {
@@ -180,16 +156,7 @@ impl Loader<'_> {
         };
 
         let bounds = Aabb::from_points(positions.iter().copied());
-        Ok(Some(Primitive {
-            positions,
-            normals,
-            tangents,
-            uv0,
-            uv1,
-            indices,
-            material,
-            bounds,
-        }))
+        Ok(Some(Primitive { positions, normals, tangents, uv0, uv1, indices, material, bounds }))
     }
 }
 
@@ -209,9 +176,7 @@ fn triangle_list(mode: json::mesh::Mode, indices: Vec<u32>) -> Vec<u32> {
                 }
             })
             .collect(),
-        Mode::TriangleFan if n >= 3 => (0..n - 2)
-            .flat_map(|i| [indices[i + 1], indices[i + 2], indices[0]])
-            .collect(),
+        Mode::TriangleFan if n >= 3 => (0..n - 2).flat_map(|i| [indices[i + 1], indices[i + 2], indices[0]]).collect(),
         Mode::Triangles => {
             let mut indices = indices;
             indices.truncate(n - n % 3);

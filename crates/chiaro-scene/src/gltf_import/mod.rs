@@ -43,19 +43,12 @@ use std::path::Path;
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 4] = [
-    "KHR_lights_punctual",
-    "KHR_materials_emissive_strength",
-    "KHR_texture_transform",
-    "KHR_mesh_quantization",
-];
+pub const SUPPORTED_EXTENSIONS: [&str; 4] =
+    ["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform", "KHR_mesh_quantization"];
 
 /// Loads a `.gltf` or `.glb` file and everything it references.
 pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
     let document = Document::parse(path, &bytes)?;
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let mut loader = Loader {
@@ -104,10 +97,7 @@ struct Loader<'a> {
 
 impl<'a> Loader<'a> {
     fn invalid(&self, message: impl Into<String>) -> SceneError {
-        SceneError::Invalid {
-            path: self.path.to_path_buf(),
-            message: message.into(),
-        }
+        SceneError::Invalid { path: self.path.to_path_buf(), message: message.into() }
     }
 
     fn load(&mut self, bin: Option<&'a [u8]>) -> Result<Scene, SceneError> {
@@ -118,9 +108,8 @@ impl<'a> Loader<'a> {
         let mut materials = (0..self.root.materials.len())
             .map(|index| self.material(index, &mut image_uses))
             .collect::<Result<Vec<_>, _>>()?;
-        let meshes = (0..self.root.meshes.len())
-            .map(|index| self.mesh(index, &materials))
-            .collect::<Result<Vec<_>, _>>()?;
+        let meshes =
+            (0..self.root.meshes.len()).map(|index| self.mesh(index, &materials)).collect::<Result<Vec<_>, _>>()?;
 
         let placements = self.walk_scene()?;
         let mut instances = Vec::new();
@@ -171,8 +160,7 @@ impl<'a> Loader<'a> {
         let used = self.raw.get("extensionsUsed").and_then(Value::as_array);
         for name in used.into_iter().flatten().filter_map(Value::as_str) {
             if !SUPPORTED_EXTENSIONS.contains(&name) {
-                self.ignored
-                    .push(format!("extension {name}: not supported, ignored"));
+                self.ignored.push(format!("extension {name}: not supported, ignored"));
             }
         }
     }
@@ -182,36 +170,12 @@ impl<'a> Loader<'a> {
         let t = &self.tally;
         let notes = [
             (root.animations.len(), "animation", "not supported, ignored"),
-            (
-                root.skins.len(),
-                "skin",
-                "not supported, skinned meshes drawn in their bind pose",
-            ),
-            (
-                t.morph_targets,
-                "primitive with morph targets",
-                "not supported, drawn with base positions",
-            ),
-            (
-                t.vertex_colors,
-                "primitive with vertex colours",
-                "not supported, ignored",
-            ),
-            (
-                t.points_or_lines,
-                "primitive of points or lines",
-                "not supported, ignored",
-            ),
-            (
-                t.without_positions,
-                "primitive without POSITION",
-                "nothing to draw, ignored",
-            ),
-            (
-                t.extra_uv_sets,
-                "primitive with TEXCOORD_2 or above",
-                "only TEXCOORD_0 and TEXCOORD_1 are read",
-            ),
+            (root.skins.len(), "skin", "not supported, skinned meshes drawn in their bind pose"),
+            (t.morph_targets, "primitive with morph targets", "not supported, drawn with base positions"),
+            (t.vertex_colors, "primitive with vertex colours", "not supported, ignored"),
+            (t.points_or_lines, "primitive of points or lines", "not supported, ignored"),
+            (t.without_positions, "primitive without POSITION", "nothing to draw, ignored"),
+            (t.extra_uv_sets, "primitive with TEXCOORD_2 or above", "only TEXCOORD_0 and TEXCOORD_1 are read"),
         ];
         for (count, what, why) in notes {
             if count > 0 {

@@ -18,34 +18,30 @@ impl Loader<'_> {
     /// two parents) is an error, as glTF requires disjoint trees.
     pub(super) fn walk_scene(&self) -> Result<Vec<Placement>, SceneError> {
         let root = self.root;
-        let roots: Vec<usize> = match root.scene.map(|s| s.value()).or(if root.scenes.is_empty() {
-            None
-        } else {
-            Some(0)
-        }) {
-            Some(scene) => root.scenes[scene].nodes.iter().map(|n| n.value()).collect(),
-            None => {
-                let mut is_child = vec![false; root.nodes.len()];
-                for node in &root.nodes {
-                    for child in node.children.iter().flatten() {
-                        is_child[child.value()] = true;
+        let roots: Vec<usize> =
+            match root.scene.map(|s| s.value()).or(if root.scenes.is_empty() { None } else { Some(0) }) {
+                Some(scene) => root.scenes[scene].nodes.iter().map(|n| n.value()).collect(),
+                None => {
+                    let mut is_child = vec![false; root.nodes.len()];
+                    for node in &root.nodes {
+                        for child in node.children.iter().flatten() {
+                            is_child[child.value()] = true;
+                        }
                     }
+                    (0..root.nodes.len()).filter(|&n| !is_child[n]).collect()
                 }
-                (0..root.nodes.len()).filter(|&n| !is_child[n]).collect()
-            }
-        };
+            };
 
         let mut visited = vec![false; root.nodes.len()];
         let mut placements = Vec::new();
-        let mut stack: Vec<(usize, Mat4)> =
-            roots.iter().rev().map(|&n| (n, Mat4::IDENTITY)).collect();
+        let mut stack: Vec<(usize, Mat4)> = roots.iter().rev().map(|&n| (n, Mat4::IDENTITY)).collect();
         while let Some((index, parent_from_world)) = stack.pop() {
             let node = &root.nodes[index];
             let label = object_label("node", index, None, node.name.as_deref());
             if std::mem::replace(&mut visited[index], true) {
-                return Err(self.invalid(format!(
-                    "{label}: reached twice in the node hierarchy (a cycle or a shared child)"
-                )));
+                return Err(
+                    self.invalid(format!("{label}: reached twice in the node hierarchy (a cycle or a shared child)"))
+                );
             }
             let world_from_local = parent_from_world * local_transform(node);
             if !world_from_local.is_finite() {
@@ -54,10 +50,7 @@ impl Loader<'_> {
             for child in node.children.iter().flatten().rev() {
                 stack.push((child.value(), world_from_local));
             }
-            placements.push(Placement {
-                node: index,
-                world_from_local,
-            });
+            placements.push(Placement { node: index, world_from_local });
         }
         Ok(placements)
     }
@@ -68,9 +61,7 @@ fn local_transform(node: &json::scene::Node) -> Mat4 {
         return Mat4::from_cols_array(&m);
     }
     let translation = Vec3::from_array(node.translation.unwrap_or([0.0; 3]));
-    let rotation = node
-        .rotation
-        .map_or(Quat::IDENTITY, |r| Quat::from_array(r.0));
+    let rotation = node.rotation.map_or(Quat::IDENTITY, |r| Quat::from_array(r.0));
     let scale = Vec3::from_array(node.scale.unwrap_or([1.0; 3]));
     // Exporters write quaternions a few ulps off unit length; a zero one stays zero and
     // fails the finiteness check after normalising.

@@ -18,8 +18,7 @@ impl TempDir {
     fn new(tag: &str) -> TempDir {
         static NEXT: AtomicUsize = AtomicUsize::new(0);
         let n = NEXT.fetch_add(1, Ordering::Relaxed);
-        let dir =
-            std::env::temp_dir().join(format!("chiaro-gltf-test-{}-{tag}-{n}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("chiaro-gltf-test-{}-{tag}-{n}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         TempDir(dir)
     }
@@ -38,10 +37,7 @@ impl Drop for TempDir {
 }
 
 fn data_uri(bytes: &[u8]) -> String {
-    format!(
-        "data:application/octet-stream;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(bytes)
-    )
+    format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(bytes))
 }
 
 fn f32_bytes(values: &[f32]) -> Vec<u8> {
@@ -108,20 +104,14 @@ fn triangle_from_data_uri_gets_flat_normals_facing_its_front() {
     assert_eq!(p.bounds.max, Vec3::new(1.0, 1.0, 0.0));
     assert_eq!(p.material, None);
     assert!(scene.ignored.is_empty(), "{:?}", scene.ignored);
-    assert_eq!(
-        scene.source.as_deref(),
-        Some(dir.0.join("scene.gltf").as_path())
-    );
+    assert_eq!(scene.source.as_deref(), Some(dir.0.join("scene.gltf").as_path()));
 }
 
 #[test]
 fn indexed_quad_without_normals_is_unwelded() {
     let dir = TempDir::new("quad");
     let positions = f32_bytes(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0]);
-    let indices: Vec<u8> = [0u16, 1, 2, 0, 2, 3]
-        .iter()
-        .flat_map(|i| i.to_le_bytes())
-        .collect();
+    let indices: Vec<u8> = [0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()).collect();
     let mut bytes = positions.clone();
     bytes.extend_from_slice(&indices);
     let mut doc = triangle_doc();
@@ -231,20 +221,10 @@ fn punctual_lights_take_their_node_transforms() {
 
     let spot = &scene.lights[1];
     assert_eq!(spot.name, "spot node");
-    assert_eq!(
-        spot.kind,
-        LightKind::Spot {
-            inner_cone_rad: 0.2,
-            outer_cone_rad: 0.5
-        }
-    );
+    assert_eq!(spot.kind, LightKind::Spot { inner_cone_rad: 0.2, outer_cone_rad: 0.5 });
     assert_eq!(spot.range, Some(8.0));
     // +90 degrees about X turns -Z into +Y.
-    assert!(
-        spot.direction.distance(Vec3::Y) < 1e-6,
-        "{}",
-        spot.direction
-    );
+    assert!(spot.direction.distance(Vec3::Y) < 1e-6, "{}", spot.direction);
 
     let sun = &scene.lights[2];
     assert_eq!(sun.kind, LightKind::Directional);
@@ -254,13 +234,7 @@ fn punctual_lights_take_their_node_transforms() {
 
     let default_spot = &scene.lights[3];
     assert_eq!(default_spot.intensity, 1.0);
-    assert_eq!(
-        default_spot.kind,
-        LightKind::Spot {
-            inner_cone_rad: 0.0,
-            outer_cone_rad: std::f32::consts::FRAC_PI_4
-        }
-    );
+    assert_eq!(default_spot.kind, LightKind::Spot { inner_cone_rad: 0.0, outer_cone_rad: std::f32::consts::FRAC_PI_4 });
 }
 
 #[test]
@@ -269,23 +243,14 @@ fn bad_lights_are_invalid() {
     for (light, needle) in [
         (json!({ "type": "point", "intensity": -1.0 }), "intensity"),
         (json!({ "type": "point", "range": 0.0 }), "range"),
-        (
-            json!({ "type": "spot", "spot": { "innerConeAngle": 0.6, "outerConeAngle": 0.5 } }),
-            "cone",
-        ),
-        (
-            json!({ "type": "spot", "spot": { "outerConeAngle": 2.0 } }),
-            "cone",
-        ),
+        (json!({ "type": "spot", "spot": { "innerConeAngle": 0.6, "outerConeAngle": 0.5 } }), "cone"),
+        (json!({ "type": "spot", "spot": { "outerConeAngle": 2.0 } }), "cone"),
     ] {
         let mut doc = triangle_doc();
         doc["extensions"] = json!({ "KHR_lights_punctual": { "lights": [light] } });
         doc["nodes"][0]["extensions"] = json!({ "KHR_lights_punctual": { "light": 0 } });
         let message = invalid_message(load_doc(&dir, &doc));
-        assert!(
-            message.contains("light 0") && message.contains(needle),
-            "{message}"
-        );
+        assert!(message.contains("light 0") && message.contains(needle), "{message}");
     }
 
     // A hard-edged cone (inner == outer) is tolerated.
@@ -295,11 +260,7 @@ fn bad_lights_are_invalid() {
     ] } });
     doc["nodes"][0]["extensions"] = json!({ "KHR_lights_punctual": { "light": 0 } });
     let scene = load_doc(&dir, &doc).unwrap();
-    let LightKind::Spot {
-        inner_cone_rad,
-        outer_cone_rad,
-    } = scene.lights[0].kind
-    else {
+    let LightKind::Spot { inner_cone_rad, outer_cone_rad } = scene.lights[0].kind else {
         panic!("not a spot light");
     };
     assert_eq!(outer_cone_rad, 0.5);
@@ -332,10 +293,7 @@ fn perspective_camera_drops_node_scale() {
     let expected = Mat4::from_translation(Vec3::new(0.0, 1.0, 4.0));
     assert!(camera.world_from_view.abs_diff_eq(expected, 1e-6));
     assert!(
-        scene
-            .ignored
-            .iter()
-            .any(|s| s.contains("camera 1 (ortho)") && s.contains("orthographic")),
+        scene.ignored.iter().any(|s| s.contains("camera 1 (ortho)") && s.contains("orthographic")),
         "{:?}",
         scene.ignored
     );
@@ -347,35 +305,22 @@ fn missing_file_is_io_error_naming_the_path() {
     let error = load_gltf(&path).unwrap_err();
     assert!(matches!(error, SceneError::Io { .. }), "{error:?}");
     let message = error.to_string();
-    assert!(
-        message.contains("chiaro-no-such-dir/scene.gltf"),
-        "{message}"
-    );
+    assert!(message.contains("chiaro-no-such-dir/scene.gltf"), "{message}");
     assert!(message.contains("cannot read file"), "{message}");
 }
 
 #[test]
 fn broken_json_is_parse_error_with_its_line() {
     let dir = TempDir::new("broken");
-    let path = dir.write(
-        "broken.gltf",
-        b"{\n  \"asset\": {\n    \"version\": \"2.0\",,\n  }\n}",
-    );
+    let path = dir.write("broken.gltf", b"{\n  \"asset\": {\n    \"version\": \"2.0\",,\n  }\n}");
     let error = load_gltf(&path).unwrap_err();
     let SceneError::Parse { message, .. } = &error else {
         panic!("expected Parse, got {error:?}");
     };
     assert!(message.contains("line 3"), "{message}");
-    assert!(
-        error
-            .to_string()
-            .contains("broken.gltf: not a valid glTF file")
-    );
+    assert!(error.to_string().contains("broken.gltf: not a valid glTF file"));
 
-    let path = dir.write(
-        "image.gltf",
-        &png_bytes(image::DynamicImage::new_rgba8(1, 1)),
-    );
+    let path = dir.write("image.gltf", &png_bytes(image::DynamicImage::new_rgba8(1, 1)));
     assert!(matches!(load_gltf(&path), Err(SceneError::Parse { .. })));
     let path = dir.write("empty.gltf", b"{}");
     assert!(matches!(load_gltf(&path), Err(SceneError::Parse { .. })));
@@ -400,19 +345,13 @@ fn required_extensions_are_checked() {
     doc["extensionsRequired"] = json!([]);
     doc["extensionsUsed"] = json!(["KHR_materials_transmission", "KHR_lights_punctual"]);
     let scene = load_doc(&dir, &doc).unwrap();
-    assert_eq!(
-        scene.ignored,
-        vec!["extension KHR_materials_transmission: not supported, ignored".to_owned()]
-    );
+    assert_eq!(scene.ignored, vec!["extension KHR_materials_transmission: not supported, ignored".to_owned()]);
 }
 
 #[test]
 fn quantized_positions_load_when_mesh_quantization_is_required() {
     let dir = TempDir::new("quantized");
-    let bytes: Vec<u8> = [0i16, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0]
-        .iter()
-        .flat_map(|v| v.to_le_bytes())
-        .collect();
+    let bytes: Vec<u8> = [0i16, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0].iter().flat_map(|v| v.to_le_bytes()).collect();
     let mut doc = triangle_doc();
     doc["extensionsUsed"] = json!(["KHR_mesh_quantization"]);
     doc["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
@@ -422,14 +361,7 @@ fn quantized_positions_load_when_mesh_quantization_is_required() {
     doc["buffers"] = json!([{ "byteLength": bytes.len(), "uri": data_uri(&bytes) }]);
     let scene = load_doc(&dir, &doc).unwrap();
     let p = &scene.meshes[0].primitives[0];
-    assert_eq!(
-        p.positions,
-        vec![
-            Vec3::ZERO,
-            Vec3::new(2.0, 0.0, 0.0),
-            Vec3::new(0.0, 2.0, 0.0)
-        ]
-    );
+    assert_eq!(p.positions, vec![Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
 }
 
 #[test]
@@ -443,10 +375,7 @@ fn short_or_missing_buffers_name_the_buffer() {
 
     doc["buffers"][0] = json!({ "byteLength": 36, "uri": "missing%20file.bin" });
     let message = invalid_message(load_doc(&dir, &doc));
-    assert!(
-        message.starts_with("buffer 0 (missing%20file.bin): cannot read"),
-        "{message}"
-    );
+    assert!(message.starts_with("buffer 0 (missing%20file.bin): cannot read"), "{message}");
     assert!(message.contains("missing file.bin"), "{message}");
 
     // An external buffer next to the file loads.
@@ -477,10 +406,7 @@ fn out_of_range_indices_are_errors_not_panics() {
     let mut doc = triangle_doc();
     doc["accessors"][0]["count"] = json!(30);
     let message = invalid_message(load_doc(&dir, &doc));
-    assert!(
-        message.starts_with("accessor 0 (POSITION of mesh 0 (triangle) primitive 0)"),
-        "{message}"
-    );
+    assert!(message.starts_with("accessor 0 (POSITION of mesh 0 (triangle) primitive 0)"), "{message}");
 
     // A buffer view past the end of its buffer.
     let mut doc = triangle_doc();
@@ -514,10 +440,7 @@ fn vertex_index_beyond_vertex_count_is_invalid() {
     ]);
     doc["buffers"] = json!([{ "byteLength": bytes.len(), "uri": data_uri(&bytes) }]);
     let message = invalid_message(load_doc(&dir, &doc));
-    assert!(
-        message.contains("index 5 is out of range for 3 vertices"),
-        "{message}"
-    );
+    assert!(message.contains("index 5 is out of range for 3 vertices"), "{message}");
 }
 
 #[test]
@@ -563,17 +486,11 @@ fn unsupported_image_formats_name_the_image() {
     let dir = TempDir::new("gif");
     dir.write("tex.gif", b"GIF89a\x01\0\x01\0\0\0\0;");
     let message = invalid_message(load_doc(&dir, &textured_doc(json!({ "uri": "tex.gif" }))));
-    assert!(
-        message.starts_with("image 0 (tex.gif): unsupported image format"),
-        "{message}"
-    );
+    assert!(message.starts_with("image 0 (tex.gif): unsupported image format"), "{message}");
 
     dir.write("tex.png", b"definitely not a png");
     let message = invalid_message(load_doc(&dir, &textured_doc(json!({ "uri": "tex.png" }))));
-    assert!(
-        message.starts_with("image 0 (tex.png): unsupported image format"),
-        "{message}"
-    );
+    assert!(message.starts_with("image 0 (tex.png): unsupported image format"), "{message}");
 
     let doc = textured_doc(json!({ "uri": "tex.png", "mimeType": "image/ktx2" }));
     let message = invalid_message(load_doc(&dir, &doc));
@@ -581,10 +498,7 @@ fn unsupported_image_formats_name_the_image() {
 
     // An image with a bufferView and no mimeType: the gltf crate's wrapper would panic.
     let message = invalid_message(load_doc(&dir, &textured_doc(json!({ "bufferView": 0 }))));
-    assert!(
-        message.starts_with("image 0: unsupported image format"),
-        "{message}"
-    );
+    assert!(message.starts_with("image 0: unsupported image format"), "{message}");
 }
 
 #[test]
@@ -594,10 +508,7 @@ fn materials_textures_and_generated_tangents() {
     rgba.put_pixel(1, 0, image::Rgba([10, 20, 30, 255]));
     dir.write("color.png", &png_bytes(rgba.into()));
     let grey16 = image::ImageBuffer::<image::Luma<u16>, _>::from_raw(1, 1, vec![65535u16]).unwrap();
-    dir.write(
-        "orm.png",
-        &png_bytes(image::DynamicImage::ImageLuma16(grey16)),
-    );
+    dir.write("orm.png", &png_bytes(image::DynamicImage::ImageLuma16(grey16)));
 
     // A quad facing +Z with upright glTF UVs (v = 0 at the top, y = 1).
     let mut bytes = f32_bytes(&[
@@ -636,11 +547,9 @@ fn materials_textures_and_generated_tangents() {
         "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": 4.0 } },
         "alphaMode": "MASK", "alphaCutoff": 0.3, "doubleSided": true
     }, { "name": "unused image", "emissiveTexture": { "index": 2 } }]);
-    doc["samplers"] =
-        json!([{ "magFilter": 9728, "minFilter": 9729, "wrapS": 33071, "wrapT": 33648 }]);
+    doc["samplers"] = json!([{ "magFilter": 9728, "minFilter": 9729, "wrapS": 33071, "wrapT": 33648 }]);
     doc["textures"] = json!([{ "source": 0, "sampler": 0 }, { "source": 1 }, { "source": 0 }]);
-    doc["images"] =
-        json!([{ "uri": "color.png" }, { "uri": "orm.png" }, { "uri": "never-read.png" }]);
+    doc["images"] = json!([{ "uri": "color.png" }, { "uri": "orm.png" }, { "uri": "never-read.png" }]);
     let scene = load_doc(&dir, &doc).unwrap();
 
     // Image 0 is both colour and normal map: decoded once, as sRGB.
@@ -668,11 +577,7 @@ fn materials_textures_and_generated_tangents() {
     assert_eq!(base.tex_coord, 1);
     assert_eq!(
         base.transform,
-        UvTransform {
-            offset: Vec2::new(0.5, 0.0),
-            rotation_rad: 0.25,
-            scale: Vec2::splat(2.0)
-        }
+        UvTransform { offset: Vec2::new(0.5, 0.0), rotation_rad: 0.25, scale: Vec2::splat(2.0) }
     );
     assert_eq!(
         base.sampler,
@@ -742,8 +647,7 @@ fn ignored_features_are_counted_once_per_kind() {
     points["mode"] = json!(0);
     let mut colored = prim.clone();
     colored["attributes"]["COLOR_0"] = json!(0);
-    doc["meshes"][0]["primitives"] =
-        json!([prim, points.clone(), points, colored, { "attributes": {} }]);
+    doc["meshes"][0]["primitives"] = json!([prim, points.clone(), points, colored, { "attributes": {} }]);
     doc["animations"] = json!([
         { "channels": [], "samplers": [] },
         { "channels": [], "samplers": [] },
@@ -765,10 +669,7 @@ fn ignored_features_are_counted_once_per_kind() {
 /// Every scene under shared/assets loads with triangles and the lights its README lists.
 #[test]
 fn shared_assets_load_with_their_documented_lights() {
-    let assets = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/assets"
-    ));
+    let assets = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets"));
     // (folder, directional, spot, point, cameras)
     let expected = [
         ("ShadowsDirectional", 1, 0, 0, 1),
@@ -795,26 +696,13 @@ fn shared_assets_load_with_their_documented_lights() {
         for file in files {
             let scene = load_gltf(&file).unwrap_or_else(|e| panic!("{e}"));
             assert!(scene.triangle_count() > 0, "{folder}: no triangles");
-            let count =
-                |f: fn(&LightKind) -> bool| scene.lights.iter().filter(|l| f(&l.kind)).count();
-            assert_eq!(
-                count(|k| *k == LightKind::Directional),
-                directional,
-                "{folder}"
-            );
-            assert_eq!(
-                count(|k| matches!(k, LightKind::Spot { .. })),
-                spot,
-                "{folder}"
-            );
+            let count = |f: fn(&LightKind) -> bool| scene.lights.iter().filter(|l| f(&l.kind)).count();
+            assert_eq!(count(|k| *k == LightKind::Directional), directional, "{folder}");
+            assert_eq!(count(|k| matches!(k, LightKind::Spot { .. })), spot, "{folder}");
             assert_eq!(count(|k| *k == LightKind::Point), point, "{folder}");
             assert_eq!(scene.cameras.len(), cameras, "{folder}");
             for light in &scene.lights {
-                assert!(
-                    (light.direction.length() - 1.0).abs() < 1e-4,
-                    "{folder}: {}",
-                    light.name
-                );
+                assert!((light.direction.length() - 1.0).abs() < 1e-4, "{folder}: {}", light.name);
             }
             for mesh in &scene.meshes {
                 for p in &mesh.primitives {

@@ -16,23 +16,14 @@ pub(super) struct UriData {
 /// folder.
 pub(super) fn read_uri(base_dir: &Path, uri: &str) -> Result<UriData, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
-        let (header, payload) = rest
-            .split_once(',')
-            .ok_or("data URI has no comma before its payload")?;
+        let (header, payload) = rest.split_once(',').ok_or("data URI has no comma before its payload")?;
         let (mime, base64) = match header.strip_suffix(";base64") {
             Some(mime) => (mime, true),
             None => (header, false),
         };
-        let bytes = if base64 {
-            decode_base64(payload)?
-        } else {
-            percent_decode(payload)?
-        };
+        let bytes = if base64 { decode_base64(payload)? } else { percent_decode(payload)? };
         let mime = mime.split(';').next().unwrap_or("");
-        return Ok(UriData {
-            bytes,
-            mime: (!mime.is_empty()).then(|| mime.to_ascii_lowercase()),
-        });
+        return Ok(UriData { bytes, mime: (!mime.is_empty()).then(|| mime.to_ascii_lowercase()) });
     }
     let scheme_end = uri.find(':');
     let path = match scheme_end {
@@ -77,12 +68,7 @@ fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
     FORGIVING.decode(&symbols).map_err(|e| match e {
         base64::DecodeError::InvalidByte(offset, _) => {
             // `offset` counts symbols; the message counts characters of the payload.
-            let at = text
-                .bytes()
-                .enumerate()
-                .filter(|(_, c)| !is_space(c))
-                .nth(offset)
-                .map_or(offset, |(i, _)| i);
+            let at = text.bytes().enumerate().filter(|(_, c)| !is_space(c)).nth(offset).map_or(offset, |(i, _)| i);
             format!("invalid base64 character at {at}")
         }
         other => format!("invalid base64: {other}"),
@@ -97,11 +83,7 @@ fn percent_decode(text: &str) -> Result<Vec<u8>, String> {
         .iter()
         .enumerate()
         .filter(|&(_, &c)| c == b'%')
-        .all(|(i, _)| {
-            bytes
-                .get(i + 1..i + 3)
-                .is_some_and(|hex| hex.iter().all(u8::is_ascii_hexdigit))
-        });
+        .all(|(i, _)| bytes.get(i + 1..i + 3).is_some_and(|hex| hex.iter().all(u8::is_ascii_hexdigit)));
     if !well_formed {
         return Err(format!("invalid percent escape in URI {text}"));
     }
@@ -130,34 +112,18 @@ mod tests {
 
     #[test]
     fn base64_errors_name_the_character_position() {
-        assert_eq!(
-            decode_base64("SGVs*G8=").unwrap_err(),
-            "invalid base64 character at 4"
-        );
+        assert_eq!(decode_base64("SGVs*G8=").unwrap_err(), "invalid base64 character at 4");
         // Positions count the payload's characters, whitespace included.
-        assert_eq!(
-            decode_base64("SG\nVs*G8=").unwrap_err(),
-            "invalid base64 character at 5"
-        );
-        assert!(
-            decode_base64("SGVsb")
-                .unwrap_err()
-                .starts_with("invalid base64")
-        );
+        assert_eq!(decode_base64("SG\nVs*G8=").unwrap_err(), "invalid base64 character at 5");
+        assert!(decode_base64("SGVsb").unwrap_err().starts_with("invalid base64"));
     }
 
     #[test]
     fn percent_escapes_decode_and_malformed_ones_are_errors() {
-        assert_eq!(
-            percent_decode("a%20b%2Fc%e2%82%ac").unwrap(),
-            "a b/c€".as_bytes()
-        );
+        assert_eq!(percent_decode("a%20b%2Fc%e2%82%ac").unwrap(), "a b/c€".as_bytes());
         assert_eq!(percent_decode("plain").unwrap(), b"plain");
         for text in ["50%", "%2", "%zz", "%+1", "a%%41"] {
-            assert_eq!(
-                percent_decode(text).unwrap_err(),
-                format!("invalid percent escape in URI {text}")
-            );
+            assert_eq!(percent_decode(text).unwrap_err(), format!("invalid percent escape in URI {text}"));
         }
         assert!(bytes_to_path(percent_decode("%ff").unwrap()).is_err());
     }
@@ -171,17 +137,10 @@ mod tests {
         assert_eq!(data.bytes, b"a b");
         assert_eq!(data.mime, None);
         assert_eq!(
-            read_uri(Path::new("."), "https://example.com/a.bin")
-                .err()
-                .unwrap(),
+            read_uri(Path::new("."), "https://example.com/a.bin").err().unwrap(),
             "URI scheme https: is not supported"
         );
-        let missing = read_uri(Path::new("/no-such-dir"), "a%20b.bin")
-            .err()
-            .unwrap();
-        assert!(
-            missing.starts_with("cannot read /no-such-dir/a b.bin"),
-            "{missing}"
-        );
+        let missing = read_uri(Path::new("/no-such-dir"), "a%20b.bin").err().unwrap();
+        assert!(missing.starts_with("cannot read /no-such-dir/a b.bin"), "{missing}");
     }
 }

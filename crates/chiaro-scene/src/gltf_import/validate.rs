@@ -23,10 +23,7 @@ pub(super) fn check_required_extensions(path: &Path, raw: &Value) -> Result<(), 
     for name in required.as_array().ok_or_else(not_strings)? {
         let name = name.as_str().ok_or_else(not_strings)?;
         if !SUPPORTED_EXTENSIONS.contains(&name) {
-            return Err(SceneError::UnsupportedExtension {
-                path: path.to_path_buf(),
-                extension: name.to_owned(),
-            });
+            return Err(SceneError::UnsupportedExtension { path: path.to_path_buf(), extension: name.to_owned() });
         }
     }
     Ok(())
@@ -37,10 +34,7 @@ pub(super) fn check_required_extensions(path: &Path, raw: &Value) -> Result<(), 
 /// extensions already vetted, primitives without POSITION (skipped), and POSITION accessors
 /// without `min`/`max` (bounds are computed from the data).
 pub(super) fn validate(path: &Path, raw: &Value, root: &json::Root) -> Result<(), SceneError> {
-    let invalid = |message: String| SceneError::Invalid {
-        path: path.to_path_buf(),
-        message,
-    };
+    let invalid = |message: String| SceneError::Invalid { path: path.to_path_buf(), message };
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             for (semantic, accessor) in &primitive.attributes {
@@ -62,8 +56,7 @@ pub(super) fn validate(path: &Path, raw: &Value, root: &json::Root) -> Result<()
         let path = path();
         let p = path.as_str();
         let tolerated = p.starts_with("extensionsRequired")
-            || (p.ends_with("attributes[\"POSITION\"]")
-                && error == json::validation::Error::Missing)
+            || (p.ends_with("attributes[\"POSITION\"]") && error == json::validation::Error::Missing)
             || p.ends_with("attributes[\"POSITION\"].min")
             || p.ends_with("attributes[\"POSITION\"].max");
         if !tolerated {
@@ -115,22 +108,11 @@ fn describe_problem(raw: &Value, path: &str, error: json::validation::Error) -> 
 
 /// What an index at `path` points to, from the last field name on the path.
 fn index_kind(path: &str) -> &'static str {
-    let field = path
-        .rsplit('.')
-        .next()
-        .unwrap_or(path)
-        .split('[')
-        .next()
-        .unwrap_or("");
+    let field = path.rsplit('.').next().unwrap_or(path).split('[').next().unwrap_or("");
     match field {
-        "indices"
-        | "attributes"
-        | "input"
-        | "output"
-        | "inverseBindMatrices"
-        | "POSITION"
-        | "NORMAL"
-        | "TANGENT" => "accessor",
+        "indices" | "attributes" | "input" | "output" | "inverseBindMatrices" | "POSITION" | "NORMAL" | "TANGENT" => {
+            "accessor"
+        }
         "children" | "nodes" | "node" | "joints" | "skeleton" => "node",
         "bufferView" => "buffer view",
         "buffer" => "buffer",

@@ -1,0 +1,74 @@
+//! Rendered shadows against the ray-traced reference: renders a frame with its shadow
+//! AOVs, traces the same camera and resolution on the CPU (chiaro-trace), and judges each
+//! light with chiaro_trace::compare.
+
+use crate::error::RenderError;
+use crate::frame_lights::effective_range;
+use crate::renderer::{FrameOptions, PreparedScene, Renderer};
+use crate::view::View;
+use chiaro_scene::{Scene, Settings};
+use chiaro_trace::{
+    LightComparison, PixelCamera, ShadowReference, compare_light, difference_image, trace_shadow_reference,
+};
+use glam::Vec3;
+
+/// One light's verdict.
+#[derive(Clone, Debug)]
+pub struct LightReport {
+    /// Index in `Scene::lights`.
+    pub light: usize,
+    pub comparison: LightComparison,
+    /// RGBA8 difference image (see chiaro_trace::PixelVerdict::color).
+    pub difference: Vec<[u8; 4]>,
+}
+
+pub struct ShadowComparison {
+    pub reports: Vec<LightReport>,
+    pub reference: ShadowReference,
+    /// The rendered shadow AOVs, per scene light.
+    pub rendered: Vec<Vec<f32>>,
+}
+
+pub fn compare_shadows(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    view: &View,
+    settings: &Settings,
+) -> Result<ShadowComparison, RenderError> {
+    let frame = renderer.render(
+        scene,
+        prepared,
+        view,
+        settings,
+        FrameOptions { aovs: true, shadow_aovs: true, readback: true, ..Default::default() },
+    )?;
+    let positions: Vec<Option<Vec3>> = frame
+        .aovs
+        .as_ref()
+        .expect("aovs were asked for")
+        .position_ws
+        .iter()
+        .map(|p| p[0].is_finite().then(|| Vec3::from(*p)))
+        .collect();
+    let ranges: Vec<f32> = scene.lights.iter().map(|l| effective_range(l, settings)).collect();
+    let camera = PixelCamera { clip_from_world: view.clip_from_world(), width: view.width, height: view.height };
+    let reference = {
+        let _span = tracing::info_span!("trace reference").entered();
+        trace_shadow_reference(scene, &camera, &ranges)
+    };
+    let reports = scene
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, light)| {
+            let rendered = &frame.shadow_aovs[i];
+            LightReport {
+                light: i,
+                comparison: compare_light(rendered, &positions, &reference, i, light, ranges[i]),
+                difference: difference_image(rendered, &positions, &reference, i, light, ranges[i]),
+            }
+        })
+        .collect();
+    Ok(ShadowComparison { reports, reference, rendered: frame.shadow_aovs })
+}

@@ -1,0 +1,93 @@
+//! `chiaro compare`: realtime shadows against the ray-traced reference, per light, as the
+//! share of compared pixels where they disagree, split into false and missed shadow.
+
+use crate::output::{sibling_path, write_png};
+use crate::scene_source::{choose_view, load_scene, load_settings};
+use crate::shadow_args::ShadowArgs;
+use anyhow::{Result, bail};
+use chiaro_render::shadow_compare::compare_shadows;
+use chiaro_render::{GpuContext, Renderer};
+use chiaro_scene::LightKind;
+use chiaro_scene::demo::DEMO_OTHER_LIGHTS;
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// A .gltf or .glb file; without one, the built-in demo scene.
+    pub scene: Option<PathBuf>,
+    #[arg(long, default_value_t = 256)]
+    pub width: u32,
+    #[arg(long, default_value_t = 256)]
+    pub height: u32,
+    #[arg(long)]
+    pub camera: Option<String>,
+    #[arg(long)]
+    pub settings: Option<PathBuf>,
+    /// Point and spot lights in the demo scene.
+    #[arg(long, default_value_t = DEMO_OTHER_LIGHTS)]
+    pub demo_lights: usize,
+    /// Write a difference image per light, `<stem>.<node>.png` (black: not compared,
+    /// grey: agree, red: false shadow, blue: missed shadow).
+    #[arg(long)]
+    pub diff: Option<PathBuf>,
+    /// Exit with an error when any light disagrees on more than this percentage.
+    #[arg(long)]
+    pub fail_above: Option<f64>,
+    #[command(flatten)]
+    pub shadow: ShadowArgs,
+}
+
+pub fn run(args: CompareArgs) -> Result<()> {
+    let mut settings = load_settings(args.settings.as_deref())?;
+    args.shadow.apply(&mut settings)?;
+    let scene = load_scene(args.scene.as_deref(), args.demo_lights)?;
+    let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
+    let mut renderer = Renderer::new(GpuContext::new()?)?;
+    let prepared = renderer.prepare(&scene)?;
+    let result = compare_shadows(&mut renderer, &scene, &prepared, &view, &settings)?;
+    println!(
+        "scene: {}; {}x{}; filter {}, {} cascades, max distance {} m",
+        args.scene.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| "demo".into()),
+        args.width,
+        args.height,
+        settings.shadows.directional.filter,
+        settings.shadows.directional.cascade_count,
+        settings.shadows.max_distance
+    );
+    println!(
+        "{:<6} {:<24} {:<12} {:>9} {:>12} {:>9} {:>9}",
+        "node", "light", "type", "compared", "disagree %", "false %", "missed %"
+    );
+    let mut worst: f64 = 0.0;
+    for report in &result.reports {
+        let light = &scene.lights[report.light];
+        let kind = match light.kind {
+            LightKind::Directional => "directional",
+            LightKind::Point => "point",
+            LightKind::Spot { .. } => "spot",
+        };
+        let c = &report.comparison;
+        println!(
+            "{:<6} {:<24} {:<12} {:>9} {:>12.3} {:>9.3} {:>9.3}",
+            light.node,
+            light.name.chars().take(24).collect::<String>(),
+            kind,
+            c.compared,
+            100.0 * c.disagreement(),
+            100.0 * c.false_share(),
+            100.0 * c.missed_share()
+        );
+        worst = worst.max(100.0 * c.disagreement());
+        if let Some(diff) = &args.diff {
+            let rgba: Vec<u8> = report.difference.iter().flatten().copied().collect();
+            write_png(&sibling_path(diff, &format!("{}.png", light.node)), args.width, args.height, &rgba)?;
+        }
+    }
+    if let Some(limit) = args.fail_above
+        && worst > limit
+    {
+        bail!("shadows disagree with the reference on {worst:.3}% of pixels for some light (limit {limit}%)");
+    }
+    Ok(())
+}

@@ -1,0 +1,40 @@
+//! Command-line overrides of the shadow settings, shared by render, compare and bench.
+
+use anyhow::{Result, anyhow};
+use chiaro_scene::Settings;
+use clap::Args;
+
+#[derive(Args, Clone, Debug, Default)]
+pub struct ShadowArgs {
+    /// Max shadow distance in metres (overrides shadows.max_distance).
+    #[arg(long)]
+    pub shadow_distance: Option<f32>,
+    /// pcf2x2, tent3x3, tent5x5 or tent7x7 (overrides shadows.directional.filter).
+    #[arg(long)]
+    pub shadow_filter: Option<String>,
+    /// Cascades per directional light, 1 to 4 (overrides shadows.directional.cascade_count).
+    #[arg(long)]
+    pub cascades: Option<u32>,
+    /// Directional shadow atlas size (overrides shadows.directional.atlas_size).
+    #[arg(long)]
+    pub shadow_atlas_size: Option<u32>,
+}
+
+impl ShadowArgs {
+    /// Applies the overrides and validates the result, naming the flag on error.
+    pub fn apply(&self, settings: &mut Settings) -> Result<()> {
+        if let Some(d) = self.shadow_distance {
+            settings.shadows.max_distance = d;
+        }
+        if let Some(f) = &self.shadow_filter {
+            settings.shadows.directional.filter = f.clone();
+        }
+        if let Some(c) = self.cascades {
+            settings.shadows.directional.cascade_count = c;
+        }
+        if let Some(s) = self.shadow_atlas_size {
+            settings.shadows.directional.atlas_size = s;
+        }
+        settings.validate().map_err(|e| anyhow!("command-line shadow option: {e}"))
+    }
+}
