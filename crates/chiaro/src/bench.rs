@@ -2,6 +2,7 @@
 //! has them (wall time otherwise), with the CPU time spent preparing each frame.
 
 use crate::scene_source::{choose_view, load_scene, load_settings};
+use crate::shadow_args::ShadowArgs;
 use anyhow::Result;
 use chiaro_render::{FrameOptions, GpuContext, Renderer};
 use chiaro_scene::demo::DEMO_OTHER_LIGHTS;
@@ -29,6 +30,8 @@ pub struct BenchArgs {
     /// Point and spot lights in the demo scene.
     #[arg(long, default_value_t = DEMO_OTHER_LIGHTS)]
     pub demo_lights: usize,
+    #[command(flatten)]
+    pub shadow: ShadowArgs,
 }
 
 struct Stats {
@@ -46,7 +49,8 @@ fn stats(mut v: Vec<f64>) -> Stats {
 
 pub fn run(args: BenchArgs) -> Result<()> {
     anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
-    let settings = load_settings(args.settings.as_deref())?;
+    let mut settings = load_settings(args.settings.as_deref())?;
+    args.shadow.apply(&mut settings)?;
     let scene = load_scene(args.scene.as_deref(), args.demo_lights)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
@@ -78,6 +82,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
         scene.triangle_count(),
         frames[0].other_lights_shaded
     );
+    let ds = &settings.shadows.directional;
+    println!(
+        "shadows: {} tiles in a {} atlas ({} cascades, {}), {} caster draws",
+        frames[0].shadow_tiles, ds.atlas_size, ds.cascade_count, ds.filter, frames[0].shadow_caster_draws
+    );
     let mut rows: Vec<(String, Stats)> = Vec::new();
     if frames[0].timings.gpu_total_ms().is_some() {
         rows.push((
@@ -90,6 +99,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 stats(frames.iter().map(|f| f.timings.gpu_pass_ms[i].1).collect()),
             ));
         }
+    }
+    let shadow_share: Vec<f64> = frames
+        .iter()
+        .filter_map(|f| {
+            let shadows = f.timings.gpu_pass_ms.iter().find(|(p, _)| *p == "shadows")?.1;
+            Some(100.0 * shadows / f.timings.gpu_total_ms()?)
+        })
+        .collect();
+    if !shadow_share.is_empty() {
+        rows.push(("  shadow passes, % of gpu".into(), stats(shadow_share)));
     }
     rows.push(("wall frame (submit to idle)".into(), stats(frames.iter().map(|f| f.timings.wall_ms).collect())));
     rows.push(("cpu prepare".into(), stats(frames.iter().map(|f| f.timings.cpu_prepare_ms).collect())));

@@ -71,6 +71,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         settings.render.exposure_ev100 = ev;
         settings.validate().map_err(|e| anyhow::anyhow!("--exposure: {e}"))?;
     }
+    args.shadow.apply(&mut settings)?;
     let width = args.width.unwrap_or(settings.render.width);
     let height = args.height.unwrap_or(settings.render.height);
     let scene = load_scene(args.scene.as_deref(), args.demo_lights)?;

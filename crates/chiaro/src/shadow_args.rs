@@ -7,7 +7,7 @@ use clap::Args;
 #[derive(Args, Clone, Debug, Default)]
 pub struct ShadowArgs {
     /// Max shadow distance in metres (overrides shadows.max_distance).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub shadow_distance: Option<f32>,
     /// pcf2x2, tent3x3, tent5x5 or tent7x7 (overrides shadows.directional.filter).
     #[arg(long)]

@@ -319,3 +319,76 @@ fn bench_prints_a_table() {
         assert!(run.stdout.contains(row), "missing '{row}': {}", run.stdout);
     }
 }
+
+#[test]
+fn shadow_aovs_and_atlas_are_written_per_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = chiaro(
+        &[
+            "render",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--demo-lights",
+            "2",
+            "-o",
+            "demo.png",
+            "--aov",
+            "shadow",
+            "--debug",
+            "shadow-atlas",
+            "--debug",
+            "cascades",
+            "--shadow-atlas-size",
+            "512",
+        ],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    // Demo lights: the sun and two others, on nodes after the 9 objects.
+    for node in [9, 10, 11] {
+        let channels = read_exr_channels(&dir.path().join(format!("demo.shadow.{node}.exr")));
+        assert_eq!(channels.len(), 1);
+        let values = &channels[0].1;
+        assert!(values.iter().filter(|v| v.is_finite()).all(|v| (0.0..=1.0).contains(v)));
+        if node == 9 {
+            assert!(values.iter().any(|&v| v < 0.5), "the sun casts shadows in the demo");
+        }
+    }
+    let atlas = image::open(dir.path().join("demo.shadow-atlas.png")).unwrap();
+    assert_eq!((atlas.width(), atlas.height()), (512, 512));
+}
+
+#[test]
+fn bad_shadow_options_name_the_setting() {
+    expect_failure(&[], &["render", "--shadow-filter", "gauss", "-o", "out.png"], &[], &["shadows.directional.filter"]);
+    expect_failure(&[], &["render", "--cascades", "9", "-o", "out.png"], &[], &["shadows.directional.cascade_count"]);
+    expect_failure(&[], &["render", "--shadow-distance", "-4", "-o", "out.png"], &[], &["shadows.max_distance"]);
+}
+
+#[test]
+fn compare_reports_every_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = chiaro(
+        &["compare", "--width", "96", "--height", "96", "--demo-lights", "2", "--diff", "diff.png"],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    for name in ["sun", "spot 0", "point 1"] {
+        assert!(run.stdout.contains(name), "missing {name}: {}", run.stdout);
+    }
+    let sun_line = run.stdout.lines().find(|l| l.contains("sun")).unwrap();
+    let disagree: f64 = sun_line.split_whitespace().nth(4).unwrap().parse().unwrap();
+    assert!(disagree < 0.5, "{sun_line}");
+    assert!(dir.path().join("diff.9.png").exists());
+    // Spot and point lights have no realtime shadows yet: the limit catches them.
+    let run = chiaro(
+        &["compare", "--width", "64", "--height", "64", "--demo-lights", "2", "--fail-above", "0.5"],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 1, "{}", run.stdout);
+}

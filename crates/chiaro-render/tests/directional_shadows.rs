@@ -1,0 +1,173 @@
+//! Directional shadows against the ray-traced reference on the software device: a box on a
+//! floor shadows where the reference says with every filter and cascade count, a lit floor
+//! shows no acne down to a 10 degree sun, shadows end at the max distance, and the
+//! per-object cast/receive flags do what they say.
+
+mod common;
+
+use chiaro_render::View;
+use chiaro_render::shadow_compare::{ShadowComparison, compare_shadows};
+use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Mesh, MeshInstance, Scene, Settings, shapes};
+use chiaro_trace::{PixelVerdict, classify_pixels};
+use common::*;
+use glam::{Mat4, Quat, Vec3};
+
+fn sun(elevation_deg: f32, azimuth_deg: f32) -> Light {
+    let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
+    Light {
+        name: "sun".into(),
+        node: 7,
+        kind: LightKind::Directional,
+        color: Vec3::ONE,
+        intensity: 3.0,
+        range: None,
+        position: Vec3::ZERO,
+        direction: -Vec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin()),
+        shadow: LightShadow::default(),
+    }
+}
+
+/// A floor seen from a three-quarter view, with a box of `size` at `position` on it.
+fn box_scene(light: Light, boxes: &[(Vec3, Vec3, CastShadows)], eye: Vec3) -> Scene {
+    let mut scene = floor_scene(40.0, eye, vec![light]);
+    scene.cameras[0].world_from_view = Mat4::look_at_rh(eye, Vec3::new(0.0, 0.5, 0.0), Vec3::Y).inverse();
+    let mut cube = shapes::cuboid(Vec3::ONE);
+    cube.material = Some(0);
+    scene.meshes.push(Mesh { name: "box".into(), primitives: vec![cube] });
+    for (i, &(position, size, cast)) in boxes.iter().enumerate() {
+        scene.instances.push(MeshInstance {
+            mesh: 1,
+            node: 2 + i,
+            name: format!("box {i}"),
+            world_from_local: Mat4::from_scale_rotation_translation(size, Quat::from_rotation_y(0.4), position),
+            cast_shadows: cast,
+            receive_shadows: true,
+        });
+    }
+    scene
+}
+
+fn compare(scene: &Scene, settings: &Settings, size: u32) -> ShadowComparison {
+    let mut renderer = renderer();
+    let prepared = renderer.prepare(scene).unwrap();
+    let view = View::from_camera(scene, 0, size, size);
+    compare_shadows(&mut renderer, scene, &prepared, &view, settings).unwrap()
+}
+
+fn verdicts(scene: &Scene, result: &ShadowComparison) -> Vec<PixelVerdict> {
+    let positions: Vec<Option<Vec3>> = result.reference.position.clone();
+    classify_pixels(&result.rendered[0], &positions, &result.reference, 0, &scene.lights[0], f32::INFINITY)
+}
+
+#[test]
+fn box_shadow_matches_the_reference_with_every_filter_and_cascade_count() {
+    let scene = box_scene(
+        sun(40.0, -60.0),
+        &[(Vec3::new(0.0, 0.75, 0.0), Vec3::new(2.0, 1.5, 2.0), CastShadows::On)],
+        Vec3::new(0.0, 5.0, 7.0),
+    );
+    for filter in ["pcf2x2", "tent3x3", "tent5x5", "tent7x7"] {
+        for cascades in [1, 2, 4] {
+            let mut settings = unlit_settings();
+            // The scene is 10 m across: a 20 m shadow distance keeps one cascade's texels
+            // (and so the wide filters' blur) near the size of the 3-pixel edge band.
+            settings.shadows.max_distance = 20.0;
+            settings.shadows.directional.filter = filter.into();
+            settings.shadows.directional.cascade_count = cascades;
+            let result = compare(&scene, &settings, 200);
+            let c = &result.reports[0].comparison;
+            let shadowed = verdicts(&scene, &result).iter().filter(|v| **v == PixelVerdict::AgreeShadowed).count();
+            assert!(shadowed > 300, "{filter}, {cascades} cascades: only {shadowed} shadowed pixels agree");
+            assert!(
+                c.disagreement() < 0.005,
+                "{filter}, {cascades} cascades: {:.3}% disagree ({} false, {} missed of {})",
+                100.0 * c.disagreement(),
+                c.false_shadow,
+                c.missed_shadow,
+                c.compared
+            );
+        }
+    }
+}
+
+#[test]
+fn no_acne_on_a_lit_floor_at_grazing_sun_angles() {
+    for elevation in [10.0, 20.0, 45.0, 80.0] {
+        let scene = box_scene(sun(elevation, 110.0), &[], Vec3::new(0.0, 3.0, 9.0));
+        let result = compare(&scene, &unlit_settings(), 160);
+        let c = &result.reports[0].comparison;
+        assert!(c.compared > 10_000, "{elevation} deg: {} compared", c.compared);
+        assert_eq!(c.false_shadow, 0, "{elevation} deg sun: acne on {} of {} floor pixels", c.false_shadow, c.compared);
+    }
+}
+
+#[test]
+fn shadows_fade_out_beyond_the_max_distance() {
+    // Boxes marching away from the camera down -Z; shadows reach at most 12 m.
+    let boxes: Vec<(Vec3, Vec3, CastShadows)> =
+        (0..8).map(|i| (Vec3::new(0.0, 0.5, 2.0 - 3.0 * i as f32), Vec3::ONE, CastShadows::On)).collect();
+    let scene = box_scene(sun(40.0, 0.0), &boxes, Vec3::new(0.0, 3.0, 6.0));
+    let mut settings = unlit_settings();
+    settings.shadows.max_distance = 12.0;
+    let result = compare(&scene, &settings, 192);
+    let aovs_depth = {
+        let mut renderer = renderer();
+        let prepared = renderer.prepare(&scene).unwrap();
+        let frame = renderer
+            .render(
+                &scene,
+                &prepared,
+                &View::from_camera(&scene, 0, 192, 192),
+                &settings,
+                chiaro_render::FrameOptions { aovs: true, readback: true, ..Default::default() },
+            )
+            .unwrap();
+        frame.aovs.unwrap().depth
+    };
+    let (mut near_shadowed, mut far_checked) = (0, 0);
+    for (i, &depth) in aovs_depth.iter().enumerate() {
+        let rendered = result.rendered[0][i];
+        let reference = result.reference.visibility[0][i];
+        if !depth.is_finite() || !reference.is_finite() {
+            continue;
+        }
+        if depth > 12.0 {
+            far_checked += 1;
+            assert_eq!(rendered, 1.0, "shadow sampled at depth {depth}");
+        } else if depth < 10.0 && reference == 0.0 && result.reports[0].difference[i] != [0, 0, 0, 255] {
+            near_shadowed += 1;
+            assert!(rendered < 0.5, "shadow lost at depth {depth}: {rendered}");
+        }
+    }
+    assert!(far_checked > 1000 && near_shadowed > 100, "far {far_checked}, near shadowed {near_shadowed}");
+}
+
+#[test]
+fn cast_and_receive_flags_are_honoured() {
+    let boxes = [
+        (Vec3::new(-2.0, 0.75, 0.0), Vec3::new(1.0, 1.5, 1.0), CastShadows::Off),
+        (Vec3::new(2.0, 0.75, 0.0), Vec3::new(1.0, 1.5, 1.0), CastShadows::ShadowsOnly),
+    ];
+    let scene = box_scene(sun(60.0, 90.0), &boxes, Vec3::new(0.0, 6.0, 6.0));
+    let result = compare(&scene, &unlit_settings(), 160);
+    // The reference honours the same flags, so agreement means both are right...
+    let c = &result.reports[0].comparison;
+    assert!(c.disagreement() < 0.005, "{:.3}% disagree", 100.0 * c.disagreement());
+    // ...and there is a shadow (from the shadows-only box) but no visible box there.
+    let shadowed = result.rendered[0].iter().filter(|v| **v < 0.5).count();
+    assert!(shadowed > 100, "the shadows-only box casts: {shadowed}");
+    let shadows_only_center = Vec3::new(2.0, 0.75, 0.0);
+    let seen_inside =
+        result.reference.position.iter().flatten().filter(|p| p.distance(shadows_only_center) < 0.45).count();
+    assert_eq!(seen_inside, 0, "shadows-only boxes are invisible");
+
+    // A floor that does not receive shadows reports attenuation 1 everywhere.
+    let mut no_receive = scene.clone();
+    no_receive.instances[0].receive_shadows = false;
+    let result = compare(&no_receive, &unlit_settings(), 96);
+    let aov = &result.rendered[0];
+    let floor_pixels: Vec<usize> =
+        (0..aov.len()).filter(|&i| result.reference.position[i].is_some_and(|p| p.y.abs() < 1e-3)).collect();
+    assert!(floor_pixels.len() > 1000);
+    assert!(floor_pixels.iter().all(|&i| aov[i] == 1.0));
+}
