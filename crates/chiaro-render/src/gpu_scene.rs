@@ -35,8 +35,9 @@ impl Draw {
         self.cast_shadows != CastShadows::ShadowsOnly
     }
 
+    /// Alpha-blended surfaces cast no shadows (the reference skips them too).
     pub fn casts_shadows(&self) -> bool {
-        self.cast_shadows != CastShadows::Off
+        self.cast_shadows != CastShadows::Off && self.alpha_mode != AlphaMode::Blend
     }
 }
 

@@ -43,6 +43,8 @@ pub struct GpuOtherLight {
     pub _pad1: f32,
     pub spot_angles: Vec2,
     pub _pad2: Vec2,
+    /// (strength, first atlas tile, 1 for points, filter); strength <= 0 samples none.
+    pub shadow: Vec4,
 }
 
 #[repr(C)]
@@ -76,6 +78,7 @@ impl GpuObject {
 
 /// Shadowed directional lights x cascades.
 pub const MAX_DIRECTIONAL_SHADOW_TILES: usize = 16;
+pub use chiaro_math::shadow::other::MAX_OTHER_SHADOW_TILES;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -88,6 +91,11 @@ pub struct GpuShadows {
     pub distance_fade: Vec4,
     /// (atlas size, 1 / atlas size, tiles per side, unused).
     pub directional_atlas: Vec4,
+    pub other_atlas_from_world: [Mat4; MAX_OTHER_SHADOW_TILES],
+    /// xy: tile origin (half a texel in), z: extent less a texel, w: normal bias per metre.
+    pub other_tiles: [Vec4; MAX_OTHER_SHADOW_TILES],
+    /// (atlas size, 1 / atlas size, unused, unused).
+    pub other_atlas: Vec4,
     pub cascade_count: u32,
     pub cascade_blend: u32,
     pub _pad: [u32; 2],
@@ -108,7 +116,8 @@ pub struct GpuCasterView {
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuAovLight {
     pub directional_index: u32,
-    pub _pad: [u32; 63],
+    pub other_index: u32,
+    pub _pad: [u32; 62],
 }
 
 #[repr(C)]

@@ -20,5 +20,5 @@ pub mod view;
 
 pub use context::GpuContext;
 pub use error::RenderError;
-pub use renderer::{FrameOptions, FrameOutput, FrameTimings, Renderer};
+pub use renderer::{FrameOptions, FrameOutput, FrameTimings, Renderer, ShadowStatus};
 pub use view::View;

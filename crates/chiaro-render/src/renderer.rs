@@ -88,11 +88,27 @@ pub struct FrameOutput {
     /// Per scene light (by index in `Scene::lights`): the shadow attenuation the shading
     /// used, 1 where no shadow map covers the pixel, NaN where no surface is.
     pub shadow_aovs: Vec<Vec<f32>>,
-    /// The directional shadow atlas, side length and depths, if asked for.
-    pub shadow_atlas: Option<(u32, Vec<f32>)>,
+    /// The shadow atlases ("directional", "other") that were in use, side length and
+    /// depths, if asked for.
+    pub shadow_atlases: Vec<(&'static str, u32, Vec<f32>)>,
+    /// Per scene light: whether it had a realtime shadow map this frame, and if not why.
+    pub shadow_status: Vec<ShadowStatus>,
     /// Shadow tiles rendered and caster draws issued into them.
     pub shadow_tiles: usize,
     pub shadow_caster_draws: usize,
+}
+
+/// Whether a light's shadows came from a shadow map this frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowStatus {
+    /// Sampled from its atlas tiles.
+    Mapped,
+    /// The light casts no shadows (extras `shadows: none` or strength 0).
+    Off,
+    /// The light was not shaded this frame (culled, or over the light limits).
+    NotShaded,
+    /// It casts shadows but found no free atlas tiles.
+    NoTile,
 }
 
 #[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
@@ -222,6 +238,16 @@ impl Renderer {
                     binding: 5,
                     visibility: wgpu::ShaderStages::FRAGMENT,
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
                     count: None,
                 },
             ],
@@ -385,11 +411,15 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 3, resource: self.shadows_buffer.as_entire_binding() },
                 wgpu::BindGroupEntry {
                     binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&self.shadow_pass.atlas_view),
+                    resource: wgpu::BindingResource::TextureView(&self.shadow_pass.directional.view),
                 },
                 wgpu::BindGroupEntry {
                     binding: 5,
                     resource: wgpu::BindingResource::Sampler(&self.shadow_pass.sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(&self.shadow_pass.other.view),
                 },
             ],
         })
@@ -514,11 +544,20 @@ impl Renderer {
         let mut lights = prepare_lights(scene, view, settings);
         let directional: Vec<&chiaro_scene::Light> =
             lights.directional_scene_index.iter().map(|&i| &scene.lights[i]).collect();
-        let plan = plan_shadows(view, settings, &directional);
+        let other: Vec<(&chiaro_scene::Light, f32)> = lights
+            .other_scene_index
+            .iter()
+            .zip(&lights.gpu.other)
+            .map(|(&i, gpu)| (&scene.lights[i], gpu.range))
+            .collect();
+        let plan = plan_shadows(view, settings, &directional, &other);
         for (slot, shadow) in lights.gpu.directional.iter_mut().zip(plan.directional) {
             slot.shadow = shadow;
         }
-        self.shadow_pass.ensure_atlas(&self.ctx.device, plan.atlas_size);
+        for (slot, shadow) in lights.gpu.other.iter_mut().zip(&plan.other) {
+            slot.shadow = *shadow;
+        }
+        self.shadow_pass.ensure_atlases(&self.ctx.device, &plan);
         let exposure = exposure_scale(settings.render.exposure_ev100);
         let frame = GpuFrame {
             clip_from_world: view.clip_from_world(),
@@ -550,7 +589,7 @@ impl Renderer {
         let frame_bind_group = self.frame_bind_group(prepared);
         let mut encoder =
             self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        let shadow_timestamps = timestamp_writes(&self.timestamps, "shadows");
+        let shadow_timestamps = self.timestamps.as_ref().map(|ts| (&ts.queries, 2 * timed_index("shadows")));
         let shadow_caster_draws =
             self.shadow_pass.record(&self.ctx, &mut encoder, &plan, &prepared.gpu, shadow_timestamps);
         let background = Vec3::from(settings.render.background) * exposure;
@@ -574,7 +613,8 @@ impl Renderer {
             let bytes = read_buffer(&self.ctx, &ts.readback)?;
             let stamps: &[u64] = bytemuck::cast_slice(&bytes);
             for (i, name) in TIMED_PASSES.iter().enumerate() {
-                let skipped = (*name == "aov" && !options.aovs) || (*name == "shadows" && plan.tiles.is_empty());
+                let skipped = (*name == "aov" && !options.aovs)
+                    || (*name == "shadows" && plan.tiles.is_empty() && plan.other_tiles.is_empty());
                 if skipped {
                     continue;
                 }
@@ -588,7 +628,8 @@ impl Renderer {
             timings,
             other_lights_shaded: lights.other_count,
             other_lights_dropped: lights.selection.dropped,
-            shadow_tiles: plan.tiles.len(),
+            shadow_status: shadow_status(scene, &lights, &plan),
+            shadow_tiles: plan.tiles.len() + plan.other_tiles.len(),
             shadow_caster_draws,
             ..Default::default()
         };
@@ -598,9 +639,16 @@ impl Renderer {
         if options.shadow_aovs {
             out.shadow_aovs = self.render_shadow_aovs(scene, prepared, &frame_bind_group, &draws, &lights, &plan)?;
         }
-        if options.read_shadow_atlas && plan.atlas_size > 0 {
-            let bytes = read_texture(&self.ctx, self.shadow_pass.atlas(), 4)?;
-            out.shadow_atlas = Some((plan.atlas_size, bytemuck::cast_slice(&bytes).to_vec()));
+        if options.read_shadow_atlas {
+            for (name, size, atlas) in [
+                ("directional", plan.atlas_size, &self.shadow_pass.directional),
+                ("other", plan.other_atlas_size, &self.shadow_pass.other),
+            ] {
+                if size > 0 {
+                    let bytes = read_texture(&self.ctx, &atlas.texture, 4)?;
+                    out.shadow_atlases.push((name, size, bytemuck::cast_slice(&bytes).to_vec()));
+                }
+            }
         }
         Ok(out)
     }
@@ -629,9 +677,12 @@ impl Renderer {
             }],
         });
         for light_index in 0..scene.lights.len() {
-            let slot =
-                lights.directional_scene_index.iter().position(|&i| i == light_index).map_or(NO_LIGHT, |s| s as u32);
-            let value = GpuAovLight { directional_index: slot, _pad: [0; 63] };
+            let slot_of = |slots: &[usize]| slots.iter().position(|&i| i == light_index).map_or(NO_LIGHT, |s| s as u32);
+            let value = GpuAovLight {
+                directional_index: slot_of(&lights.directional_scene_index),
+                other_index: slot_of(&lights.other_scene_index),
+                _pad: [0; 62],
+            };
             self.ctx.queue.write_buffer(&self.aov_lights, 0, bytemuck::bytes_of(&value));
             let mut encoder =
                 self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("shadow aov") });
@@ -789,6 +840,28 @@ impl Renderer {
         }
         Ok(())
     }
+}
+
+fn shadow_status(scene: &Scene, lights: &FrameLights, plan: &ShadowPlan) -> Vec<ShadowStatus> {
+    scene
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, light)| {
+            let packed = lights
+                .directional_scene_index
+                .iter()
+                .position(|&s| s == i)
+                .map(|slot| plan.directional[slot])
+                .or_else(|| lights.other_scene_index.iter().position(|&s| s == i).map(|slot| plan.other[slot]));
+            match packed {
+                _ if !light.shadow.casts() => ShadowStatus::Off,
+                None => ShadowStatus::NotShaded,
+                Some(shadow) if shadow.x > 0.0 => ShadowStatus::Mapped,
+                Some(_) => ShadowStatus::NoTile,
+            }
+        })
+        .collect()
 }
 
 fn timestamp_writes<'a>(timestamps: &'a Option<Timestamps>, pass: &str) -> Option<wgpu::RenderPassTimestampWrites<'a>> {

@@ -4,7 +4,7 @@
 
 use crate::error::RenderError;
 use crate::frame_lights::effective_range;
-use crate::renderer::{FrameOptions, PreparedScene, Renderer};
+use crate::renderer::{FrameOptions, PreparedScene, Renderer, ShadowStatus};
 use crate::view::View;
 use chiaro_scene::{Scene, Settings};
 use chiaro_trace::{
@@ -27,6 +27,8 @@ pub struct ShadowComparison {
     pub reference: ShadowReference,
     /// The rendered shadow AOVs, per scene light.
     pub rendered: Vec<Vec<f32>>,
+    /// Per scene light: whether a shadow map was sampled.
+    pub status: Vec<ShadowStatus>,
 }
 
 pub fn compare_shadows(
@@ -70,5 +72,5 @@ pub fn compare_shadows(
             }
         })
         .collect();
-    Ok(ShadowComparison { reports, reference, rendered: frame.shadow_aovs })
+    Ok(ShadowComparison { reports, reference, rendered: frame.shadow_aovs, status: frame.shadow_status })
 }

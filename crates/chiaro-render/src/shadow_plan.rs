@@ -2,16 +2,20 @@
 //! culling sphere and stable projection, and the uniform the shaders read. The math is
 //! chiaro_math::shadow; this module only arranges it for the GPU.
 
-use crate::gpu_types::{GpuShadows, MAX_DIRECTIONAL_SHADOW_TILES};
+use crate::gpu_types::{GpuShadows, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES};
 use crate::view::View;
 use chiaro_math::Sphere;
 use chiaro_math::shadow::bias::cascade_texel_size_ws;
 use chiaro_math::shadow::fade::distance_fade_params;
+use chiaro_math::shadow::other::{
+    OtherShadowRequest, allocate_other_tiles, perspective_normal_bias, point_face_fov_rad, point_face_view,
+    spot_shadow_view,
+};
 use chiaro_math::shadow::{AtlasLayout, ShadowFilter, cascade_splits, fit_cascade, slice_culling_sphere};
-use chiaro_scene::{CascadeBlend, Light, Settings, ShadowMode};
+use chiaro_scene::{CascadeBlend, Light, LightKind, Settings, ShadowMode};
 use glam::{Mat4, Vec4};
 
-/// One tile of the atlas to render casters into.
+/// One tile of an atlas to render casters into.
 #[derive(Clone, Copy, Debug)]
 pub struct CasterTile {
     pub clip_from_world: Mat4,
@@ -19,6 +23,9 @@ pub struct CasterTile {
     pub viewport: (u32, u32, u32),
     /// Slope-scale depth bias of the light.
     pub slope_bias: f32,
+    /// Perspective tiles (spots, cube faces) cull casters by the light's range sphere and
+    /// never clamp depth; orthographic cascade tiles cull by their box and pancake.
+    pub light_sphere: Option<Sphere>,
 }
 
 pub struct ShadowPlan {
@@ -30,10 +37,19 @@ pub struct ShadowPlan {
     pub tiles: Vec<CasterTile>,
     /// World-space culling spheres (unshrunk), for the debug view and the tests.
     pub cascade_spheres: Vec<Sphere>,
+    /// Per other-light slot (the frame's upload order): (strength, first tile, point, filter).
+    pub other: Vec<Vec4>,
+    /// Other-light atlas side in texels; 0 when no point or spot light casts a shadow.
+    pub other_atlas_size: u32,
+    pub other_tiles: Vec<CasterTile>,
+    /// Other lights that cast shadows but found no free tiles.
+    pub other_overflow: usize,
 }
 
-/// `directional` holds the scene lights in the frame's directional slots, in order.
-pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) -> ShadowPlan {
+/// `directional` holds the scene lights in the frame's directional slots, in order;
+/// `other` the point and spot lights in the frame's upload order (most important first),
+/// with the range each is shaded with.
+pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light], other: &[(&Light, f32)]) -> ShadowPlan {
     let ds = &settings.shadows.directional;
     let filter = ds.shadow_filter();
     let shadowed: Vec<(usize, &Light)> =
@@ -50,6 +66,9 @@ pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) ->
         cascade_data: [Vec4::ZERO; 4],
         distance_fade: Vec4::new(fade[0], fade[1], fade[2], 0.0),
         directional_atlas: Vec4::ONE,
+        other_atlas_from_world: [Mat4::IDENTITY; MAX_OTHER_SHADOW_TILES],
+        other_tiles: [Vec4::ZERO; MAX_OTHER_SHADOW_TILES],
+        other_atlas: Vec4::ONE,
         cascade_count: 0,
         cascade_blend: match ds.cascade_blend {
             CascadeBlend::Hard => 0,
@@ -58,9 +77,20 @@ pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) ->
         },
         _pad: [0; 2],
     };
-    let mut plan =
-        ShadowPlan { gpu, directional: [Vec4::ZERO; 4], atlas_size: 0, tiles: Vec::new(), cascade_spheres: Vec::new() };
+    let mut plan = ShadowPlan {
+        gpu,
+        directional: [Vec4::ZERO; 4],
+        atlas_size: 0,
+        tiles: Vec::new(),
+        cascade_spheres: Vec::new(),
+        other: vec![Vec4::ZERO; other.len()],
+        other_atlas_size: 0,
+        other_tiles: Vec::new(),
+        other_overflow: 0,
+    };
+    plan_other(&mut plan, &mut gpu, settings, other);
     if shadowed.is_empty() {
+        plan.gpu = gpu;
         return plan;
     }
 
@@ -90,6 +120,7 @@ pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) ->
                 clip_from_world: fit.clip_from_world,
                 viewport: layout.tile_viewport(tile),
                 slope_bias: light.shadow.depth_bias,
+                light_sphere: None,
             });
         }
         let light_filter = match light.shadow.mode {
@@ -104,4 +135,74 @@ pub fn plan_shadows(view: &View, settings: &Settings, directional: &[&Light]) ->
     plan.gpu = gpu;
     plan.atlas_size = ds.atlas_size;
     plan
+}
+
+/// Tiles in the second atlas for the point and spot lights that cast shadows, in
+/// importance order; a light that does not fit keeps a negative strength (the tutorial's
+/// convention: no realtime shadow, baked shadows still apply).
+fn plan_other(plan: &mut ShadowPlan, gpu: &mut GpuShadows, settings: &Settings, other: &[(&Light, f32)]) {
+    let os = &settings.shadows.other;
+    let casting: Vec<(usize, &Light, f32, OtherShadowRequest)> = other
+        .iter()
+        .enumerate()
+        .filter(|(_, (l, _))| l.shadow.casts())
+        .map(|(slot, &(l, range))| {
+            let request = match l.kind {
+                LightKind::Point => OtherShadowRequest::Point,
+                _ => OtherShadowRequest::Spot,
+            };
+            (slot, l, range, request)
+        })
+        .collect();
+    if casting.is_empty() {
+        return;
+    }
+    let requests: Vec<OtherShadowRequest> = casting.iter().map(|c| c.3).collect();
+    let first_tiles = allocate_other_tiles(&requests, MAX_OTHER_SHADOW_TILES);
+    let used: usize = requests.iter().zip(&first_tiles).filter(|(_, t)| t.is_some()).map(|(r, _)| r.tiles()).sum();
+    let layout = AtlasLayout::for_tiles(os.atlas_size, used);
+    let tile_size = layout.tile_size();
+    for (&(slot, light, range, request), first) in casting.iter().zip(&first_tiles) {
+        let light_filter = match light.shadow.mode {
+            ShadowMode::Hard => ShadowFilter::Pcf2x2,
+            _ => os.shadow_filter(),
+        };
+        let Some(first) = *first else {
+            plan.other_overflow += 1;
+            plan.other[slot] = Vec4::new(-light.shadow.strength, 0.0, 0.0, 0.0);
+            continue;
+        };
+        let views: Vec<(Mat4, Mat4)> = match (request, light.kind) {
+            (OtherShadowRequest::Spot, LightKind::Spot { outer_cone_rad, .. }) => {
+                vec![spot_shadow_view(light.position, light.direction, outer_cone_rad, light.shadow.near_plane, range)]
+            }
+            _ => {
+                let fov = point_face_fov_rad(tile_size, light_filter, light.shadow.normal_bias);
+                (0..6).map(|face| point_face_view(light.position, face, fov, light.shadow.near_plane, range)).collect()
+            }
+        };
+        for (k, (clip_from_view, clip_from_world)) in views.iter().enumerate() {
+            let tile = first + k;
+            let (min, max) = layout.tile_bounds_uv(tile);
+            let bias = perspective_normal_bias(tile_size, clip_from_view, light_filter) * light.shadow.normal_bias;
+            gpu.other_atlas_from_world[tile] = layout.atlas_from_clip(tile) * *clip_from_world;
+            gpu.other_tiles[tile] = Vec4::new(min.x, min.y, max.x - min.x, bias);
+            plan.other_tiles.push(CasterTile {
+                clip_from_world: *clip_from_world,
+                viewport: layout.tile_viewport(tile),
+                slope_bias: light.shadow.depth_bias,
+                light_sphere: Some(Sphere { center: light.position, radius: range }),
+            });
+        }
+        let is_point = if request == OtherShadowRequest::Point { 1.0 } else { 0.0 };
+        plan.other[slot] = Vec4::new(light.shadow.strength, first as f32, is_point, light_filter.index() as f32);
+    }
+    if plan.other_overflow > 0 {
+        tracing::warn!(
+            "{} point/spot lights get no realtime shadow: the {MAX_OTHER_SHADOW_TILES} tiles of the other-light atlas are taken",
+            plan.other_overflow
+        );
+    }
+    gpu.other_atlas = Vec4::new(os.atlas_size as f32, 1.0 / os.atlas_size as f32, 0.0, 0.0);
+    plan.other_atlas_size = os.atlas_size;
 }

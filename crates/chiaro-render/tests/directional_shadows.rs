@@ -171,3 +171,23 @@ fn cast_and_receive_flags_are_honoured() {
     assert!(floor_pixels.len() > 1000);
     assert!(floor_pixels.iter().all(|&i| aov[i] == 1.0));
 }
+
+#[test]
+fn soft_and_dithered_cascade_transitions_keep_shadows_in_place() {
+    // Boxes spread over the first two cascades' boundary (10 m at the default ratios
+    // with a 100 m distance, here 4 m with 40 m).
+    let boxes: Vec<(Vec3, Vec3, CastShadows)> = (0..5)
+        .map(|i| (Vec3::new(-1.0 + 0.5 * i as f32, 0.5, 3.0 - 2.0 * i as f32), Vec3::ONE, CastShadows::On))
+        .collect();
+    let scene = box_scene(sun(45.0, -70.0), &boxes, Vec3::new(0.0, 3.0, 7.0));
+    for blend in [chiaro_scene::CascadeBlend::Soft, chiaro_scene::CascadeBlend::Dither] {
+        let mut settings = unlit_settings();
+        settings.shadows.max_distance = 40.0;
+        settings.shadows.directional.cascade_blend = blend;
+        settings.shadows.directional.cascade_fade = 0.3;
+        let result = compare(&scene, &settings, 192);
+        let c = &result.reports[0].comparison;
+        assert!(c.compared > 10_000);
+        assert!(c.disagreement() < 0.005, "{blend:?}: {:.3}% disagree", 100.0 * c.disagreement());
+    }
+}

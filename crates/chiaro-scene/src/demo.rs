@@ -22,9 +22,21 @@ fn material(name: &str, color: Vec3, metallic: f32, roughness: f32) -> Material 
     Material { name: name.into(), base_color: color.extend(1.0), metallic, roughness, ..Material::default() }
 }
 
+/// Default shadowed lights of the demo: four spots and two points fill the other-light
+/// atlas's 16 tiles, as in chiaro-bench.
+pub const DEMO_SHADOWED_SPOTS: usize = 4;
+pub const DEMO_SHADOWED_POINTS: usize = 2;
+
 /// The demo scene with `other_lights` point and spot lights (alternating, spots first),
-/// spread over a ring around the centre so that every count lights the floor.
+/// spread over a ring around the centre so that every count lights the floor; the first
+/// four spots and two points cast shadows.
 pub fn demo_scene(other_lights: usize) -> Scene {
+    demo_scene_with_shadows(other_lights, DEMO_SHADOWED_SPOTS, DEMO_SHADOWED_POINTS)
+}
+
+/// The demo scene where the first `shadowed_spots` spots and `shadowed_points` points cast
+/// realtime shadows and the rest do not.
+pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shadowed_points: usize) -> Scene {
     let mut scene = Scene {
         materials: vec![
             material("floor", Vec3::splat(0.6), 0.0, 0.85),
@@ -133,7 +145,11 @@ pub fn demo_scene(other_lights: usize) -> Scene {
             range,
             position,
             direction,
-            shadow: LightShadow::default(),
+            shadow: if (i % 2 == 0 && i / 2 < shadowed_spots) || (i % 2 == 1 && i / 2 < shadowed_points) {
+                LightShadow::default()
+            } else {
+                LightShadow { mode: ShadowMode::None, ..LightShadow::default() }
+            },
         });
     }
 
@@ -166,6 +182,19 @@ mod tests {
                 assert!(s.lights.iter().any(|l| l.kind == LightKind::Point));
             }
         }
+    }
+
+    #[test]
+    fn demo_shadows_the_requested_lights() {
+        let casting = |s: &Scene, kind: fn(&LightKind) -> bool| {
+            s.lights.iter().filter(|l| kind(&l.kind) && l.shadow.casts()).count()
+        };
+        let s = demo_scene(64);
+        assert_eq!(casting(&s, |k| matches!(k, LightKind::Spot { .. })), 4);
+        assert_eq!(casting(&s, |k| *k == LightKind::Point), 2);
+        let s = demo_scene_with_shadows(32, 16, 0);
+        assert_eq!(casting(&s, |k| matches!(k, LightKind::Spot { .. })), 16);
+        assert_eq!(casting(&s, |k| *k == LightKind::Point), 0);
     }
 
     #[test]

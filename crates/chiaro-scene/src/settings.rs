@@ -102,11 +102,41 @@ pub struct ShadowSettings {
     /// shows a hard line where shadows end; too large fades shadows that should be there.
     pub distance_fade: f32,
     pub directional: DirectionalShadowSettings,
+    pub other: OtherShadowSettings,
 }
 
 impl Default for ShadowSettings {
     fn default() -> Self {
-        ShadowSettings { max_distance: 100.0, distance_fade: 0.1, directional: DirectionalShadowSettings::default() }
+        ShadowSettings {
+            max_distance: 100.0,
+            distance_fade: 0.1,
+            directional: DirectionalShadowSettings::default(),
+            other: OtherShadowSettings::default(),
+        }
+    }
+}
+
+/// The second atlas, for point and spot lights: 16 tiles in the uniform layout, a spot
+/// taking one and a point six (one per cube face).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct OtherShadowSettings {
+    /// Atlas side in texels (256 to 8192, a power of two). Too small blurs and blocks
+    /// shadows; too large costs memory and caster time.
+    pub atlas_size: u32,
+    /// "pcf2x2", "tent3x3", "tent5x5" or "tent7x7", for lights whose shadows are soft.
+    pub filter: String,
+}
+
+impl Default for OtherShadowSettings {
+    fn default() -> Self {
+        OtherShadowSettings { atlas_size: 2048, filter: "pcf2x2".into() }
+    }
+}
+
+impl OtherShadowSettings {
+    pub fn shadow_filter(&self) -> ShadowFilter {
+        ShadowFilter::parse(&self.filter).unwrap_or_default()
     }
 }
 
@@ -203,26 +233,26 @@ impl Settings {
         check_range("shadows.max_distance", sh.max_distance, 0.1, 10000.0)?;
         check_range("shadows.distance_fade", sh.distance_fade, 0.001, 1.0)?;
         let d = &sh.directional;
-        if !(256..=8192).contains(&d.atlas_size) || !d.atlas_size.is_power_of_two() {
-            return Err(format!(
-                "shadows.directional.atlas_size: {} must be a power of two from 256 to 8192",
-                d.atlas_size
-            ));
-        }
-        if ShadowFilter::parse(&d.filter).is_none() {
-            return Err(format!(
-                "shadows.directional.filter: unknown filter '{}' (pcf2x2, tent3x3, tent5x5, tent7x7)",
-                d.filter
-            ));
-        }
+        check_atlas_and_filter("shadows.directional", d.atlas_size, &d.filter)?;
         check_range("shadows.directional.cascade_count", d.cascade_count as f32, 1.0, 4.0)?;
         let r = d.cascade_ratios;
         if !(r.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0) && r[0] < r[1] && r[1] < r[2]) {
             return Err(format!("shadows.directional.cascade_ratios: {r:?} must increase strictly between 0 and 1"));
         }
         check_range("shadows.directional.cascade_fade", d.cascade_fade, 0.001, 1.0)?;
+        check_atlas_and_filter("shadows.other", sh.other.atlas_size, &sh.other.filter)?;
         Ok(())
     }
+}
+
+fn check_atlas_and_filter(section: &str, atlas_size: u32, filter: &str) -> Result<(), String> {
+    if !(256..=8192).contains(&atlas_size) || !atlas_size.is_power_of_two() {
+        return Err(format!("{section}.atlas_size: {atlas_size} must be a power of two from 256 to 8192"));
+    }
+    if ShadowFilter::parse(filter).is_none() {
+        return Err(format!("{section}.filter: unknown filter '{filter}' (pcf2x2, tent3x3, tent5x5, tent7x7)"));
+    }
+    Ok(())
 }
 
 fn check_range(key: &str, value: f32, min: f32, max: f32) -> Result<(), String> {
@@ -285,6 +315,8 @@ mod tests {
             ("[shadows.directional]\ncascade_count = 5\n", "shadows.directional.cascade_count"),
             ("[shadows.directional]\ncascade_ratios = [0.5, 0.2, 0.7]\n", "shadows.directional.cascade_ratios"),
             ("[shadows]\nmax_distance = -1\n", "shadows.max_distance"),
+            ("[shadows.other]\natlas_size = 100\n", "shadows.other.atlas_size"),
+            ("[shadows.other]\nfilter = \"box\"\n", "shadows.other.filter"),
         ] {
             let e = Settings::parse(text).unwrap_err();
             assert!(e.starts_with(key), "{e}");

@@ -232,7 +232,7 @@ pub struct LightShadow {
 
 impl Default for LightShadow {
     fn default() -> Self {
-        LightShadow { mode: ShadowMode::Soft, strength: 1.0, depth_bias: 1.0, normal_bias: 1.0, near_plane: 0.0 }
+        LightShadow { mode: ShadowMode::Soft, strength: 1.0, depth_bias: 1.0, normal_bias: 0.5, near_plane: 0.0 }
     }
 }
 

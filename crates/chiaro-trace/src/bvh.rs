@@ -9,7 +9,7 @@
 //! speaks glam 0.34 while Chiaro uses 0.30, so vectors cross the boundary as `[f32; 3]`
 //! arrays; no glam 0.34 type is named here, `.into()` infers them from obvhs's signatures.
 
-use chiaro_scene::{CastShadows, MeshInstance, Scene};
+use chiaro_scene::{AlphaMode, CastShadows, MeshInstance, Scene};
 use glam::Vec3;
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
@@ -54,8 +54,9 @@ pub struct SceneBvh {
     triangles: Vec<Triangle>,
     /// The instance of each entry of `triangles`.
     triangle_instance: Vec<u32>,
-    /// `VISIBLE | CASTER` bits per scene instance.
-    instance_masks: Vec<u8>,
+    /// `VISIBLE | CASTER` bits of each entry of `triangles`: its instance's casting mode,
+    /// less CASTER for alpha-blended materials, which cast no shadows (as in the renderer).
+    triangle_mask: Vec<u8>,
 }
 
 impl SceneBvh {
@@ -65,13 +66,16 @@ impl SceneBvh {
     pub fn build(scene: &Scene) -> SceneBvh {
         let _span = tracing::info_span!("bvh_build").entered();
         let start = Instant::now();
-        let gathered: Vec<(Triangle, u32)> = scene
+        let gathered: Vec<(Triangle, (u32, u8))> = scene
             .instances
             .par_iter()
             .enumerate()
-            .flat_map_iter(|(index, instance)| world_triangles(scene, instance).map(move |tri| (tri, index as u32)))
+            .flat_map_iter(|(index, instance)| {
+                let mask = instance_mask(instance.cast_shadows);
+                world_triangles(scene, instance)
+                    .map(move |(tri, blended)| (tri, (index as u32, if blended { mask & !CASTER } else { mask })))
+            })
             .collect();
-        let instance_masks = scene.instances.iter().map(|instance| instance_mask(instance.cast_shadows)).collect();
         // Not `Scene::triangle_count`, which trusts every instance's mesh index.
         let submitted: usize = scene
             .instances
@@ -87,21 +91,28 @@ impl SceneBvh {
             );
         }
         if gathered.is_empty() {
-            return SceneBvh { bvh: None, triangles: Vec::new(), triangle_instance: Vec::new(), instance_masks };
+            return SceneBvh {
+                bvh: None,
+                triangles: Vec::new(),
+                triangle_instance: Vec::new(),
+                triangle_mask: Vec::new(),
+            };
         }
 
         let source: Vec<Triangle> = gathered.iter().map(|(tri, _)| *tri).collect();
         let bvh = build_cwbvh_from_tris(&source, BvhBuildParams::medium_build(), &mut Duration::default());
         // With pre-splits a triangle may be referenced from several leaves; copying per
         // reference keeps every lookup direct.
-        let (triangles, triangle_instance) = bvh.primitive_indices.iter().map(|&i| gathered[i as usize]).unzip();
+        let (triangles, tags): (Vec<Triangle>, Vec<(u32, u8)>) =
+            bvh.primitive_indices.iter().map(|&i| gathered[i as usize]).unzip();
+        let (triangle_instance, triangle_mask) = tags.into_iter().unzip();
         tracing::debug!(
             triangles = source.len(),
             nodes = bvh.nodes.len(),
             ms = start.elapsed().as_secs_f64() * 1e3,
             "built scene BVH"
         );
-        SceneBvh { bvh: Some(bvh), triangles, triangle_instance, instance_masks }
+        SceneBvh { bvh: Some(bvh), triangles, triangle_instance, triangle_mask }
     }
 
     /// Number of triangle references in the hierarchy (the valid triangles, unless a
@@ -142,8 +153,7 @@ impl SceneBvh {
     }
 
     fn intersect_masked(&self, ray: &Ray, id: usize, mask: u8) -> f32 {
-        let instance = self.triangle_instance[id] as usize;
-        if self.instance_masks[instance] & mask == 0 {
+        if self.triangle_mask[id] & mask == 0 {
             return f32::INFINITY;
         }
         self.triangles[id].intersect(ray)
@@ -160,11 +170,14 @@ fn make_ray(origin: Vec3, direction: Vec3, max_t: f32) -> Option<Ray> {
     valid.then(|| Ray::new(origin.to_array().into(), direction.to_array().into(), 0.0, max_t))
 }
 
-/// The valid world-space triangles of one instance, as obvhs triangles.
-fn world_triangles<'a>(scene: &'a Scene, instance: &'a MeshInstance) -> impl Iterator<Item = Triangle> + 'a {
+/// The valid world-space triangles of one instance, as obvhs triangles, each with whether
+/// its material is alpha-blended.
+fn world_triangles<'a>(scene: &'a Scene, instance: &'a MeshInstance) -> impl Iterator<Item = (Triangle, bool)> + 'a {
     let primitives = scene.meshes.get(instance.mesh).map(|mesh| mesh.primitives.as_slice()).unwrap_or_default();
     let world_from_local = instance.world_from_local;
     primitives.iter().flat_map(move |primitive| {
+        let blended =
+            primitive.material.and_then(|m| scene.materials.get(m)).is_some_and(|m| m.alpha_mode == AlphaMode::Blend);
         primitive.indices.chunks_exact(3).filter_map(move |corners| {
             let mut world = [Vec3::ZERO; 3];
             for (w, &index) in world.iter_mut().zip(corners) {
@@ -173,7 +186,7 @@ fn world_triangles<'a>(scene: &'a Scene, instance: &'a MeshInstance) -> impl Ite
             let [a, b, c] = world;
             // Catches non-finite corners too: their cross product does not normalise.
             (b - a).cross(c - a).try_normalize()?;
-            Some(Triangle { v0: a.to_array().into(), v1: b.to_array().into(), v2: c.to_array().into() })
+            Some((Triangle { v0: a.to_array().into(), v1: b.to_array().into(), v2: c.to_array().into() }, blended))
         })
     })
 }
@@ -415,5 +428,35 @@ mod tests {
         assert_eq!(empty.triangle_count(), 0);
         assert!(empty.closest_hit(down, Vec3::NEG_Y, f32::INFINITY).is_none());
         assert!(!empty.occluded(down, Vec3::NEG_Y, f32::INFINITY));
+    }
+}
+
+#[cfg(test)]
+mod blend_tests {
+    use super::*;
+    use chiaro_scene::{Material, Mesh, shapes};
+    use glam::Mat4;
+
+    #[test]
+    fn blended_surfaces_are_seen_but_cast_no_shadow() {
+        let mut plane = shapes::plane(2.0, 1);
+        plane.material = Some(0);
+        let scene = Scene {
+            meshes: vec![Mesh { name: "glass".into(), primitives: vec![plane] }],
+            materials: vec![Material { alpha_mode: AlphaMode::Blend, ..Material::default() }],
+            instances: vec![MeshInstance {
+                mesh: 0,
+                node: 0,
+                name: "glass".into(),
+                world_from_local: Mat4::IDENTITY,
+                cast_shadows: CastShadows::On,
+                receive_shadows: true,
+            }],
+            ..Scene::default()
+        };
+        let bvh = SceneBvh::build(&scene);
+        let origin = Vec3::new(0.1, 1.0, 0.2);
+        assert!(bvh.closest_hit(origin, Vec3::NEG_Y, f32::INFINITY).is_some());
+        assert!(!bvh.occluded(origin, Vec3::NEG_Y, f32::INFINITY));
     }
 }

@@ -1,11 +1,10 @@
 //! `chiaro bench`: frames after a warm-up, timed by GPU timestamp queries where the device
 //! has them (wall time otherwise), with the CPU time spent preparing each frame.
 
-use crate::scene_source::{choose_view, load_scene, load_settings};
+use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::Result;
 use chiaro_render::{FrameOptions, GpuContext, Renderer};
-use chiaro_scene::demo::DEMO_OTHER_LIGHTS;
 use clap::Args;
 use std::path::PathBuf;
 
@@ -27,9 +26,8 @@ pub struct BenchArgs {
     pub camera: Option<String>,
     #[arg(long)]
     pub settings: Option<PathBuf>,
-    /// Point and spot lights in the demo scene.
-    #[arg(long, default_value_t = DEMO_OTHER_LIGHTS)]
-    pub demo_lights: usize,
+    #[command(flatten)]
+    pub demo: DemoArgs,
     #[command(flatten)]
     pub shadow: ShadowArgs,
 }
@@ -51,7 +49,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
-    let scene = load_scene(args.scene.as_deref(), args.demo_lights)?;
+    let scene = load_scene(args.scene.as_deref(), &args.demo)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
@@ -68,7 +66,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         .scene
         .as_ref()
         .map(|p| p.display().to_string())
-        .unwrap_or_else(|| format!("demo ({} other lights)", args.demo_lights));
+        .unwrap_or_else(|| format!("demo ({} other lights)", args.demo.demo_lights));
     println!("scene: {name}");
     println!(
         "device: {} ({:?}, {:?}); {}x{}; {} frames after {} warm-up; {} triangles; {} point/spot lights shaded",

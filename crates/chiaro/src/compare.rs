@@ -2,13 +2,12 @@
 //! share of compared pixels where they disagree, split into false and missed shadow.
 
 use crate::output::{sibling_path, write_png};
-use crate::scene_source::{choose_view, load_scene, load_settings};
+use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::{Result, bail};
 use chiaro_render::shadow_compare::compare_shadows;
-use chiaro_render::{GpuContext, Renderer};
+use chiaro_render::{GpuContext, Renderer, ShadowStatus};
 use chiaro_scene::LightKind;
-use chiaro_scene::demo::DEMO_OTHER_LIGHTS;
 use clap::Args;
 use std::path::PathBuf;
 
@@ -24,9 +23,8 @@ pub struct CompareArgs {
     pub camera: Option<String>,
     #[arg(long)]
     pub settings: Option<PathBuf>,
-    /// Point and spot lights in the demo scene.
-    #[arg(long, default_value_t = DEMO_OTHER_LIGHTS)]
-    pub demo_lights: usize,
+    #[command(flatten)]
+    pub demo: DemoArgs,
     /// Write a difference image per light, `<stem>.<node>.png` (black: not compared,
     /// grey: agree, red: false shadow, blue: missed shadow).
     #[arg(long)]
@@ -41,7 +39,7 @@ pub struct CompareArgs {
 pub fn run(args: CompareArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
-    let scene = load_scene(args.scene.as_deref(), args.demo_lights)?;
+    let scene = load_scene(args.scene.as_deref(), &args.demo)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
@@ -68,6 +66,16 @@ pub fn run(args: CompareArgs) -> Result<()> {
             LightKind::Spot { .. } => "spot",
         };
         let c = &report.comparison;
+        let why = match result.status[report.light] {
+            ShadowStatus::Mapped => None,
+            ShadowStatus::Off => Some("casts no shadows"),
+            ShadowStatus::NotShaded => Some("not shaded this frame"),
+            ShadowStatus::NoTile => Some("no free atlas tiles: no realtime shadow"),
+        };
+        if let Some(why) = why {
+            println!("{:<6} {:<24} {:<12} {why}", light.node, light.name.chars().take(24).collect::<String>(), kind);
+            continue;
+        }
         println!(
             "{:<6} {:<24} {:<12} {:>9} {:>12.3} {:>9.3} {:>9.3}",
             light.node,

@@ -1,11 +1,10 @@
 //! `chiaro render`: one frame to an image, with optional AOVs beside it.
 
 use crate::output::{OutputFormat, aov_path, output_format, sibling_path, write_exr_rgb, write_exr_single, write_png};
-use crate::scene_source::{choose_view, load_scene, load_settings};
+use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::Result;
 use chiaro_render::{FrameOptions, GpuContext, Renderer};
-use chiaro_scene::demo::DEMO_OTHER_LIGHTS;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -25,7 +24,8 @@ pub enum Aov {
 pub enum Debug {
     /// Tint the image by directional shadow cascade.
     Cascades,
-    /// Also write the directional shadow atlas as `<stem>.shadow-atlas.png`.
+    /// Also write the shadow atlases as `<stem>.shadow-atlas.png` (directional) and
+    /// `<stem>.other-shadow-atlas.png` (point and spot).
     ShadowAtlas,
 }
 
@@ -54,9 +54,8 @@ pub struct RenderArgs {
     /// Also write `<stem>.<aov>.exr` beside the output (repeatable).
     #[arg(long, value_enum)]
     pub aov: Vec<Aov>,
-    /// Point and spot lights in the demo scene.
-    #[arg(long, default_value_t = DEMO_OTHER_LIGHTS)]
-    pub demo_lights: usize,
+    #[command(flatten)]
+    pub demo: DemoArgs,
     /// Debug views (repeatable).
     #[arg(long, value_enum)]
     pub debug: Vec<Debug>,
@@ -74,7 +73,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     args.shadow.apply(&mut settings)?;
     let width = args.width.unwrap_or(settings.render.width);
     let height = args.height.unwrap_or(settings.render.height);
-    let scene = load_scene(args.scene.as_deref(), args.demo_lights)?;
+    let scene = load_scene(args.scene.as_deref(), &args.demo)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
@@ -108,7 +107,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         let path = aov_path(&args.output, &format!("shadow.{}", light.node));
         write_exr_single(&path, width, height, shadow)?;
     }
-    if let Some((size, depths)) = &frame.shadow_atlas {
+    for (name, size, depths) in &frame.shadow_atlases {
         let grey: Vec<u8> = depths
             .iter()
             .flat_map(|d| {
@@ -116,9 +115,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 [v, v, v, 255]
             })
             .collect();
-        write_png(&sibling_path(&args.output, "shadow-atlas.png"), *size, *size, &grey)?;
-    } else if args.debug.contains(&Debug::ShadowAtlas) {
-        tracing::warn!("no light casts a directional shadow: no atlas to write");
+        let file =
+            if *name == "directional" { "shadow-atlas.png".to_string() } else { format!("{name}-shadow-atlas.png") };
+        write_png(&sibling_path(&args.output, &file), *size, *size, &grey)?;
+    }
+    if args.debug.contains(&Debug::ShadowAtlas) && frame.shadow_atlases.is_empty() {
+        tracing::warn!("no light casts a shadow: no atlas to write");
     }
     eprintln!(
         "chiaro: wrote {} ({width}x{height}, {} point/spot lights shaded, {:.1} ms)",

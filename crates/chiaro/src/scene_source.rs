@@ -2,7 +2,8 @@
 
 use anyhow::{Context, Result, bail};
 use chiaro_render::View;
-use chiaro_scene::{Scene, Settings, demo::demo_scene, load_gltf};
+use chiaro_scene::demo::{DEMO_OTHER_LIGHTS, DEMO_SHADOWED_POINTS, DEMO_SHADOWED_SPOTS, demo_scene_with_shadows};
+use chiaro_scene::{Scene, Settings, load_gltf};
 use std::path::Path;
 
 pub fn load_settings(path: Option<&Path>) -> Result<Settings> {
@@ -12,8 +13,22 @@ pub fn load_settings(path: Option<&Path>) -> Result<Settings> {
     }
 }
 
-/// The file's scene, or the built-in demo with `demo_lights` point and spot lights.
-pub fn load_scene(path: Option<&Path>, demo_lights: usize) -> Result<Scene> {
+/// How the built-in demo is made when no scene file is given.
+#[derive(clap::Args, Clone, Debug)]
+pub struct DemoArgs {
+    /// Point and spot lights in the demo scene (alternating, spots first).
+    #[arg(long, default_value_t = DEMO_OTHER_LIGHTS)]
+    pub demo_lights: usize,
+    /// Demo spot lights that cast realtime shadows.
+    #[arg(long, default_value_t = DEMO_SHADOWED_SPOTS)]
+    pub demo_shadowed_spots: usize,
+    /// Demo point lights that cast realtime shadows.
+    #[arg(long, default_value_t = DEMO_SHADOWED_POINTS)]
+    pub demo_shadowed_points: usize,
+}
+
+/// The file's scene, or the built-in demo.
+pub fn load_scene(path: Option<&Path>, demo: &DemoArgs) -> Result<Scene> {
     match path {
         Some(p) => {
             let scene = load_gltf(p)?;
@@ -22,7 +37,7 @@ pub fn load_scene(path: Option<&Path>, demo_lights: usize) -> Result<Scene> {
             }
             Ok(scene)
         }
-        None => Ok(demo_scene(demo_lights)),
+        None => Ok(demo_scene_with_shadows(demo.demo_lights, demo.demo_shadowed_spots, demo.demo_shadowed_points)),
     }
 }
 

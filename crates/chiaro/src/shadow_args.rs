@@ -18,6 +18,12 @@ pub struct ShadowArgs {
     /// Directional shadow atlas size (overrides shadows.directional.atlas_size).
     #[arg(long)]
     pub shadow_atlas_size: Option<u32>,
+    /// Point/spot shadow atlas size (overrides shadows.other.atlas_size).
+    #[arg(long)]
+    pub other_shadow_atlas_size: Option<u32>,
+    /// Point/spot shadow filter (overrides shadows.other.filter).
+    #[arg(long)]
+    pub other_shadow_filter: Option<String>,
 }
 
 impl ShadowArgs {
@@ -34,6 +40,12 @@ impl ShadowArgs {
         }
         if let Some(s) = self.shadow_atlas_size {
             settings.shadows.directional.atlas_size = s;
+        }
+        if let Some(s) = self.other_shadow_atlas_size {
+            settings.shadows.other.atlas_size = s;
+        }
+        if let Some(f) = &self.other_shadow_filter {
+            settings.shadows.other.filter = f.clone();
         }
         settings.validate().map_err(|e| anyhow!("command-line shadow option: {e}"))
     }

@@ -42,3 +42,28 @@ mod tests {
         assert!(!caster_in_tile(&clip, &Aabb::EMPTY, true));
     }
 }
+
+/// Whether a caster can reach into a point or spot light's tiles: its bounds overlap the
+/// sphere of the light's range.
+pub fn caster_in_range(bounds: &Aabb, light: &crate::Sphere) -> bool {
+    !bounds.is_empty()
+        && light.center.clamp(bounds.min, bounds.max).distance_squared(light.center) <= light.radius * light.radius
+}
+
+#[cfg(test)]
+mod range_tests {
+    use super::*;
+    use crate::Sphere;
+    use glam::Vec3;
+
+    #[test]
+    fn casters_out_of_range_are_culled() {
+        let light = Sphere { center: Vec3::ZERO, radius: 5.0 };
+        let cube = |c: Vec3| Aabb::from_points([c - 0.5, c + 0.5]);
+        assert!(caster_in_range(&cube(Vec3::new(3.0, 0.0, 0.0)), &light));
+        assert!(caster_in_range(&cube(Vec3::new(5.4, 0.0, 0.0)), &light));
+        assert!(!caster_in_range(&cube(Vec3::new(5.6, 0.0, 0.0)), &light));
+        assert!(!caster_in_range(&cube(Vec3::new(4.2, 4.2, 0.0)), &light));
+        assert!(caster_in_range(&Aabb::from_points([Vec3::splat(-9.0), Vec3::splat(9.0)]), &light), "light inside");
+    }
+}

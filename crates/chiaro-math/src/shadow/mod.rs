@@ -7,6 +7,7 @@ pub mod bias;
 pub mod cascades;
 pub mod fade;
 pub mod filter;
+pub mod other;
 
 pub mod culling;
 

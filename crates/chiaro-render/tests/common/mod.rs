@@ -91,3 +91,37 @@ pub fn surface_pixels(frame: &FrameOutput) -> Vec<(usize, Vec3, Vec3, Vec3)> {
         })
         .collect()
 }
+
+/// Adds an axis-aligned box (white, like the floor) turned by `yaw_rad` about Y.
+pub fn add_box(scene: &mut Scene, position: Vec3, size: Vec3, yaw_rad: f32, cast: CastShadows) {
+    let mesh = match scene.meshes.iter().position(|m| m.name == "unit box") {
+        Some(m) => m,
+        None => {
+            let mut cube = shapes::cuboid(Vec3::ONE);
+            cube.material = Some(0);
+            scene.meshes.push(Mesh { name: "unit box".into(), primitives: vec![cube] });
+            scene.meshes.len() - 1
+        }
+    };
+    let node = 100 + scene.instances.len();
+    scene.instances.push(MeshInstance {
+        mesh,
+        node,
+        name: format!("box {node}"),
+        world_from_local: Mat4::from_scale_rotation_translation(size, glam::Quat::from_rotation_y(yaw_rad), position),
+        cast_shadows: cast,
+        receive_shadows: true,
+    });
+}
+
+/// Points the scene's camera from `eye` at `target`.
+pub fn look_from(scene: &mut Scene, eye: Vec3, target: Vec3) {
+    scene.cameras[0].world_from_view = Mat4::look_at_rh(eye, target, Vec3::Y).inverse();
+}
+
+pub fn compare(scene: &Scene, settings: &Settings, size: u32) -> chiaro_render::shadow_compare::ShadowComparison {
+    let mut renderer = renderer();
+    let prepared = renderer.prepare(scene).unwrap();
+    let view = View::from_camera(scene, 0, size, size);
+    chiaro_render::shadow_compare::compare_shadows(&mut renderer, scene, &prepared, &view, settings).unwrap()
+}
