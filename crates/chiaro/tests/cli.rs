@@ -353,12 +353,15 @@ fn shadow_aovs_and_atlas_are_written_per_light() {
         assert_eq!(channels.len(), 1);
         let values = &channels[0].1;
         assert!(values.iter().filter(|v| v.is_finite()).all(|v| (0.0..=1.0).contains(v)));
-        if node == 9 {
-            assert!(values.iter().any(|&v| v < 0.5), "the sun casts shadows in the demo");
-        }
+        // The sun, the spot and the point all cast shadows in the demo's view.
+        assert!(values.iter().any(|&v| v < 0.5), "light on node {node} casts no shadow");
     }
     let atlas = image::open(dir.path().join("demo.shadow-atlas.png")).unwrap();
     assert_eq!((atlas.width(), atlas.height()), (512, 512));
+    // The spot and the point cast into the second atlas (default 2048).
+    let other = image::open(dir.path().join("demo.other-shadow-atlas.png")).unwrap().to_luma8();
+    assert_eq!(other.width(), 2048);
+    assert!(other.pixels().any(|p| p.0[0] < 250), "casters drawn into the point/spot atlas");
 }
 
 #[test]
