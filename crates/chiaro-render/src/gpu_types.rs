@@ -18,7 +18,9 @@ pub struct GpuFrame {
     pub other_light_count: u32,
     /// 0: shaded image; 1: cascade colours over it.
     pub debug_view: u32,
-    pub _pad: [u32; 3],
+    /// Other lights [0, this) have shadow maps; the shader loops over them apart.
+    pub shadowed_other_light_count: u32,
+    pub _pad: [u32; 2],
 }
 
 #[repr(C)]

@@ -5,7 +5,7 @@ use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::frame_lights::{FrameLights, prepare_lights};
 use crate::gpu_scene::{Draw, GpuScene, material_layout};
-use crate::gpu_types::{GpuAovLight, GpuFrame, GpuLights, GpuVertex};
+use crate::gpu_types::{GpuAovLight, GpuFrame, GpuLights, GpuOtherLight, GpuVertex};
 use crate::readback::{read_buffer, read_texture};
 use crate::shaders;
 use crate::shadow_pass::ShadowPass;
@@ -550,13 +550,11 @@ impl Renderer {
             .zip(&lights.gpu.other)
             .map(|(&i, gpu)| (&scene.lights[i], gpu.range))
             .collect();
-        let plan = plan_shadows(view, settings, &directional, &other);
+        let mut plan = plan_shadows(view, settings, &directional, &other);
         for (slot, shadow) in lights.gpu.directional.iter_mut().zip(plan.directional) {
             slot.shadow = shadow;
         }
-        for (slot, shadow) in lights.gpu.other.iter_mut().zip(&plan.other) {
-            slot.shadow = *shadow;
-        }
+        let shadowed_other_light_count = shadowed_first(&mut lights, &mut plan);
         self.shadow_pass.ensure_atlases(&self.ctx.device, &plan);
         let exposure = exposure_scale(settings.render.exposure_ev100);
         let frame = GpuFrame {
@@ -569,7 +567,8 @@ impl Renderer {
             background: Vec3::from(settings.render.background),
             other_light_count: lights.other_count,
             debug_view: u32::from(options.debug_cascades),
-            _pad: [0; 3],
+            shadowed_other_light_count,
+            _pad: [0; 2],
         };
         let queue = &self.ctx.queue;
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
@@ -840,6 +839,20 @@ impl Renderer {
         }
         Ok(())
     }
+}
+
+/// Moves the other lights that have shadow maps to the front of the upload (keeping each
+/// group's importance order), sets their shadow data, and returns how many there are.
+fn shadowed_first(lights: &mut FrameLights, plan: &mut ShadowPlan) -> u32 {
+    let n = lights.other_scene_index.len();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by_key(|&slot| plan.other[slot].x <= 0.0);
+    let gpu: Vec<_> =
+        order.iter().map(|&slot| GpuOtherLight { shadow: plan.other[slot], ..lights.gpu.other[slot] }).collect();
+    lights.gpu.other[..n].copy_from_slice(&gpu);
+    lights.other_scene_index = order.iter().map(|&slot| lights.other_scene_index[slot]).collect();
+    plan.other = order.iter().map(|&slot| plan.other[slot]).collect();
+    plan.other.iter().filter(|s| s.x > 0.0).count() as u32
 }
 
 fn shadow_status(scene: &Scene, lights: &FrameLights, plan: &ShadowPlan) -> Vec<ShadowStatus> {

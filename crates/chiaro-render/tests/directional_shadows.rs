@@ -6,11 +6,11 @@
 mod common;
 
 use chiaro_render::View;
-use chiaro_render::shadow_compare::{ShadowComparison, compare_shadows};
-use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Mesh, MeshInstance, Scene, Settings, shapes};
+use chiaro_render::shadow_compare::ShadowComparison;
+use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene};
 use chiaro_trace::{PixelVerdict, classify_pixels};
 use common::*;
-use glam::{Mat4, Quat, Vec3};
+use glam::Vec3;
 
 fn sun(elevation_deg: f32, azimuth_deg: f32) -> Light {
     let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
@@ -27,31 +27,14 @@ fn sun(elevation_deg: f32, azimuth_deg: f32) -> Light {
     }
 }
 
-/// A floor seen from a three-quarter view, with a box of `size` at `position` on it.
+/// A floor seen from a three-quarter view, with boxes (position, size, casting) on it.
 fn box_scene(light: Light, boxes: &[(Vec3, Vec3, CastShadows)], eye: Vec3) -> Scene {
     let mut scene = floor_scene(40.0, eye, vec![light]);
-    scene.cameras[0].world_from_view = Mat4::look_at_rh(eye, Vec3::new(0.0, 0.5, 0.0), Vec3::Y).inverse();
-    let mut cube = shapes::cuboid(Vec3::ONE);
-    cube.material = Some(0);
-    scene.meshes.push(Mesh { name: "box".into(), primitives: vec![cube] });
-    for (i, &(position, size, cast)) in boxes.iter().enumerate() {
-        scene.instances.push(MeshInstance {
-            mesh: 1,
-            node: 2 + i,
-            name: format!("box {i}"),
-            world_from_local: Mat4::from_scale_rotation_translation(size, Quat::from_rotation_y(0.4), position),
-            cast_shadows: cast,
-            receive_shadows: true,
-        });
+    look_from(&mut scene, eye, Vec3::new(0.0, 0.5, 0.0));
+    for &(position, size, cast) in boxes {
+        add_box(&mut scene, position, size, 0.4, cast);
     }
     scene
-}
-
-fn compare(scene: &Scene, settings: &Settings, size: u32) -> ShadowComparison {
-    let mut renderer = renderer();
-    let prepared = renderer.prepare(scene).unwrap();
-    let view = View::from_camera(scene, 0, size, size);
-    compare_shadows(&mut renderer, scene, &prepared, &view, settings).unwrap()
 }
 
 fn verdicts(scene: &Scene, result: &ShadowComparison) -> Vec<PixelVerdict> {
