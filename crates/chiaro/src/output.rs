@@ -16,6 +16,13 @@ fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Res
         .tempfile_in(dir)
         .with_context(|| format!("{}: cannot create a file in {}", path.display(), dir.display()))?;
     write(tmp.path()).with_context(|| format!("{}: cannot write image", path.display()))?;
+    // Temporary files are private (0600); a finished image is an ordinary file.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(0o644))
+            .with_context(|| format!("{}: cannot set permissions", path.display()))?;
+    }
     tmp.persist(path).with_context(|| format!("{}: cannot move the finished image into place", path.display()))?;
     Ok(())
 }

@@ -250,6 +250,12 @@ fn demo_render_writes_png_and_aovs() {
         dir.path(),
     );
     assert_eq!(run.code, 0, "{}", run.stderr);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(dir.path().join("demo.png")).unwrap().permissions().mode();
+        assert_eq!(mode & 0o044, 0o044, "outputs are readable by others, not private temp files: {mode:o}");
+    }
     let png = image::open(dir.path().join("demo.png")).unwrap();
     assert_eq!((png.width(), png.height()), (96, 64));
     let position = read_exr_channels(&dir.path().join("demo.position.exr"));
