@@ -783,11 +783,7 @@ impl Renderer {
     fn record_tonemap(&self, encoder: &mut wgpu::CommandEncoder) {
         let targets = self.targets.as_ref().expect("targets exist");
         let view = targets.ldr.create_view(&Default::default());
-        let timestamp_writes = self.timestamps.as_ref().map(|ts| wgpu::RenderPassTimestampWrites {
-            query_set: &ts.queries,
-            beginning_of_pass_write_index: Some(4),
-            end_of_pass_write_index: Some(5),
-        });
+        let timestamp_writes = timestamp_writes(&self.timestamps, "tonemap");
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("tonemap pass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {

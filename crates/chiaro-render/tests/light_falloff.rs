@@ -156,3 +156,19 @@ fn lights_over_the_limit_are_dropped_by_importance() {
     assert_eq!(frame.other_lights_shaded, 64);
     assert_eq!(frame.other_lights_dropped, 6);
 }
+
+#[test]
+fn every_pass_that_ran_reports_its_own_gpu_time() {
+    let mut renderer = renderer();
+    assert!(renderer.ctx.has_timestamps, "the software device offers timestamp queries");
+    let scene = chiaro_scene::demo::demo_scene(4);
+    let prepared = renderer.prepare(&scene).unwrap();
+    let view = chiaro_render::View::from_camera(&scene, 0, 96, 96);
+    let options = chiaro_render::FrameOptions { aovs: true, readback: true, ..Default::default() };
+    let frame = renderer.render(&scene, &prepared, &view, &chiaro_scene::Settings::default(), options).unwrap();
+    let passes: Vec<&str> = frame.timings.gpu_pass_ms.iter().map(|(p, _)| *p).collect();
+    assert_eq!(passes, ["shadows", "forward", "aov", "tonemap"]);
+    for (pass, ms) in &frame.timings.gpu_pass_ms {
+        assert!(*ms > 0.0 && ms.is_finite(), "{pass} pass timed at {ms} ms");
+    }
+}
