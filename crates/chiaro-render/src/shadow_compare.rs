@@ -8,7 +8,7 @@ use crate::renderer::{FrameOptions, PreparedScene, Renderer, ShadowStatus};
 use crate::view::View;
 use chiaro_scene::{Scene, Settings};
 use chiaro_trace::{
-    LightComparison, PixelCamera, ShadowReference, compare_light, difference_image, trace_shadow_reference,
+    LightComparison, PixelCamera, PixelVerdict, ShadowReference, classify_pixels, trace_shadow_reference,
 };
 use glam::Vec3;
 
@@ -64,11 +64,12 @@ pub fn compare_shadows(
         .iter()
         .enumerate()
         .map(|(i, light)| {
-            let rendered = &frame.shadow_aovs[i];
+            // Classified once; the counts and the picture both come from the verdicts.
+            let verdicts = classify_pixels(&frame.shadow_aovs[i], &positions, &reference, i, light, ranges[i]);
             LightReport {
                 light: i,
-                comparison: compare_light(rendered, &positions, &reference, i, light, ranges[i]),
-                difference: difference_image(rendered, &positions, &reference, i, light, ranges[i]),
+                comparison: LightComparison::from_verdicts(&verdicts),
+                difference: verdicts.into_iter().map(PixelVerdict::color).collect(),
             }
         })
         .collect();

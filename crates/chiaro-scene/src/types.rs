@@ -261,6 +261,24 @@ pub struct Light {
     pub shadow: LightShadow,
 }
 
+impl Light {
+    /// A white light of intensity 1, with no range, default shadows and no name, carried
+    /// by node 0: the starting point for lights made in code.
+    pub fn new(kind: LightKind, position: Vec3, direction: Vec3) -> Light {
+        Light {
+            name: String::new(),
+            node: 0,
+            kind,
+            color: Vec3::ONE,
+            intensity: 1.0,
+            range: None,
+            position,
+            direction,
+            shadow: LightShadow::default(),
+        }
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct Camera {
     pub name: String,

@@ -79,6 +79,21 @@ impl LightComparison {
         self.share(self.missed_shadow)
     }
 
+    /// Counts the verdicts of `classify_pixels`.
+    pub fn from_verdicts(verdicts: &[PixelVerdict]) -> LightComparison {
+        let mut comparison = LightComparison::default();
+        for verdict in verdicts {
+            match verdict {
+                PixelVerdict::NotCompared => continue,
+                PixelVerdict::FalseShadow => comparison.false_shadow += 1,
+                PixelVerdict::MissedShadow => comparison.missed_shadow += 1,
+                PixelVerdict::AgreeLit | PixelVerdict::AgreeShadowed => {}
+            }
+            comparison.compared += 1;
+        }
+        comparison
+    }
+
     fn share(&self, count: usize) -> f64 {
         if self.compared == 0 { 0.0 } else { count as f64 / self.compared as f64 }
     }
@@ -96,18 +111,14 @@ pub fn compare_light(
     light: &Light,
     range: f32,
 ) -> LightComparison {
-    let verdicts = classify_pixels(rendered_shadow, rendered_position, reference, light_index, light, range);
-    let mut comparison = LightComparison::default();
-    for verdict in verdicts {
-        match verdict {
-            PixelVerdict::NotCompared => continue,
-            PixelVerdict::FalseShadow => comparison.false_shadow += 1,
-            PixelVerdict::MissedShadow => comparison.missed_shadow += 1,
-            PixelVerdict::AgreeLit | PixelVerdict::AgreeShadowed => {}
-        }
-        comparison.compared += 1;
-    }
-    comparison
+    LightComparison::from_verdicts(&classify_pixels(
+        rendered_shadow,
+        rendered_position,
+        reference,
+        light_index,
+        light,
+        range,
+    ))
 }
 
 /// The comparison as an RGBA8 image of the reference's size, colours as in
@@ -241,27 +252,12 @@ fn shadow_edge_band(values: &[f32], width: usize, height: usize, radius: usize) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use chiaro_scene::LightShadow;
 
     const W: usize = 20;
     const H: usize = 12;
 
-    fn light(kind: LightKind, position: Vec3, direction: Vec3) -> Light {
-        Light {
-            name: String::new(),
-            node: 0,
-            kind,
-            color: Vec3::ONE,
-            intensity: 1.0,
-            range: None,
-            position,
-            direction,
-            shadow: LightShadow::default(),
-        }
-    }
-
     fn sun() -> Light {
-        light(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y)
+        Light::new(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y)
     }
 
     /// A floor seen from above: pixel (x, y) at (x, 0, y) decimetres, facing up; all lit.
@@ -326,7 +322,7 @@ mod tests {
         let mut reference = floor_reference();
         let rendered = vec![1.0; W * H];
         // The sun from below lights nothing.
-        let under = light(LightKind::Directional, Vec3::ZERO, Vec3::Y);
+        let under = Light::new(LightKind::Directional, Vec3::ZERO, Vec3::Y);
         assert_eq!(compare(&rendered, &reference, &under, f32::INFINITY).compared, 0);
         reference.receives[..W].fill(false);
         assert_eq!(compare(&rendered, &reference, &sun(), f32::INFINITY).compared, W * (H - 1));
@@ -343,7 +339,7 @@ mod tests {
         let reference = floor_reference();
         let rendered = vec![1.0; W * H];
         let centre = Vec3::new(1.0, 0.5, 0.5);
-        let point = light(LightKind::Point, centre, Vec3::NEG_Y);
+        let point = Light::new(LightKind::Point, centre, Vec3::NEG_Y);
         let range = 1.0;
         let expected = reference.position.iter().filter(|p| p.unwrap().distance(centre) < range).count();
         assert!(expected > 10 && expected < W * H);
@@ -357,7 +353,7 @@ mod tests {
         let rendered = vec![1.0; W * H];
         let apex = Vec3::new(1.0, 0.5, 0.5);
         let (inner, outer) = (0.3f32, 0.6f32);
-        let spot = light(LightKind::Spot { inner_cone_rad: inner, outer_cone_rad: outer }, apex, Vec3::NEG_Y);
+        let spot = Light::new(LightKind::Spot { inner_cone_rad: inner, outer_cone_rad: outer }, apex, Vec3::NEG_Y);
         // Inside the outer cone: the angle from straight down is below `outer`.
         let expected = reference
             .position

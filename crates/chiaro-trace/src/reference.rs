@@ -179,7 +179,7 @@ fn visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3
 mod tests {
     use super::*;
     use chiaro_math::camera::perspective_reverse_z;
-    use chiaro_scene::{CastShadows, LightShadow, Mesh, MeshInstance, Primitive, shapes};
+    use chiaro_scene::{CastShadows, Mesh, MeshInstance, Primitive, shapes};
 
     fn mesh(primitive: Primitive) -> Mesh {
         Mesh { name: String::new(), primitives: vec![primitive] }
@@ -196,20 +196,6 @@ mod tests {
         }
     }
 
-    fn light(kind: LightKind, position: Vec3, direction: Vec3) -> Light {
-        Light {
-            name: String::new(),
-            node: 0,
-            kind,
-            color: Vec3::ONE,
-            intensity: 1.0,
-            range: None,
-            position,
-            direction,
-            shadow: LightShadow::default(),
-        }
-    }
-
     /// A 6 m floor and a unit box floating with its bottom 1 m above it, so the floor under
     /// it is visible from the side; one sun shining straight down and one point light
     /// 2 m above the box's top.
@@ -218,8 +204,8 @@ mod tests {
             meshes: vec![mesh(shapes::plane(6.0, 3)), mesh(shapes::cuboid(Vec3::ONE))],
             instances: vec![instance(0, Mat4::IDENTITY), instance(1, Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0)))],
             lights: vec![
-                light(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y),
-                light(LightKind::Point, Vec3::new(0.0, 4.0, 0.0), Vec3::NEG_Y),
+                Light::new(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y),
+                Light::new(LightKind::Point, Vec3::new(0.0, 4.0, 0.0), Vec3::NEG_Y),
             ],
             ..Scene::default()
         }
