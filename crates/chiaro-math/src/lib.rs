@@ -8,6 +8,7 @@ pub mod brdf;
 pub mod camera;
 pub mod frustum;
 pub mod light;
+pub mod rigid;
 pub mod shadow;
 pub mod tonemap;
 

@@ -2,11 +2,11 @@
 //! physical units: attenuation terms, derived ranges, and the per-frame choice of which
 //! "other" (point and spot) lights the GPU sees.
 //!
-//! The shaders compute the same terms (`shaders/lighting.wgsl`); the GPU tests measure
-//! rendered radiance against these functions.
+//! The shaders compute the same terms (chiaro-render's `shaders/lighting/light.wesl`); the
+//! GPU tests measure rendered radiance against these functions.
 
 use crate::bounds::Sphere;
-use crate::frustum::{Frustum, cone_bounding_sphere};
+use crate::frustum::Frustum;
 use glam::Vec3;
 
 /// Most directional lights shaded per frame.
@@ -100,9 +100,7 @@ pub fn select_other_lights(
     let mut scored: Vec<(usize, f32)> = Vec::with_capacity(lights.len());
     for (index, light) in lights.iter().enumerate() {
         let inside = match light.spot {
-            Some((axis, outer)) => {
-                frustum.intersects_sphere(&cone_bounding_sphere(light.position, axis, outer, light.range))
-            }
+            Some((axis, outer)) => frustum.intersects_cone(light.position, axis, outer, light.range),
             None => frustum.intersects_sphere(&Sphere { center: light.position, radius: light.range }),
         };
         if inside && light.peak_intensity > 0.0 {

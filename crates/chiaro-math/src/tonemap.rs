@@ -1,4 +1,5 @@
-//! Exposure and tone mapping, the CPU twin of `shaders/tonemap.wgsl` (tests compare both).
+//! Exposure and tone mapping, the CPU twin of chiaro-render's `shaders/tonemap.wesl` (a
+//! GPU test renders a known radiance and compares both).
 //!
 //! Exposure follows the photographic EV100 convention used by Filament and Frostbite:
 //! `scale = 1 / (1.2 * 2^ev100)`. EV100 0 maps a radiance of 1.2 to 1.0; a sunny scene

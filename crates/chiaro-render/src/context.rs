@@ -9,6 +9,8 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     pub adapter_info: wgpu::AdapterInfo,
     pub has_timestamps: bool,
+    /// The scene depth target's format: depth with stencil.
+    pub depth_format: wgpu::TextureFormat,
     /// Validation errors the device reported outside an error scope, oldest first.
     errors: Arc<Mutex<Vec<String>>>,
 }
@@ -40,6 +42,14 @@ impl GpuContext {
         if adapter.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL) {
             required_features |= wgpu::Features::DEPTH_CLIP_CONTROL;
         }
+        // A 32-bit float depth keeps reverse-Z precise; the stencil beside it is for the
+        // deferred light volumes. Where the pair is missing, 24-bit depth carries stencil.
+        let depth_format = if adapter.features().contains(wgpu::Features::DEPTH32FLOAT_STENCIL8) {
+            required_features |= wgpu::Features::DEPTH32FLOAT_STENCIL8;
+            wgpu::TextureFormat::Depth32FloatStencil8
+        } else {
+            wgpu::TextureFormat::Depth24PlusStencil8
+        };
         let adapter_limits = adapter.limits();
         let required_limits = wgpu::Limits {
             max_texture_dimension_2d: adapter_limits.max_texture_dimension_2d,
@@ -68,7 +78,7 @@ impl GpuContext {
             device_type = ?adapter_info.device_type,
             "GPU ready"
         );
-        Ok(GpuContext { device, queue, adapter_info, has_timestamps, errors })
+        Ok(GpuContext { device, queue, adapter_info, has_timestamps, depth_format, errors })
     }
 
     /// Returns the first GPU error reported since the last call, if any.

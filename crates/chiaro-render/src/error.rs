@@ -13,4 +13,6 @@ pub enum RenderError {
     OutputSize { width: u32, height: u32, reason: String },
     #[error("GPU error: {0}")]
     Gpu(String),
+    #[error("frame graph: {0}")]
+    FrameGraph(String),
 }

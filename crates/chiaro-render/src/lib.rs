@@ -1,24 +1,30 @@
 //! Chiaro's renderer: the only crate that talks to wgpu.
 //!
-//! A `Scene` (plain data) and a `View` flow in; an HDR image, its tone-mapped sRGB copy,
-//! the AOVs and GPU timings flow out. Passes: forward lighting into a pre-exposed HDR
-//! target, an optional AOV pass (position, normal, depth), and tone mapping.
+//! A `Scene` (plain data) and a `View` flow in; a frame is planned on the CPU
+//! (`plan::FramePlan`: lights with stable ids, their lists and shadow slots, shadow
+//! tiles and their casters, draw order, passes), its data uploaded (`frame_data`), and
+//! its passes (`passes`) recorded through a small frame graph (`graph`) that owns the
+//! targets, debug groups and timestamps. An HDR image, its tone-mapped copy, the AOVs and
+//! GPU timings flow out, or the frame goes to a window's surface without a wait.
 
 pub mod context;
 pub mod error;
-pub mod frame_lights;
-pub mod gpu_scene;
-pub mod gpu_types;
-mod readback;
+pub mod frame_data;
+pub mod gpu;
+pub mod graph;
+pub mod output;
+pub mod passes;
+pub mod plan;
+pub mod readback;
 pub mod renderer;
+pub mod scene;
+pub mod shader_constants;
 pub mod shaders;
-pub mod shadow_compare;
-pub mod shadow_pass;
-pub mod shadow_plan;
-mod textures;
 pub mod view;
 
 pub use context::GpuContext;
 pub use error::RenderError;
-pub use renderer::{FrameOptions, FrameOutput, FrameTimings, Renderer, ShadowStatus};
+pub use output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, ShadowStatus};
+pub use plan::FramePlan;
+pub use renderer::{PreparedScene, Renderer};
 pub use view::View;

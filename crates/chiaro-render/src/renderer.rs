@@ -1,149 +1,37 @@
-//! Frames: lights chosen on the CPU, then the forward, AOV and tone-mapping passes, with
-//! GPU timestamps around each pass where the device has them.
+//! The renderer: a frame is planned (`plan::FramePlan`), its data uploaded, its passes
+//! recorded in the plan's order through the frame graph, and submitted. Nothing waits for
+//! the GPU unless the caller reads something back; up to two frames are in flight.
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
-use crate::frame_lights::{FrameLights, prepare_lights};
-use crate::gpu_scene::{Draw, GpuScene, material_layout};
-use crate::gpu_types::{GpuAovLight, GpuFrame, GpuLights, GpuOtherLight, GpuVertex};
-use crate::readback::{read_buffer, read_texture};
-use crate::shaders;
-use crate::shadow_pass::ShadowPass;
-use crate::shadow_plan::{ShadowPlan, plan_shadows};
+use crate::frame_data::FrameData;
+use crate::graph::{
+    FramePass, GpuTimer, PassContext, PassStats, PrepareContext, Resource, TargetDesc, Targets, check_order,
+};
+use crate::output::{Aovs, AtlasImage, FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, f16_to_f32};
+use crate::passes::aov::{AOV_FORMAT, AovPass};
+use crate::passes::forward::{ForwardPass, HDR_FORMAT};
+use crate::passes::shadow_aov::{SHADOW_AOV_FORMAT, ShadowAovPass};
+use crate::passes::shadows::{SHADOW_FORMAT, ShadowPass};
+use crate::passes::tonemap::TonemapPass;
+use crate::plan::lights::LightId;
+use crate::plan::shadows::ShadowAtlasTiles;
+use crate::plan::{FramePlan, PassId, PlanRequest};
+use crate::readback::{PendingCopy, copy_texture, finish_copies};
+use crate::scene::{GpuScene, material_layout};
+use crate::shader_constants::NO_LIGHT;
 use crate::view::View;
 use chiaro_math::tonemap::exposure_scale;
-use chiaro_scene::{AlphaMode, Scene, Settings};
-use glam::Vec3;
-use std::collections::HashMap;
+use chiaro_scene::{Scene, Settings};
+use std::collections::{HashSet, VecDeque};
 use std::time::Instant;
 
-const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-const LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-const AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// Shadow AOV: attenuation, coverage.
-const SHADOW_AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
-/// Passes with timestamps, in order; two queries each.
-const TIMED_PASSES: [&str; 4] = ["shadows", "forward", "aov", "tonemap"];
-const AOV_LIGHT_STRIDE: u64 = std::mem::size_of::<GpuAovLight>() as u64;
-/// What the shadow AOV pass writes for a light without a directional slot.
-const NO_LIGHT: u32 = u32::MAX;
-
-fn timed_index(pass: &str) -> u32 {
-    TIMED_PASSES.iter().position(|p| *p == pass).expect("timed pass") as u32
-}
-
-#[derive(Clone, Copy, Debug, Default)]
-pub struct FrameOptions {
-    /// Also render world position, normal and view depth.
-    pub aovs: bool,
-    /// Also render each light's shadow attenuation (needs `readback`).
-    pub shadow_aovs: bool,
-    /// Copy the images back to the CPU (off for benchmarking).
-    pub readback: bool,
-    /// Tint the image by cascade.
-    pub debug_cascades: bool,
-    /// Copy the directional shadow atlas back to the CPU.
-    pub read_shadow_atlas: bool,
-}
-
-#[derive(Clone, Debug, Default)]
-pub struct FrameTimings {
-    /// CPU time to choose lights, fill uniforms and record commands.
-    pub cpu_prepare_ms: f64,
-    /// GPU time of each pass that ran, from timestamp queries.
-    pub gpu_pass_ms: Vec<(&'static str, f64)>,
-    /// Wall time from the start of preparation until the GPU finished.
-    pub wall_ms: f64,
-}
-
-impl FrameTimings {
-    pub fn gpu_total_ms(&self) -> Option<f64> {
-        (!self.gpu_pass_ms.is_empty()).then(|| self.gpu_pass_ms.iter().map(|(_, t)| t).sum())
-    }
-}
-
-/// World-space AOVs; `NaN` where no surface covers the pixel.
-#[derive(Clone, Debug, Default)]
-pub struct Aovs {
-    pub position_ws: Vec<[f32; 3]>,
-    pub normal_ws: Vec<[f32; 3]>,
-    /// Linear depth along the view axis, metres.
-    pub depth: Vec<f32>,
-}
-
-#[derive(Clone, Debug, Default)]
-pub struct FrameOutput {
-    pub width: u32,
-    pub height: u32,
-    /// Linear radiance (not exposed), RGBA, row-major from the top-left.
-    pub hdr: Vec<[f32; 4]>,
-    /// Tone-mapped sRGB, RGBA8.
-    pub ldr: Vec<u8>,
-    pub aovs: Option<Aovs>,
-    pub timings: FrameTimings,
-    /// Number of point/spot lights shaded, and how many visible ones were dropped.
-    pub other_lights_shaded: u32,
-    pub other_lights_dropped: usize,
-    /// Per scene light (by index in `Scene::lights`): the shadow attenuation the shading
-    /// used, 1 where no shadow map covers the pixel, NaN where no surface is.
-    pub shadow_aovs: Vec<Vec<f32>>,
-    /// The shadow atlases ("directional", "other") that were in use, side length and
-    /// depths, if asked for.
-    pub shadow_atlases: Vec<(&'static str, u32, Vec<f32>)>,
-    /// Per scene light: whether it had a realtime shadow map this frame, and if not why.
-    pub shadow_status: Vec<ShadowStatus>,
-    /// Shadow tiles rendered and caster draws issued into them.
-    pub shadow_tiles: usize,
-    pub shadow_caster_draws: usize,
-}
-
-/// Whether a light's shadows came from a shadow map this frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ShadowStatus {
-    /// Sampled from its atlas tiles.
-    Mapped,
-    /// The light casts no shadows (extras `shadows: none` or strength 0).
-    Off,
-    /// The light was not shaded this frame (culled, or over the light limits).
-    NotShaded,
-    /// It casts shadows but found no free atlas tiles.
-    NoTile,
-}
-
-#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
-enum PassKind {
-    Forward,
-    Aov,
-    ShadowAov,
-}
-
-#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
-struct PipelineKey {
-    pass: PassKind,
-    cull_back: bool,
-    front_cw: bool,
-    blend: bool,
-}
-
-struct Targets {
-    width: u32,
-    height: u32,
-    hdr: wgpu::Texture,
-    ldr: wgpu::Texture,
-    depth: wgpu::Texture,
-    aov_position: wgpu::Texture,
-    aov_normal: wgpu::Texture,
-    aov_shadow: wgpu::Texture,
-    tonemap_bind_group: wgpu::BindGroup,
-}
-
-struct Timestamps {
-    queries: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    period_ns: f64,
-}
+/// The tone-mapped image of offscreen frames.
+pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// Frames submitted but not known to be finished before `render` waits for the oldest.
+const MAX_FRAMES_IN_FLIGHT: usize = 2;
+/// Finished frames' GPU times kept until taken.
+const MAX_KEPT_GPU_TIMES: usize = 1024;
 
 /// A scene on the GPU.
 pub struct PreparedScene {
@@ -152,384 +40,78 @@ pub struct PreparedScene {
 
 pub struct Renderer {
     pub ctx: GpuContext,
-    frame_layout: wgpu::BindGroupLayout,
+    frame_data: FrameData,
     material_layout: wgpu::BindGroupLayout,
-    tonemap_layout: wgpu::BindGroupLayout,
-    scene_pipeline_layout: wgpu::PipelineLayout,
-    shadow_aov_pipeline_layout: wgpu::PipelineLayout,
-    aov_light_layout: wgpu::BindGroupLayout,
-    aov_lights: wgpu::Buffer,
-    shadow_pass: ShadowPass,
-    forward_module: wgpu::ShaderModule,
-    aov_module: wgpu::ShaderModule,
-    shadow_aov_module: wgpu::ShaderModule,
-    tonemap_pipeline: wgpu::RenderPipeline,
-    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
-    frame_buffer: wgpu::Buffer,
-    lights_buffer: wgpu::Buffer,
-    shadows_buffer: wgpu::Buffer,
-    targets: Option<Targets>,
-    timestamps: Option<Timestamps>,
-}
-
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn texture_2d(
-    ctx: &GpuContext,
-    label: &str,
-    w: u32,
-    h: u32,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
+    /// Every pass of the frame graph; the plan says which run and in what order.
+    passes: Vec<Box<dyn FramePass>>,
+    shadow_aov: ShadowAovPass,
+    targets: Targets,
+    timer: Option<GpuTimer>,
+    atlas_tiles: ShadowAtlasTiles,
+    in_flight: VecDeque<wgpu::SubmissionIndex>,
+    next_frame: u64,
+    gpu_times: VecDeque<GpuFrameTimes>,
 }
 
 impl Renderer {
     pub fn new(ctx: GpuContext) -> Result<Renderer, RenderError> {
         let device = &ctx.device;
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("frame layout"),
-            entries: &[
-                uniform_entry(0),
-                uniform_entry(1),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::VERTEX,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                uniform_entry(3),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 4,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 5,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 6,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-            ],
-        });
-        let aov_light_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("aov light layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: true,
-                    min_binding_size: wgpu::BufferSize::new(AOV_LIGHT_STRIDE),
-                },
-                count: None,
-            }],
-        });
+        let frame_data = FrameData::new(device);
         let material_layout = material_layout(device);
-        let tonemap_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("tonemap layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        });
-        let scene_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("scene pipeline layout"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&material_layout)],
-            immediate_size: 0,
-        });
-        let shadow_aov_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("shadow aov pipeline layout"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&material_layout), Some(&aov_light_layout)],
-            immediate_size: 0,
-        });
-        let tonemap_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("tonemap pipeline layout"),
-            bind_group_layouts: &[Some(&tonemap_layout)],
-            immediate_size: 0,
-        });
-        let tonemap_module = shaders::module(device, "tonemap", shaders::TONEMAP);
-        let tonemap_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("tonemap"),
-            layout: Some(&tonemap_pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &tonemap_module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &tonemap_module,
-                entry_point: Some("fs_tonemap"),
-                compilation_options: Default::default(),
-                targets: &[Some(LDR_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame uniform"),
-            size: std::mem::size_of::<GpuFrame>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let lights_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("lights uniform"),
-            size: std::mem::size_of::<GpuLights>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let shadows_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("shadows uniform"),
-            size: std::mem::size_of::<crate::gpu_types::GpuShadows>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let aov_lights = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("aov lights"),
-            size: AOV_LIGHT_STRIDE,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let shadow_pass = ShadowPass::new(&ctx);
-        let timestamps = ctx.has_timestamps.then(|| {
-            let count = 2 * TIMED_PASSES.len() as u32;
-            Timestamps {
-                queries: device.create_query_set(&wgpu::QuerySetDescriptor {
-                    label: Some("pass timestamps"),
-                    ty: wgpu::QueryType::Timestamp,
-                    count,
-                }),
-                resolve: device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("timestamp resolve"),
-                    size: 8 * count as u64,
-                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                }),
-                readback: device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("timestamp readback"),
-                    size: 8 * count as u64,
-                    usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                    mapped_at_creation: false,
-                }),
-                period_ns: ctx.queue.get_timestamp_period() as f64,
-            }
-        });
-        let forward_module = shaders::module(device, "forward", shaders::FORWARD);
-        let aov_module = shaders::module(device, "aov", shaders::AOV);
-        let shadow_aov_module = shaders::module(device, "shadow aov", shaders::SHADOW_AOV);
-        let renderer = Renderer {
-            frame_layout,
-            material_layout,
-            tonemap_layout,
-            scene_pipeline_layout,
-            shadow_aov_pipeline_layout,
-            aov_light_layout,
-            aov_lights,
-            shadow_pass,
-            shadows_buffer,
-            forward_module,
-            aov_module,
-            shadow_aov_module,
-            tonemap_pipeline,
-            pipelines: HashMap::new(),
-            frame_buffer,
-            lights_buffer,
-            targets: None,
-            timestamps,
-            ctx,
+        let scene_layout = || {
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("scene pipeline layout"),
+                bind_group_layouts: &[Some(&frame_data.layout), Some(&material_layout)],
+                immediate_size: 0,
+            })
         };
-        renderer.ctx.take_error()?;
-        Ok(renderer)
+        let passes: Vec<Box<dyn FramePass>> = vec![
+            Box::new(ShadowPass::new(&ctx)),
+            Box::new(ForwardPass::new(device, scene_layout(), ctx.depth_format)),
+            Box::new(AovPass::new(device, scene_layout(), ctx.depth_format)),
+            Box::new(TonemapPass::new(device)),
+        ];
+        let shadow_aov = ShadowAovPass::new(device, &frame_data.layout, &material_layout, ctx.depth_format);
+        let timer = ctx.has_timestamps.then(|| GpuTimer::new(device, &ctx.queue));
+        ctx.take_error()?;
+        Ok(Renderer {
+            frame_data,
+            material_layout,
+            passes,
+            shadow_aov,
+            targets: Targets::default(),
+            timer,
+            atlas_tiles: ShadowAtlasTiles::default(),
+            in_flight: VecDeque::new(),
+            next_frame: 0,
+            gpu_times: VecDeque::new(),
+            ctx,
+        })
     }
 
-    /// Uploads a scene.
-    pub fn prepare(&self, scene: &Scene) -> Result<PreparedScene, RenderError> {
+    /// Uploads a scene's geometry, objects, materials and textures.
+    pub fn prepare(&mut self, scene: &Scene) -> Result<PreparedScene, RenderError> {
         let gpu = GpuScene::upload(&self.ctx.device, &self.ctx.queue, &self.material_layout, scene);
         self.ctx.take_error()?;
         Ok(PreparedScene { gpu })
     }
 
-    /// Binds the per-frame buffers, the scene's objects and the current shadow atlas.
-    fn frame_bind_group(&self, prepared: &PreparedScene) -> wgpu::BindGroup {
-        self.ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame bind group"),
-            layout: &self.frame_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: self.frame_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: self.lights_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: prepared.gpu.objects.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: self.shadows_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&self.shadow_pass.directional.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::Sampler(&self.shadow_pass.sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: wgpu::BindingResource::TextureView(&self.shadow_pass.other.view),
-                },
-            ],
-        })
+    /// The plan of the next frame, as `render` would make it (its shadow tiles are
+    /// allocated, so the next frame keeps them).
+    pub fn plan(
+        &mut self,
+        scene: &Scene,
+        prepared: &PreparedScene,
+        view: &View,
+        settings: &Settings,
+        options: FrameOptions,
+    ) -> FramePlan {
+        let request = PlanRequest { aovs: options.aovs, debug_cascades: options.debug_cascades };
+        FramePlan::new(scene, &prepared.gpu.draws, view, settings, &mut self.atlas_tiles, request)
     }
 
-    fn pipeline(&mut self, key: PipelineKey) -> &wgpu::RenderPipeline {
-        let device = &self.ctx.device;
-        type Targets = Vec<Option<wgpu::ColorTargetState>>;
-        let (module, entry, targets, layout): (&wgpu::ShaderModule, &str, Targets, &wgpu::PipelineLayout) =
-            match key.pass {
-                PassKind::Aov => (
-                    &self.aov_module,
-                    "fs_aov",
-                    vec![Some(AOV_FORMAT.into()), Some(AOV_FORMAT.into())],
-                    &self.scene_pipeline_layout,
-                ),
-                PassKind::ShadowAov => (
-                    &self.shadow_aov_module,
-                    "fs_shadow_aov",
-                    vec![Some(SHADOW_AOV_FORMAT.into())],
-                    &self.shadow_aov_pipeline_layout,
-                ),
-                PassKind::Forward => (
-                    &self.forward_module,
-                    "fs_main",
-                    vec![Some(wgpu::ColorTargetState {
-                        format: HDR_FORMAT,
-                        blend: key.blend.then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                    &self.scene_pipeline_layout,
-                ),
-            };
-        self.pipelines.entry(key).or_insert_with(|| {
-            let label = format!("{key:?}");
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(&label),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(GpuVertex::layout())],
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: if key.front_cw { wgpu::FrontFace::Cw } else { wgpu::FrontFace::Ccw },
-                    cull_mode: key.cull_back.then_some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    // Transparent surfaces are tested against depth but do not write it.
-                    depth_write_enabled: Some(!key.blend),
-                    // Reverse-Z: nearer is greater.
-                    depth_compare: Some(wgpu::CompareFunction::Greater),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        })
-    }
-
-    fn ensure_targets(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
-        let max = self.ctx.max_texture_size();
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(RenderError::OutputSize {
-                width,
-                height,
-                reason: format!("each side must be between 1 and {max} (this device's limit)"),
-            });
-        }
-        if self.targets.as_ref().is_some_and(|t| t.width == width && t.height == height) {
-            return Ok(());
-        }
-        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let ctx = &self.ctx;
-        let hdr = texture_2d(ctx, "hdr", width, height, HDR_FORMAT, attach | wgpu::TextureUsages::TEXTURE_BINDING);
-        let tonemap_bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("tonemap bind group"),
-            layout: &self.tonemap_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(&hdr.create_view(&Default::default())),
-            }],
-        });
-        self.targets = Some(Targets {
-            width,
-            height,
-            ldr: texture_2d(ctx, "ldr", width, height, LDR_FORMAT, attach),
-            depth: texture_2d(ctx, "depth", width, height, DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT),
-            aov_position: texture_2d(ctx, "aov position", width, height, AOV_FORMAT, attach),
-            aov_normal: texture_2d(ctx, "aov normal depth", width, height, AOV_FORMAT, attach),
-            aov_shadow: texture_2d(ctx, "aov shadow", width, height, SHADOW_AOV_FORMAT, attach),
-            hdr,
-            tonemap_bind_group,
-        });
-        Ok(())
-    }
-
-    /// Renders one frame of `scene` (already `prepare`d) from `view`.
+    /// Renders one frame of `scene` (already `prepare`d) from `view` into a texture of
+    /// the renderer's.
     pub fn render(
         &mut self,
         scene: &Scene,
@@ -538,401 +120,340 @@ impl Renderer {
         settings: &Settings,
         options: FrameOptions,
     ) -> Result<FrameOutput, RenderError> {
-        let _span = tracing::info_span!("frame", width = view.width, height = view.height).entered();
-        let start = Instant::now();
-        self.ensure_targets(view.width, view.height)?;
-        let mut lights = prepare_lights(scene, view, settings);
-        let directional: Vec<&chiaro_scene::Light> =
-            lights.directional_scene_index.iter().map(|&i| &scene.lights[i]).collect();
-        let other: Vec<(&chiaro_scene::Light, f32)> = lights
-            .other_scene_index
-            .iter()
-            .zip(&lights.gpu.other)
-            .map(|(&i, gpu)| (&scene.lights[i], gpu.range))
-            .collect();
-        let mut plan = plan_shadows(view, settings, &directional, &other);
-        for (slot, shadow) in lights.gpu.directional.iter_mut().zip(plan.directional) {
-            slot.shadow = shadow;
-        }
-        let shadowed_other_light_count = shadowed_first(&mut lights, &mut plan);
-        self.shadow_pass.ensure_atlases(&self.ctx.device, &plan);
-        let exposure = exposure_scale(settings.render.exposure_ev100);
-        let frame = GpuFrame {
-            clip_from_world: view.clip_from_world(),
-            view_from_world: view.view_from_world(),
-            camera_position_ws: view.eye(),
-            exposure_scale: exposure,
-            ambient: Vec3::from(settings.render.ambient),
-            directional_light_count: lights.directional_count,
-            background: Vec3::from(settings.render.background),
-            other_light_count: lights.other_count,
-            debug_view: u32::from(options.debug_cascades),
-            shadowed_other_light_count,
-            _pad: [0; 2],
-        };
-        let queue = &self.ctx.queue;
-        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
-        queue.write_buffer(&self.lights_buffer, 0, bytemuck::bytes_of(&lights.gpu));
-        queue.write_buffer(&self.shadows_buffer, 0, bytemuck::bytes_of(&plan.gpu));
-
-        let draws = ordered_draws(&prepared.gpu.draws, view);
-        let passes =
-            [(PassKind::Forward, true), (PassKind::Aov, options.aovs), (PassKind::ShadowAov, options.shadow_aovs)];
-        for d in &draws {
-            for (pass, wanted) in passes {
-                if wanted {
-                    self.pipeline(pipeline_key(d, pass));
-                }
-            }
-        }
-        let frame_bind_group = self.frame_bind_group(prepared);
-        let mut encoder =
-            self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        let shadow_timestamps = self.timestamps.as_ref().map(|ts| (&ts.queries, 2 * timed_index("shadows")));
-        let shadow_caster_draws =
-            self.shadow_pass.record(&self.ctx, &mut encoder, &plan, &prepared.gpu, shadow_timestamps);
-        let background = Vec3::from(settings.render.background) * exposure;
-        self.record_scene_pass(&mut encoder, prepared, &frame_bind_group, &draws, PassKind::Forward, background, None);
-        if options.aovs {
-            self.record_scene_pass(&mut encoder, prepared, &frame_bind_group, &draws, PassKind::Aov, Vec3::ZERO, None);
-        }
-        self.record_tonemap(&mut encoder);
-        if let Some(ts) = &self.timestamps {
-            encoder.resolve_query_set(&ts.queries, 0..2 * TIMED_PASSES.len() as u32, &ts.resolve, 0);
-            encoder.copy_buffer_to_buffer(&ts.resolve, 0, &ts.readback, 0, ts.resolve.size());
-        }
-        let cpu_prepare_ms = start.elapsed().as_secs_f64() * 1e3;
-        self.ctx.queue.submit([encoder.finish()]);
-        self.ctx.wait_idle()?;
-        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-        self.ctx.take_error()?;
-
-        let mut timings = FrameTimings { cpu_prepare_ms, gpu_pass_ms: Vec::new(), wall_ms };
-        if let Some(ts) = &self.timestamps {
-            let bytes = read_buffer(&self.ctx, &ts.readback)?;
-            let stamps: &[u64] = bytemuck::cast_slice(&bytes);
-            for (i, name) in TIMED_PASSES.iter().enumerate() {
-                let skipped = (*name == "aov" && !options.aovs)
-                    || (*name == "shadows" && plan.tiles.is_empty() && plan.other_tiles.is_empty());
-                if skipped {
-                    continue;
-                }
-                let ticks = stamps[2 * i + 1].saturating_sub(stamps[2 * i]);
-                timings.gpu_pass_ms.push((name, ticks as f64 * ts.period_ns * 1e-6));
-            }
-        }
-        let mut out = FrameOutput {
-            width: view.width,
-            height: view.height,
-            timings,
-            other_lights_shaded: lights.other_count,
-            other_lights_dropped: lights.selection.dropped,
-            shadow_status: shadow_status(scene, &lights, &plan),
-            shadow_tiles: plan.tiles.len() + plan.other_tiles.len(),
-            shadow_caster_draws,
-            ..Default::default()
-        };
-        if options.readback {
-            self.read_images(&mut out, exposure, options.aovs)?;
-        }
-        if options.shadow_aovs {
-            out.shadow_aovs = self.render_shadow_aovs(scene, prepared, &frame_bind_group, &draws, &lights, &plan)?;
-        }
-        if options.read_shadow_atlas {
-            for (name, size, atlas) in [
-                ("directional", plan.atlas_size, &self.shadow_pass.directional),
-                ("other", plan.other_atlas_size, &self.shadow_pass.other),
-            ] {
-                if size > 0 {
-                    let bytes = read_texture(&self.ctx, &atlas.texture, 4)?;
-                    out.shadow_atlases.push((name, size, bytemuck::cast_slice(&bytes).to_vec()));
-                }
-            }
-        }
-        Ok(out)
+        self.run_frame(scene, prepared, view, settings, options, None)
     }
 
-    /// One pass per scene light writing the shadow attenuation the shading used for it.
-    fn render_shadow_aovs(
+    /// Renders one frame into `output` (a window's surface texture, say), whose format
+    /// may be sRGB or linear; the frame is not waited for unless `options` reads back.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_to(
         &mut self,
         scene: &Scene,
         prepared: &PreparedScene,
-        frame_bind_group: &wgpu::BindGroup,
-        draws: &[&Draw],
-        lights: &FrameLights,
-        _plan: &ShadowPlan,
-    ) -> Result<Vec<Vec<f32>>, RenderError> {
-        let mut out = Vec::with_capacity(scene.lights.len());
-        let aov_bind_group = self.ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("aov light bind group"),
-            layout: &self.aov_light_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &self.aov_lights,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(AOV_LIGHT_STRIDE),
-                }),
-            }],
-        });
-        for light_index in 0..scene.lights.len() {
-            let slot_of = |slots: &[usize]| slots.iter().position(|&i| i == light_index).map_or(NO_LIGHT, |s| s as u32);
-            let value = GpuAovLight {
-                directional_index: slot_of(&lights.directional_scene_index),
-                other_index: slot_of(&lights.other_scene_index),
-                _pad: [0; 62],
-            };
-            self.ctx.queue.write_buffer(&self.aov_lights, 0, bytemuck::bytes_of(&value));
-            let mut encoder =
-                self.ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("shadow aov") });
-            self.record_scene_pass(
-                &mut encoder,
-                prepared,
-                frame_bind_group,
-                draws,
-                PassKind::ShadowAov,
-                Vec3::ZERO,
-                Some(&aov_bind_group),
-            );
-            self.ctx.queue.submit([encoder.finish()]);
-            let targets = self.targets.as_ref().expect("targets exist");
-            let bytes = read_texture(&self.ctx, &targets.aov_shadow, 8)?;
-            let pairs: &[[f32; 2]] = bytemuck::cast_slice(&bytes);
-            out.push(pairs.iter().map(|p| if p[1] > 0.5 { p[0] } else { f32::NAN }).collect());
+        view: &View,
+        settings: &Settings,
+        options: FrameOptions,
+        output: &wgpu::TextureView,
+        output_format: wgpu::TextureFormat,
+    ) -> Result<FrameOutput, RenderError> {
+        self.run_frame(scene, prepared, view, settings, options, Some((output, output_format)))
+    }
+
+    /// GPU pass times of the frames that have finished since the last call, oldest first;
+    /// with `wait`, after every submitted frame has finished.
+    pub fn gpu_times(&mut self, wait: bool) -> Result<Vec<GpuFrameTimes>, RenderError> {
+        if wait {
+            self.wait_idle()?;
+        } else {
+            self.ctx.device.poll(wgpu::PollType::Poll).map_err(|e| RenderError::Gpu(e.to_string()))?;
         }
+        self.collect_gpu_times();
+        Ok(self.gpu_times.drain(..).collect())
+    }
+
+    /// Blocks until every submitted frame has finished.
+    pub fn wait_idle(&mut self) -> Result<(), RenderError> {
+        self.ctx.wait_idle()?;
+        self.in_flight.clear();
+        Ok(())
+    }
+
+    fn collect_gpu_times(&mut self) {
+        let Some(timer) = &mut self.timer else { return };
+        for (frame, passes) in timer.collect() {
+            if self.gpu_times.len() == MAX_KEPT_GPU_TIMES {
+                self.gpu_times.pop_front();
+            }
+            self.gpu_times.push_back(GpuFrameTimes {
+                frame,
+                passes: passes.into_iter().map(|(pass, ms)| (pass.name(), ms)).collect(),
+            });
+        }
+    }
+
+    fn pass_mut(passes: &mut [Box<dyn FramePass>], id: PassId) -> &mut Box<dyn FramePass> {
+        passes.iter_mut().find(|p| p.id() == id).unwrap_or_else(|| panic!("no {} pass registered", id.name()))
+    }
+
+    /// Makes every target the frame writes, sized for the view and the plan's atlases.
+    fn ensure_targets(&mut self, plan: &FramePlan, written: &HashSet<Resource>, external_output: bool) {
+        let device = &self.ctx.device;
+        let (width, height) = (plan.view.width, plan.view.height);
+        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let sampled = wgpu::TextureUsages::TEXTURE_BINDING;
+        for (resource, size) in [
+            (Resource::DirectionalShadowAtlas, plan.shadows.directional_atlas_size),
+            (Resource::OtherShadowAtlas, plan.shadows.other_atlas_size),
+        ] {
+            // An atlas no light uses this frame keeps its texture (1 texel until first used).
+            if size > 0 || self.targets.texture(resource).is_none() {
+                let desc = TargetDesc {
+                    width: size.max(1),
+                    height: size.max(1),
+                    format: SHADOW_FORMAT,
+                    usage: attach | sampled,
+                };
+                self.targets.ensure(device, resource, desc);
+            }
+        }
+        for &resource in written {
+            let (format, usage) = match resource {
+                Resource::Depth => (self.ctx.depth_format, wgpu::TextureUsages::RENDER_ATTACHMENT),
+                Resource::Hdr => (HDR_FORMAT, attach | sampled),
+                Resource::AovPosition | Resource::AovNormalDepth => (AOV_FORMAT, attach),
+                Resource::AovShadow => (SHADOW_AOV_FORMAT, attach),
+                Resource::Output if !external_output => (OUTPUT_FORMAT, attach),
+                _ => continue,
+            };
+            self.targets.ensure(device, resource, TargetDesc { width, height, format, usage });
+        }
+    }
+
+    fn run_frame(
+        &mut self,
+        scene: &Scene,
+        prepared: &PreparedScene,
+        view: &View,
+        settings: &Settings,
+        options: FrameOptions,
+        output: Option<(&wgpu::TextureView, wgpu::TextureFormat)>,
+    ) -> Result<FrameOutput, RenderError> {
+        let _span = tracing::info_span!("frame", width = view.width, height = view.height).entered();
+        let start = Instant::now();
+        let max = self.ctx.max_texture_size();
+        if view.width == 0 || view.height == 0 || view.width > max || view.height > max {
+            return Err(RenderError::OutputSize {
+                width: view.width,
+                height: view.height,
+                reason: format!("each side must be between 1 and {max} (this device's limit)"),
+            });
+        }
+        let frame = self.next_frame;
+        self.next_frame += 1;
+        let plan = self.plan(scene, prepared, view, settings, options);
+        tracing::debug!("{plan}");
+
+        let mut order = Vec::with_capacity(plan.passes.len() + 1);
+        for &id in &plan.passes {
+            order.push((id, Self::pass_mut(&mut self.passes, id).io(&plan)));
+        }
+        if options.shadow_aovs {
+            order.push((PassId::ShadowAov, ShadowAovPass::io()));
+        }
+        let written = check_order(&order)?;
+        self.ensure_targets(&plan, &written, output.is_some());
+        self.targets.set_external_output(output.map(|(view, _)| view.clone()));
+        let output_format = output.map_or(OUTPUT_FORMAT, |(_, format)| format);
+
+        let (device, queue) = (&self.ctx.device, &self.ctx.queue);
+        self.frame_data.upload(queue, &plan, scene, settings);
+        let frame_bind_group = self.frame_data.bind_group(device, &prepared.gpu.objects, &self.targets);
+        let prepare = PrepareContext { device, queue, plan: &plan, scene: &prepared.gpu, output_format };
+        for &id in &plan.passes {
+            Self::pass_mut(&mut self.passes, id).prepare(&prepare);
+        }
+
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        let mut stats = PassStats::default();
+        for &id in &plan.passes {
+            let pass = self.passes.iter().find(|p| p.id() == id).expect("registered");
+            encoder.push_debug_group(id.name());
+            let mut cx = PassContext {
+                device,
+                encoder: &mut encoder,
+                plan: &plan,
+                settings,
+                scene: &prepared.gpu,
+                frame_bind_group: &frame_bind_group,
+                targets: &self.targets,
+                timestamps: self.timer.as_mut().and_then(|t| t.pass(id)),
+                stats: &mut stats,
+            };
+            pass.record(&mut cx);
+            encoder.pop_debug_group();
+        }
+        if let Some(timer) = &mut self.timer {
+            timer.end_frame(device, &mut encoder, frame);
+        }
+
+        // Read-backs ride in the frame's own submission.
+        let mut copies = Vec::new();
+        let mut wanted = Vec::new();
+        if options.readback {
+            for (resource, bytes_per_pixel) in
+                [(Resource::Hdr, 8), (Resource::Output, 4), (Resource::AovPosition, 16), (Resource::AovNormalDepth, 16)]
+            {
+                if written.contains(&resource)
+                    && let Some(texture) = self.targets.texture(resource)
+                {
+                    copies.push(copy_texture(device, &mut encoder, texture, bytes_per_pixel));
+                    wanted.push(resource);
+                }
+            }
+        }
+        let mut atlases = Vec::new();
+        if options.read_shadow_atlas {
+            for (name, resource, size) in [
+                ("directional", Resource::DirectionalShadowAtlas, plan.shadows.directional_atlas_size),
+                ("other", Resource::OtherShadowAtlas, plan.shadows.other_atlas_size),
+            ] {
+                if size > 0 {
+                    let texture = self.targets.texture(resource).expect("atlases are the renderer's");
+                    copies.push(copy_texture(device, &mut encoder, texture, 4));
+                    atlases.push((name, size));
+                }
+            }
+        }
+        let shadow_copies = if options.shadow_aovs {
+            self.record_shadow_aovs(scene, prepared, &plan, settings, &frame_bind_group, &mut encoder)
+        } else {
+            Vec::new()
+        };
+        let cpu_prepare_ms = start.elapsed().as_secs_f64() * 1e3;
+
+        self.throttle()?;
+        let submission = self.ctx.queue.submit([encoder.finish()]);
+        self.in_flight.push_back(submission);
+        if let Some(timer) = &mut self.timer {
+            timer.submitted();
+        }
+
+        let mut timings = FrameTimings { frame, cpu_prepare_ms, ..Default::default() };
+        let mut out = FrameOutput {
+            width: view.width,
+            height: view.height,
+            hdr: Vec::new(),
+            ldr: Vec::new(),
+            aovs: None,
+            timings: FrameTimings::default(),
+            shadow_aovs: Vec::new(),
+            shadow_atlases: Vec::new(),
+            shadow_tiles: stats.shadow_tiles_rendered,
+            shadow_caster_draws: stats.shadow_caster_draws,
+            plan,
+        };
+        if options.reads_back() {
+            let shadow_count = shadow_copies.len();
+            let mut bytes = finish_copies(&self.ctx, copies.into_iter().chain(shadow_copies).collect())?;
+            self.in_flight.clear();
+            timings.wall_ms = Some(start.elapsed().as_secs_f64() * 1e3);
+            let shadow_bytes = bytes.split_off(bytes.len() - shadow_count);
+            let atlas_bytes = bytes.split_off(bytes.len() - atlases.len());
+            let exposure = exposure_scale(settings.render.exposure_ev100);
+            unpack_images(&mut out, &wanted, bytes, exposure);
+            out.shadow_atlases = atlases
+                .into_iter()
+                .zip(atlas_bytes)
+                .map(|((name, size), b)| AtlasImage { name, size, depths: bytemuck::cast_slice(&b).to_vec() })
+                .collect();
+            out.shadow_aovs = shadow_bytes
+                .iter()
+                .map(|b| {
+                    let pairs: &[[f32; 2]] = bytemuck::cast_slice(b);
+                    pairs.iter().map(|p| if p[1] > 0.5 { p[0] } else { f32::NAN }).collect()
+                })
+                .collect();
+            self.collect_gpu_times();
+            if let Some(k) = self.gpu_times.iter().position(|t| t.frame == frame) {
+                timings.gpu_pass_ms = self.gpu_times.remove(k).expect("found").passes;
+            }
+        } else {
+            self.ctx.device.poll(wgpu::PollType::Poll).map_err(|e| RenderError::Gpu(e.to_string()))?;
+            self.collect_gpu_times();
+        }
+        self.targets.set_external_output(None);
         self.ctx.take_error()?;
+        out.timings = timings;
         Ok(out)
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn record_scene_pass(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        prepared: &PreparedScene,
-        frame_bind_group: &wgpu::BindGroup,
-        draws: &[&Draw],
-        pass_kind: PassKind,
-        clear: Vec3,
-        aov_light: Option<&wgpu::BindGroup>,
-    ) {
-        let targets = self.targets.as_ref().expect("targets exist");
-        let color_views: Vec<wgpu::TextureView> = match pass_kind {
-            PassKind::Aov => vec![
-                targets.aov_position.create_view(&Default::default()),
-                targets.aov_normal.create_view(&Default::default()),
-            ],
-            PassKind::ShadowAov => vec![targets.aov_shadow.create_view(&Default::default())],
-            PassKind::Forward => vec![targets.hdr.create_view(&Default::default())],
-        };
-        let depth_view = targets.depth.create_view(&Default::default());
-        let clear_color = wgpu::Color { r: clear.x as f64, g: clear.y as f64, b: clear.z as f64, a: 0.0 };
-        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = color_views
-            .iter()
-            .map(|view| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear_color), store: wgpu::StoreOp::Store },
-                })
-            })
-            .collect();
-        let timestamp_writes = match pass_kind {
-            PassKind::Forward => timestamp_writes(&self.timestamps, "forward"),
-            PassKind::Aov => timestamp_writes(&self.timestamps, "aov"),
-            PassKind::ShadowAov => None,
-        };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(match pass_kind {
-                PassKind::Forward => "forward pass",
-                PassKind::Aov => "aov pass",
-                PassKind::ShadowAov => "shadow aov pass",
-            }),
-            color_attachments: &attachments,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
-            }),
-            timestamp_writes,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, frame_bind_group, &[]);
-        if let Some(group) = aov_light {
-            pass.set_bind_group(2, group, &[0]);
-        }
-        pass.set_vertex_buffer(0, prepared.gpu.vertices.slice(..));
-        pass.set_index_buffer(prepared.gpu.indices.slice(..), wgpu::IndexFormat::Uint32);
-        let mut bound_material = usize::MAX;
-        let mut bound_key = None;
-        for d in draws {
-            let key = pipeline_key(d, pass_kind);
-            if bound_key != Some(key) {
-                pass.set_pipeline(&self.pipelines[&key]);
-                bound_key = Some(key);
-            }
-            if bound_material != d.material {
-                pass.set_bind_group(1, &prepared.gpu.materials[d.material], &[]);
-                bound_material = d.material;
-            }
-            pass.draw_indexed(d.first_index..d.first_index + d.index_count, d.base_vertex, d.object..d.object + 1);
-        }
-    }
-
-    fn record_tonemap(&self, encoder: &mut wgpu::CommandEncoder) {
-        let targets = self.targets.as_ref().expect("targets exist");
-        let view = targets.ldr.create_view(&Default::default());
-        let timestamp_writes = timestamp_writes(&self.timestamps, "tonemap");
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("tonemap pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_pipeline(&self.tonemap_pipeline);
-        pass.set_bind_group(0, &targets.tonemap_bind_group, &[]);
-        pass.draw(0..3, 0..1);
-    }
-
-    fn read_images(&self, out: &mut FrameOutput, exposure: f32, aovs: bool) -> Result<(), RenderError> {
-        let targets = self.targets.as_ref().expect("targets exist");
-        let hdr_bytes = read_texture(&self.ctx, &targets.hdr, 8)?;
-        let halves: &[u16] = bytemuck::cast_slice(&hdr_bytes);
-        out.hdr = halves
-            .chunks_exact(4)
-            .map(|p| {
-                let c = [p[0], p[1], p[2], p[3]].map(f16_to_f32);
-                [c[0] / exposure, c[1] / exposure, c[2] / exposure, c[3]]
-            })
-            .collect();
-        out.ldr = read_texture(&self.ctx, &targets.ldr, 4)?;
-        if aovs {
-            let position = read_texture(&self.ctx, &targets.aov_position, 16)?;
-            let normal = read_texture(&self.ctx, &targets.aov_normal, 16)?;
-            let position: &[[f32; 4]] = bytemuck::cast_slice(&position);
-            let normal: &[[f32; 4]] = bytemuck::cast_slice(&normal);
-            let mut a = Aovs::default();
-            for (p, n) in position.iter().zip(normal) {
-                if p[3] > 0.5 {
-                    a.position_ws.push([p[0], p[1], p[2]]);
-                    a.normal_ws.push([n[0], n[1], n[2]]);
-                    a.depth.push(n[3]);
-                } else {
-                    a.position_ws.push([f32::NAN; 3]);
-                    a.normal_ws.push([f32::NAN; 3]);
-                    a.depth.push(f32::INFINITY);
-                }
-            }
-            out.aovs = Some(a);
+    /// Waits for the oldest frames until fewer than `MAX_FRAMES_IN_FLIGHT` are in flight.
+    fn throttle(&mut self) -> Result<(), RenderError> {
+        while self.in_flight.len() >= MAX_FRAMES_IN_FLIGHT {
+            let oldest = self.in_flight.pop_front().expect("non-empty");
+            self.ctx
+                .device
+                .poll(wgpu::PollType::Wait { submission_index: Some(oldest), timeout: None })
+                .map_err(|e| RenderError::Gpu(e.to_string()))?;
         }
         Ok(())
     }
-}
 
-/// Moves the other lights that have shadow maps to the front of the upload (keeping each
-/// group's importance order), sets their shadow data, and returns how many there are.
-fn shadowed_first(lights: &mut FrameLights, plan: &mut ShadowPlan) -> u32 {
-    let n = lights.other_scene_index.len();
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by_key(|&slot| plan.other[slot].x <= 0.0);
-    let gpu: Vec<_> =
-        order.iter().map(|&slot| GpuOtherLight { shadow: plan.other[slot], ..lights.gpu.other[slot] }).collect();
-    lights.gpu.other[..n].copy_from_slice(&gpu);
-    lights.other_scene_index = order.iter().map(|&slot| lights.other_scene_index[slot]).collect();
-    plan.other = order.iter().map(|&slot| plan.other[slot]).collect();
-    plan.other.iter().filter(|s| s.x > 0.0).count() as u32
-}
-
-fn shadow_status(scene: &Scene, lights: &FrameLights, plan: &ShadowPlan) -> Vec<ShadowStatus> {
-    scene
-        .lights
-        .iter()
-        .enumerate()
-        .map(|(i, light)| {
-            let packed = lights
-                .directional_scene_index
-                .iter()
-                .position(|&s| s == i)
-                .map(|slot| plan.directional[slot])
-                .or_else(|| lights.other_scene_index.iter().position(|&s| s == i).map(|slot| plan.other[slot]));
-            match packed {
-                _ if !light.shadow.casts() => ShadowStatus::Off,
-                None => ShadowStatus::NotShaded,
-                Some(shadow) if shadow.x > 0.0 => ShadowStatus::Mapped,
-                Some(_) => ShadowStatus::NoTile,
-            }
-        })
-        .collect()
-}
-
-fn timestamp_writes<'a>(timestamps: &'a Option<Timestamps>, pass: &str) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
-    let index = timed_index(pass);
-    timestamps.as_ref().map(|ts| wgpu::RenderPassTimestampWrites {
-        query_set: &ts.queries,
-        beginning_of_pass_write_index: Some(2 * index),
-        end_of_pass_write_index: Some(2 * index + 1),
-    })
-}
-
-fn pipeline_key(d: &Draw, pass: PassKind) -> PipelineKey {
-    PipelineKey {
-        pass,
-        cull_back: !d.double_sided,
-        front_cw: d.mirrored,
-        blend: d.alpha_mode == AlphaMode::Blend && pass == PassKind::Forward,
+    /// One shadow AOV pass per scene light, each followed by a copy of its result.
+    fn record_shadow_aovs(
+        &mut self,
+        scene: &Scene,
+        prepared: &PreparedScene,
+        plan: &FramePlan,
+        settings: &Settings,
+        frame_bind_group: &wgpu::BindGroup,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Vec<PendingCopy> {
+        let (device, queue) = (&self.ctx.device, &self.ctx.queue);
+        let positions = plan.list_positions();
+        let list_indices: Vec<u32> = (0..scene.lights.len())
+            .map(|i| plan.light_index(LightId(i as u32)).map_or(NO_LIGHT, |k| positions[k]))
+            .collect();
+        self.shadow_aov.prepare(device, queue, plan, &prepared.gpu, &list_indices);
+        let texture = self.targets.texture(Resource::AovShadow).expect("made for shadow AOVs");
+        let mut stats = PassStats::default();
+        (0..list_indices.len())
+            .map(|k| {
+                let mut cx = PassContext {
+                    device,
+                    encoder,
+                    plan,
+                    settings,
+                    scene: &prepared.gpu,
+                    frame_bind_group,
+                    targets: &self.targets,
+                    timestamps: None,
+                    stats: &mut stats,
+                };
+                self.shadow_aov.record(&mut cx, k);
+                copy_texture(device, encoder, texture, 8)
+            })
+            .collect()
     }
 }
 
-/// Opaque and masked draws first, grouped by pipeline and material; then transparent
-/// draws from far to near, so blending composes correctly.
-fn ordered_draws<'a>(draws: &'a [Draw], view: &View) -> Vec<&'a Draw> {
-    let eye = view.eye();
-    let (mut blended, mut solid): (Vec<&Draw>, Vec<&Draw>) =
-        draws.iter().filter(|d| d.visible()).partition(|d| d.alpha_mode == AlphaMode::Blend);
-    solid.sort_by_key(|d| (d.double_sided, d.mirrored, d.material));
-    blended.sort_by(|a, b| b.center_ws.distance_squared(eye).total_cmp(&a.center_ws.distance_squared(eye)));
-    solid.extend(blended);
-    solid
-}
-
-/// IEEE half to single precision (the HDR target is Rgba16Float).
-fn f16_to_f32(h: u16) -> f32 {
-    let sign = ((h >> 15) as u32) << 31;
-    let exponent = ((h >> 10) & 0x1f) as u32;
-    let mantissa = (h & 0x3ff) as u32;
-    let bits = match (exponent, mantissa) {
-        (0, 0) => sign,
-        (0, m) => {
-            // Subnormal: renormalise.
-            let shift = m.leading_zeros() - 21;
-            sign | ((127 - 15 - shift + 1) << 23) | ((m << shift) & 0x3ff) << 13
+/// Fills the output's images from the read-back bytes of `resources`, in order.
+fn unpack_images(out: &mut FrameOutput, resources: &[Resource], bytes: Vec<Vec<u8>>, exposure: f32) {
+    let mut position = None;
+    let mut normal = None;
+    for (resource, b) in resources.iter().zip(bytes) {
+        match resource {
+            Resource::Hdr => {
+                let halves: &[u16] = bytemuck::cast_slice(&b);
+                out.hdr = halves
+                    .chunks_exact(4)
+                    .map(|p| {
+                        let c = [p[0], p[1], p[2], p[3]].map(f16_to_f32);
+                        [c[0] / exposure, c[1] / exposure, c[2] / exposure, c[3]]
+                    })
+                    .collect();
+            }
+            Resource::Output => out.ldr = b,
+            Resource::AovPosition => position = Some(b),
+            Resource::AovNormalDepth => normal = Some(b),
+            _ => {}
         }
-        (0x1f, m) => sign | 0x7f80_0000 | (m << 13),
-        (e, m) => sign | ((e + 127 - 15) << 23) | (m << 13),
-    };
-    f32::from_bits(bits)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::f16_to_f32;
-
-    #[test]
-    fn half_floats_convert() {
-        assert_eq!(f16_to_f32(0x3c00), 1.0);
-        assert_eq!(f16_to_f32(0xc000), -2.0);
-        assert_eq!(f16_to_f32(0x7bff), 65504.0);
-        assert!(f16_to_f32(0x7c00).is_infinite());
-        assert!((f16_to_f32(0x0001) - 5.960_464_5e-8).abs() < 1e-12);
-        assert!((f16_to_f32(0x0200) - 3.051_757_8e-5).abs() < 1e-10);
-        assert_eq!(f16_to_f32(0x3555), 0.333_251_95);
+    }
+    if let (Some(position), Some(normal)) = (position, normal) {
+        let position: &[[f32; 4]] = bytemuck::cast_slice(&position);
+        let normal: &[[f32; 4]] = bytemuck::cast_slice(&normal);
+        let mut a = Aovs::default();
+        for (p, n) in position.iter().zip(normal) {
+            if p[3] > 0.5 {
+                a.position_ws.push([p[0], p[1], p[2]]);
+                a.normal_ws.push([n[0], n[1], n[2]]);
+                a.depth.push(n[3]);
+            } else {
+                a.position_ws.push([f32::NAN; 3]);
+                a.normal_ws.push([f32::NAN; 3]);
+                a.depth.push(f32::INFINITY);
+            }
+        }
+        out.aovs = Some(a);
     }
 }

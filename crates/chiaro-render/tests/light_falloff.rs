@@ -16,13 +16,13 @@ const EYE: Vec3 = Vec3::new(0.0, 6.0, 0.01);
 fn predicted(light: &Light, p: Vec3, range: f32) -> f32 {
     let v = (EYE - p).normalize();
     match light.kind {
-        LightKind::Directional => light.intensity * brdf_cos(Vec3::ONE, 0.0, 1.0, Vec3::Y, v, -light.direction).x,
+        LightKind::Directional => light.intensity * brdf_cos(Vec3::ONE, 0.0, 1.0, Vec3::Y, v, -light.direction()).x,
         LightKind::Point | LightKind::Spot { .. } => {
-            let to_light = light.position - p;
+            let to_light = light.position() - p;
             let l = to_light.normalize();
             let mut e = light.intensity * distance_attenuation(to_light.length_squared(), range);
             if let LightKind::Spot { inner_cone_rad, outer_cone_rad } = light.kind {
-                e *= spot_attenuation(light.direction.dot(-l), spot_angle_params(inner_cone_rad, outer_cone_rad));
+                e *= spot_attenuation(light.direction().dot(-l), spot_angle_params(inner_cone_rad, outer_cone_rad));
             }
             e * brdf_cos(Vec3::ONE, 0.0, 1.0, Vec3::Y, v, l).x
         }
@@ -66,7 +66,7 @@ fn pixels_beyond_a_lights_range_are_exactly_unlit() {
     let frame = render(&mut renderer(), &scene, &unlit_settings(), 192);
     let (mut outside, mut inside) = (0, 0);
     for &(_, p, _, radiance) in &surface_pixels(&frame) {
-        let d = p.distance(light.position);
+        let d = p.distance(light.position());
         if d >= range {
             outside += 1;
             assert_eq!(radiance, Vec3::ZERO, "lit at distance {d}");
@@ -88,20 +88,20 @@ fn spot_light_lights_exactly_its_cone() {
     let light = Light {
         name: "spot".into(),
         node: 3,
-        kind: LightKind::Spot { inner_cone_rad: inner, outer_cone_rad: outer },
-        color: Vec3::ONE,
         intensity: 30.0,
         range: Some(50.0),
-        position: Vec3::new(0.0, 3.0, 0.0),
-        direction: Vec3::NEG_Y,
-        shadow: Default::default(),
+        ..Light::new(
+            LightKind::Spot { inner_cone_rad: inner, outer_cone_rad: outer },
+            Vec3::new(0.0, 3.0, 0.0),
+            Vec3::NEG_Y,
+        )
     };
     let scene = floor_scene(12.0, EYE, vec![light.clone()]);
     let frame = render(&mut renderer(), &scene, &unlit_settings(), 256);
     let margin = 0.3f32.to_radians();
     let (mut in_cone, mut lit) = (0usize, 0usize);
     for &(_, p, _, radiance) in &surface_pixels(&frame) {
-        let angle = light.direction.angle_between(p - light.position);
+        let angle = light.direction().angle_between(p - light.position());
         if angle < outer {
             in_cone += 1;
         }
@@ -130,13 +130,8 @@ fn directional_light_gives_illuminance_times_brdf() {
     let sun = Light {
         name: "sun".into(),
         node: 2,
-        kind: LightKind::Directional,
-        color: Vec3::ONE,
         intensity: 2.0,
-        range: None,
-        position: Vec3::ZERO,
-        direction,
-        shadow: Default::default(),
+        ..Light::new(LightKind::Directional, Vec3::ZERO, direction)
     };
     let scene = floor_scene(12.0, EYE, vec![sun.clone()]);
     let frame = render(&mut renderer(), &scene, &unlit_settings(), 128);
@@ -153,8 +148,8 @@ fn lights_over_the_limit_are_dropped_by_importance() {
         .collect();
     let scene = floor_scene(12.0, EYE, lights);
     let frame = render(&mut renderer(), &scene, &unlit_settings(), 64);
-    assert_eq!(frame.other_lights_shaded, 64);
-    assert_eq!(frame.other_lights_dropped, 6);
+    assert_eq!(frame.other_lights_shaded(), 64);
+    assert_eq!(frame.other_lights_dropped(), 6);
 }
 
 #[test]

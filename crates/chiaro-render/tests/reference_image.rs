@@ -4,8 +4,7 @@
 
 mod common;
 
-use chiaro_render::renderer::FrameOutput;
-use chiaro_render::{FrameOptions, View};
+use chiaro_render::{FrameOptions, FrameOutput, View};
 use chiaro_scene::demo::{DEMO_OTHER_LIGHTS, demo_scene};
 use chiaro_scene::{Scene, Settings};
 use common::renderer;
@@ -56,7 +55,7 @@ fn demo_matches_the_reference_image() {
 fn the_metric_notices_a_moved_light() {
     let mut scene = demo_scene(DEMO_OTHER_LIGHTS);
     let spot = scene.lights.iter_mut().find(|l| l.name.starts_with("spot")).unwrap();
-    spot.position.x += 2.0;
+    spot.world_from_light.w_axis.x += 2.0;
     let mean = mean_flip(&reference(), &render_rgb(&scene));
     assert!(mean > MAX_MEAN_FLIP, "moving a spot light scored only {mean}");
 }

@@ -4,6 +4,7 @@
 
 use crate::shapes;
 use crate::types::*;
+use chiaro_math::rigid::looking_along;
 use glam::{Mat4, Quat, Vec3};
 
 /// Default number of point and spot lights in the demo.
@@ -110,8 +111,7 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
         color: Vec3::new(1.0, 0.96, 0.9),
         intensity: 3.0,
         range: None,
-        position: Vec3::ZERO,
-        direction: sun_direction,
+        world_from_light: looking_along(Vec3::ZERO, sun_direction),
         shadow: LightShadow::default(),
     });
     for i in 0..other_lights {
@@ -143,8 +143,7 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
             color,
             intensity,
             range,
-            position,
-            direction,
+            world_from_light: looking_along(position, direction),
             shadow: if (i % 2 == 0 && i / 2 < shadowed_spots) || (i % 2 == 1 && i / 2 < shadowed_points) {
                 LightShadow::default()
             } else {
@@ -202,8 +201,8 @@ mod tests {
         let s = demo_scene(DEMO_OTHER_LIGHTS);
         for l in &s.lights {
             if matches!(l.kind, LightKind::Spot { .. }) {
-                assert!(l.direction.y < -0.3, "{}", l.name);
-                assert!((l.direction.length() - 1.0).abs() < 1e-5);
+                assert!(l.direction().y < -0.3, "{}", l.name);
+                assert!((l.direction().length() - 1.0).abs() < 1e-5);
             }
         }
         assert!(s.triangle_count() > 1000);

@@ -8,6 +8,7 @@ pub mod error;
 pub mod gltf_import;
 pub mod settings;
 pub mod shapes;
+pub mod test_scenes;
 pub mod types;
 pub mod vertex_gen;
 

@@ -4,7 +4,7 @@
 //! fall back to a default silently. Later stages (shadows, baking, the deferred path) add
 //! their own sections here.
 
-use chiaro_math::shadow::ShadowFilter;
+use chiaro_math::shadow::{MAX_CASCADES, ShadowFilter};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -153,7 +153,7 @@ pub struct DirectionalShadowSettings {
     /// one shadow pass each.
     pub cascade_count: u32,
     /// Far end of the first three cascades as fractions of `max_distance`, increasing.
-    pub cascade_ratios: [f32; 3],
+    pub cascade_ratios: [f32; MAX_CASCADES - 1],
     /// Fraction of the last cascade over which shadows fade out (0.001 to 1).
     pub cascade_fade: f32,
     /// "hard", "soft" or "dither": how fragments cross from one cascade to the next.
@@ -234,7 +234,7 @@ impl Settings {
         check_range("shadows.distance_fade", sh.distance_fade, 0.001, 1.0)?;
         let d = &sh.directional;
         check_atlas_and_filter("shadows.directional", d.atlas_size, &d.filter)?;
-        check_range("shadows.directional.cascade_count", d.cascade_count as f32, 1.0, 4.0)?;
+        check_range("shadows.directional.cascade_count", d.cascade_count as f32, 1.0, MAX_CASCADES as f32)?;
         let r = d.cascade_ratios;
         if !(r.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0) && r[0] < r[1] && r[1] < r[2]) {
             return Err(format!("shadows.directional.cascade_ratios: {r:?} must increase strictly between 0 and 1"));

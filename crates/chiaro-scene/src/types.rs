@@ -2,6 +2,7 @@
 //! decoded images, punctual lights and cameras, all in world space and glTF units.
 
 use chiaro_math::Aabb;
+use chiaro_math::rigid::looking_along;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use std::path::PathBuf;
 
@@ -255,15 +256,16 @@ pub struct Light {
     pub intensity: f32,
     /// Range from the file; `None` means infinite (a range is derived at render time).
     pub range: Option<f32>,
-    pub position: Vec3,
-    /// Unit direction the light points in (-Z of its node); unused by point lights.
-    pub direction: Vec3,
+    /// The light's node without scale: unit axes, -Z the way it shines, +X and +Y its
+    /// roll (which orients cookies and shadow tiles), the translation its position.
+    pub world_from_light: Mat4,
     pub shadow: LightShadow,
 }
 
 impl Light {
     /// A white light of intensity 1, with no range, default shadows and no name, carried
-    /// by node 0: the starting point for lights made in code.
+    /// by node 0, at `position` shining along `direction` (rolled as
+    /// chiaro_math::rigid::looking_along rolls it): the starting point for lights made in code.
     pub fn new(kind: LightKind, position: Vec3, direction: Vec3) -> Light {
         Light {
             name: String::new(),
@@ -272,10 +274,18 @@ impl Light {
             color: Vec3::ONE,
             intensity: 1.0,
             range: None,
-            position,
-            direction,
+            world_from_light: looking_along(position, direction),
             shadow: LightShadow::default(),
         }
+    }
+
+    pub fn position(&self) -> Vec3 {
+        self.world_from_light.w_axis.truncate()
+    }
+
+    /// Unit direction the light shines in (-Z of its node); unused by point lights.
+    pub fn direction(&self) -> Vec3 {
+        -self.world_from_light.z_axis.truncate()
     }
 }
 

@@ -192,9 +192,9 @@ pub fn classify_pixels(
 /// it, and for point and spot lights lies within `range` (and the cone).
 fn light_reaches(light: &Light, range: f32, position: Vec3, normal: Vec3) -> bool {
     let (to_light, in_range) = match light.kind {
-        LightKind::Directional => (-light.direction, true),
+        LightKind::Directional => (-light.direction(), true),
         LightKind::Point | LightKind::Spot { .. } => {
-            let offset = light.position - position;
+            let offset = light.position() - position;
             let distance = offset.length();
             // At the light itself `to_light` is NaN and every test below fails.
             (offset / distance, distance < range)
@@ -203,7 +203,7 @@ fn light_reaches(light: &Light, range: f32, position: Vec3, normal: Vec3) -> boo
     let in_cone = match light.kind {
         LightKind::Spot { inner_cone_rad, outer_cone_rad } => {
             let params = spot_angle_params(inner_cone_rad, outer_cone_rad);
-            spot_attenuation(light.direction.dot(-to_light), params) > 0.0
+            spot_attenuation(light.direction().dot(-to_light), params) > 0.0
         }
         LightKind::Directional | LightKind::Point => true,
     };

@@ -164,9 +164,9 @@ fn visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3
     let offset = SHADOW_RAY_OFFSET_SCALE * position.abs().max_element().max(1.0);
     let origin = position + facing_normal * offset;
     let (direction, max_t) = match light.kind {
-        LightKind::Directional => (-light.direction.normalize_or_zero(), f32::INFINITY),
+        LightKind::Directional => (-light.direction(), f32::INFINITY),
         LightKind::Point | LightKind::Spot { .. } => {
-            let to_light = light.position - origin;
+            let to_light = light.position() - origin;
             let distance = to_light.length();
             (to_light / distance, distance * (1.0 - LIGHT_END_MARGIN))
         }

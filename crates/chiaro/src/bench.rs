@@ -1,12 +1,14 @@
-//! `chiaro bench`: frames after a warm-up, timed by GPU timestamp queries where the device
-//! has them (wall time otherwise), with the CPU time spent preparing each frame.
+//! `chiaro bench`: frames rendered back to back after a warm-up, timed by the wall clock
+//! and by GPU timestamp queries where the device has them, with the CPU time spent
+//! preparing each frame.
 
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::Result;
-use chiaro_render::{FrameOptions, GpuContext, Renderer};
+use chiaro_render::{FrameOptions, GpuContext, GpuFrameTimes, Renderer};
 use clap::Args;
 use std::path::PathBuf;
+use std::time::Instant;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -57,10 +59,20 @@ pub fn run(args: BenchArgs) -> Result<()> {
     for _ in 0..args.warmup {
         renderer.render(&scene, &prepared, &view, &settings, options)?;
     }
+    renderer.gpu_times(true)?;
+    // Frames back to back, as a viewer renders them: the renderer keeps two in flight, so
+    // the time between two returns is the steady frame time.
     let mut frames = Vec::with_capacity(args.frames as usize);
+    let mut intervals = Vec::with_capacity(args.frames as usize);
+    let mut last = Instant::now();
     for _ in 0..args.frames {
         frames.push(renderer.render(&scene, &prepared, &view, &settings, options)?);
+        let now = Instant::now();
+        intervals.push((now - last).as_secs_f64() * 1e3);
+        last = now;
     }
+    let first = frames[0].timings.frame;
+    let gpu: Vec<GpuFrameTimes> = renderer.gpu_times(true)?.into_iter().filter(|t| t.frame >= first).collect();
     let info = &renderer.ctx.adapter_info;
     let name = args
         .scene
@@ -78,37 +90,27 @@ pub fn run(args: BenchArgs) -> Result<()> {
         args.frames,
         args.warmup,
         scene.triangle_count(),
-        frames[0].other_lights_shaded
+        frames[0].other_lights_shaded()
     );
     let ds = &settings.shadows.directional;
     println!(
         "shadows: {} tiles in a {} atlas ({} cascades, {}), {} caster draws",
         frames[0].shadow_tiles, ds.atlas_size, ds.cascade_count, ds.filter, frames[0].shadow_caster_draws
     );
-    let mut rows: Vec<(String, Stats)> = Vec::new();
-    if frames[0].timings.gpu_total_ms().is_some() {
-        rows.push((
-            "gpu frame (timestamps)".into(),
-            stats(frames.iter().filter_map(|f| f.timings.gpu_total_ms()).collect()),
-        ));
-        for (i, (pass, _)) in frames[0].timings.gpu_pass_ms.iter().enumerate() {
-            rows.push((
-                format!("  gpu {pass} pass"),
-                stats(frames.iter().map(|f| f.timings.gpu_pass_ms[i].1).collect()),
-            ));
+    let mut rows: Vec<(String, Stats)> = vec![("frame (back to back)".into(), stats(intervals))];
+    if !gpu.is_empty() {
+        rows.push(("gpu frame (timestamps)".into(), stats(gpu.iter().map(GpuFrameTimes::total_ms).collect())));
+        for (i, (pass, _)) in gpu[0].passes.iter().enumerate() {
+            rows.push((format!("  gpu {pass} pass"), stats(gpu.iter().map(|f| f.passes[i].1).collect())));
+        }
+        let shadow_share: Vec<f64> = gpu
+            .iter()
+            .filter_map(|f| Some(100.0 * f.passes.iter().find(|(p, _)| *p == "shadows")?.1 / f.total_ms()))
+            .collect();
+        if !shadow_share.is_empty() {
+            rows.push(("  shadow passes, % of gpu".into(), stats(shadow_share)));
         }
     }
-    let shadow_share: Vec<f64> = frames
-        .iter()
-        .filter_map(|f| {
-            let shadows = f.timings.gpu_pass_ms.iter().find(|(p, _)| *p == "shadows")?.1;
-            Some(100.0 * shadows / f.timings.gpu_total_ms()?)
-        })
-        .collect();
-    if !shadow_share.is_empty() {
-        rows.push(("  shadow passes, % of gpu".into(), stats(shadow_share)));
-    }
-    rows.push(("wall frame (submit to idle)".into(), stats(frames.iter().map(|f| f.timings.wall_ms).collect())));
     rows.push(("cpu prepare".into(), stats(frames.iter().map(|f| f.timings.cpu_prepare_ms).collect())));
     println!("{:<28} {:>10} {:>10} {:>10}", "ms", "median", "min", "max");
     for (label, s) in rows {

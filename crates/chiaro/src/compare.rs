@@ -5,7 +5,7 @@ use crate::output::{sibling_path, write_png};
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::{Result, bail};
-use chiaro_render::shadow_compare::compare_shadows;
+use chiaro_compare::compare_shadows;
 use chiaro_render::{GpuContext, Renderer, ShadowStatus};
 use chiaro_scene::LightKind;
 use clap::Args;

@@ -67,14 +67,14 @@ pub fn run(args: InfoArgs) -> Result<()> {
                 l.node,
                 l.name,
                 l.intensity,
-                l.direction.to_array()
+                l.direction().to_array()
             ),
             LightKind::Point => println!(
                 "  node {} '{}': point, {} cd, color {color:.3?}, range {range}, position {:.3?}",
                 l.node,
                 l.name,
                 l.intensity,
-                l.position.to_array()
+                l.position().to_array()
             ),
             LightKind::Spot { inner_cone_rad, outer_cone_rad } => println!(
                 "  node {} '{}': spot, {} cd, color {color:.3?}, range {range}, cone {:.1}..{:.1} deg, position {:.3?}, direction {:.3?}",
@@ -83,8 +83,8 @@ pub fn run(args: InfoArgs) -> Result<()> {
                 l.intensity,
                 inner_cone_rad.to_degrees(),
                 outer_cone_rad.to_degrees(),
-                l.position.to_array(),
-                l.direction.to_array()
+                l.position().to_array(),
+                l.direction().to_array()
             ),
         }
     }

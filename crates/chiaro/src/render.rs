@@ -107,17 +107,21 @@ pub fn run(args: RenderArgs) -> Result<()> {
         let path = aov_path(&args.output, &format!("shadow.{}", light.node));
         write_exr_single(&path, width, height, shadow)?;
     }
-    for (name, size, depths) in &frame.shadow_atlases {
-        let grey: Vec<u8> = depths
+    for atlas in &frame.shadow_atlases {
+        let grey: Vec<u8> = atlas
+            .depths
             .iter()
             .flat_map(|d| {
                 let v = (d.clamp(0.0, 1.0) * 255.0).round() as u8;
                 [v, v, v, 255]
             })
             .collect();
-        let file =
-            if *name == "directional" { "shadow-atlas.png".to_string() } else { format!("{name}-shadow-atlas.png") };
-        write_png(&sibling_path(&args.output, &file), *size, *size, &grey)?;
+        let file = if atlas.name == "directional" {
+            "shadow-atlas.png".to_string()
+        } else {
+            format!("{}-shadow-atlas.png", atlas.name)
+        };
+        write_png(&sibling_path(&args.output, &file), atlas.size, atlas.size, &grey)?;
     }
     if args.debug.contains(&Debug::ShadowAtlas) && frame.shadow_atlases.is_empty() {
         tracing::warn!("no light casts a shadow: no atlas to write");
@@ -125,8 +129,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
     eprintln!(
         "chiaro: wrote {} ({width}x{height}, {} point/spot lights shaded, {:.1} ms)",
         args.output.display(),
-        frame.other_lights_shaded,
-        frame.timings.wall_ms
+        frame.other_lights_shaded(),
+        frame.timings.wall_ms.unwrap_or_default()
     );
     Ok(())
 }

@@ -307,9 +307,20 @@ fn info_lists_lights_and_cameras() {
 fn triangle_without_camera_is_framed_and_rendered() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("tri.gltf"), good_triangle()).unwrap();
-    let run = chiaro(&["render", "tri.gltf", "--width", "32", "--height", "32", "-o", "tri.png"], &[], dir.path());
+    let run = chiaro(
+        &["render", "tri.gltf", "--width", "32", "--height", "32", "-o", "tri.png", "--aov", "depth"],
+        &[],
+        dir.path(),
+    );
     assert_eq!(run.code, 0, "{}", run.stderr);
-    assert!(dir.path().join("tri.png").exists());
+    let png = image::open(dir.path().join("tri.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (32, 32));
+    // The framing camera puts the triangle in the middle of the picture, neither lost in
+    // a corner nor filling it.
+    let depth = &read_exr_channels(&dir.path().join("tri.depth.exr"))[0].1;
+    let covered = depth.iter().filter(|d| d.is_finite()).count();
+    assert!(depth[16 * 32 + 16].is_finite() || depth[15 * 32 + 15].is_finite(), "centre covered");
+    assert!(covered > 32 * 32 / 10 && covered < 32 * 32, "triangle covers {covered} pixels");
 }
 
 #[test]
@@ -321,9 +332,20 @@ fn bench_prints_a_table() {
         dir.path(),
     );
     assert_eq!(run.code, 0, "{}", run.stderr);
-    for row in ["median", "wall frame", "cpu prepare", "4 point/spot lights shaded"] {
-        assert!(run.stdout.contains(row), "missing '{row}': {}", run.stdout);
+    assert!(run.stdout.contains("4 point/spot lights shaded"), "{}", run.stdout);
+    // Each row's median is a positive time.
+    for row in
+        ["frame (back to back)", "gpu frame (timestamps)", "gpu shadows pass", "gpu forward pass", "gpu tonemap pass"]
+    {
+        let line = run
+            .stdout
+            .lines()
+            .find(|l| l.trim_start().starts_with(row))
+            .unwrap_or_else(|| panic!("no '{row}': {}", run.stdout));
+        let median: f64 = line[row.len() + 2..].split_whitespace().next().unwrap().parse().unwrap();
+        assert!(median > 0.0, "{line}");
     }
+    assert!(run.stdout.contains("cpu prepare"), "{}", run.stdout);
 }
 
 #[test]
@@ -392,7 +414,15 @@ fn compare_reports_every_light() {
     let sun_line = run.stdout.lines().find(|l| l.contains("sun")).unwrap();
     let disagree: f64 = sun_line.split_whitespace().nth(4).unwrap().parse().unwrap();
     assert!(disagree < 0.5, "{sun_line}");
-    assert!(dir.path().join("diff.9.png").exists());
+    // The sun's difference picture: a grey pixel for each compared pixel that agrees,
+    // black where not compared.
+    let compared: usize = sun_line.split_whitespace().nth(3).unwrap().parse().unwrap();
+    let diff = image::open(dir.path().join("diff.9.png")).unwrap().to_rgb8();
+    assert_eq!(diff.dimensions(), (96, 96));
+    let agree = diff.pixels().filter(|p| p.0 == [128, 128, 128] || p.0 == [48, 48, 48]).count();
+    let disagree = diff.pixels().filter(|p| p.0 == [255, 0, 0] || p.0 == [0, 0, 255]).count();
+    assert!(compared > 96 * 96 / 4, "{sun_line}");
+    assert_eq!(agree + disagree, compared, "{sun_line}");
     // Shadows cut off half a metre from the camera miss most of the reference's: the
     // limit catches it.
     let run = chiaro(

@@ -24,8 +24,8 @@ impl ShadowFilter {
         self.index() as f32 + 1.0
     }
 
-    /// The value the shader switches on.
-    pub fn index(self) -> u32 {
+    /// The value the shader switches on (`SHADOW_FILTER_*` in its constants).
+    pub const fn index(self) -> u32 {
         match self {
             ShadowFilter::Pcf2x2 => 0,
             ShadowFilter::Tent3x3 => 1,

@@ -1,16 +1,18 @@
-//! Shadow-map math of the Custom SRP "Directional Shadows" tutorial, free of the GPU:
-//! cascade splits and culling spheres, stable (texel-snapped) cascade projections, atlas
-//! tiling, bias and fade terms, and the tent filters' sample weights.
+//! Shadow-map math of the Custom SRP "Directional Shadows" and "Point and Spot Shadows"
+//! tutorials, free of the GPU: cascade splits and culling spheres, stable (texel-snapped)
+//! cascade projections, atlas tiling and tile allocation, caster culling, bias and fade
+//! terms, the tent filters' sample weights, and the spot and cube-face projections.
 
+pub mod allocator;
 pub mod atlas;
 pub mod bias;
 pub mod cascades;
+pub mod culling;
 pub mod fade;
 pub mod filter;
 pub mod other;
 
-pub mod culling;
-
+pub use allocator::{TileAllocation, TileAllocator, first_fit_tiles};
 pub use atlas::AtlasLayout;
 pub use cascades::{CascadeFit, cascade_splits, fit_cascade, slice_culling_sphere};
 pub use filter::ShadowFilter;

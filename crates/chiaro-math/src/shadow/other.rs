@@ -42,22 +42,6 @@ impl OtherShadowRequest {
     }
 }
 
-/// First tile of each request, in order (most important first), or `None` for a light
-/// that does not fit in what is left; later, smaller requests may still fit.
-pub fn allocate_other_tiles(requests: &[OtherShadowRequest], capacity: usize) -> Vec<Option<usize>> {
-    let mut used = 0;
-    requests
-        .iter()
-        .map(|r| {
-            let n = r.tiles();
-            (used + n <= capacity).then(|| {
-                used += n;
-                used - n
-            })
-        })
-        .collect()
-}
-
 /// The cube face (index into `CUBE_FACES`) that a light-to-surface direction falls on: its
 /// largest component, ties going to X, then Y. The shader's `cube_face` is the same.
 pub fn cube_face(direction: Vec3) -> usize {
@@ -118,18 +102,6 @@ pub fn point_face_view(position: Vec3, face: usize, fov_rad: f32, near: f32, ran
 #[cfg(test)]
 mod tests {
     use super::*;
-    use OtherShadowRequest::{Point, Spot};
-
-    #[test]
-    fn spots_take_one_tile_points_six_and_overflow_is_skipped() {
-        assert_eq!(allocate_other_tiles(&[Spot, Point, Spot], 16), vec![Some(0), Some(1), Some(7)]);
-        // Two points fill 12; a third does not fit, but a spot after it still does.
-        assert_eq!(
-            allocate_other_tiles(&[Point, Point, Point, Spot, Spot, Spot, Spot, Spot], 16),
-            vec![Some(0), Some(6), None, Some(12), Some(13), Some(14), Some(15), None]
-        );
-        assert_eq!(allocate_other_tiles(&[Spot; 17], 16)[16], None);
-    }
 
     #[test]
     fn face_selection_on_and_near_every_boundary() {

@@ -7,7 +7,8 @@ use super::nodes::Placement;
 use super::object_label;
 use crate::error::SceneError;
 use crate::types::{Camera, Light, LightKind};
-use glam::{Mat4, Vec3};
+use chiaro_math::rigid::{looking_along, rigid_part};
+use glam::Vec3;
 use gltf::json;
 use json::validation::Checked;
 
@@ -60,7 +61,11 @@ impl Loader<'_> {
         };
         let shadow =
             super::extras::light_shadow(light.extras.as_deref()).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+        // A zero scale collapses the node's axes; the light keeps its position and what is
+        // left of its direction.
         let world = placement.world_from_local;
+        let world_from_light = rigid_part(world)
+            .unwrap_or_else(|| looking_along(world.w_axis.truncate(), world.transform_vector3(Vec3::NEG_Z)));
         Ok(Some(Light {
             name: light.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("light {light_index}")),
             node: placement.node,
@@ -68,8 +73,7 @@ impl Loader<'_> {
             color,
             intensity: light.intensity,
             range: light.range,
-            position: world.w_axis.truncate(),
-            direction: world.transform_vector3(Vec3::NEG_Z).normalize_or(Vec3::NEG_Z),
+            world_from_light,
             shadow,
         }))
     }
@@ -112,7 +116,7 @@ impl Loader<'_> {
         {
             return Err(self.invalid(format!("{label}: aspect ratio {aspect} is not positive")));
         }
-        let world_from_view = without_scale(placement.world_from_local).ok_or_else(|| {
+        let world_from_view = rigid_part(placement.world_from_local).ok_or_else(|| {
             self.invalid(format!("{label} on node {}: the node's transform is degenerate", placement.node))
         })?;
         Ok(Some(Camera {
@@ -125,16 +129,6 @@ impl Loader<'_> {
             world_from_view,
         }))
     }
-}
-
-/// The rigid part of a transform: the view direction (-Z) kept exactly, +Y made
-/// perpendicular to it, +X completing a right-handed frame. `None` when an axis collapses.
-fn without_scale(m: Mat4) -> Option<Mat4> {
-    let z = m.z_axis.truncate().try_normalize()?;
-    let y_in = m.y_axis.truncate();
-    let y = (y_in - z * z.dot(y_in)).try_normalize()?;
-    let x = y.cross(z);
-    Some(Mat4::from_cols(x.extend(0.0), y.extend(0.0), z.extend(0.0), m.w_axis))
 }
 
 /// Validated spot cone half-angles: `0 <= inner < outer <= pi/2`. `inner == outer` (a

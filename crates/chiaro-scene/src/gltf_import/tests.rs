@@ -186,6 +186,33 @@ fn one_mesh_instanced_twice_is_converted_once() {
 }
 
 #[test]
+fn a_scaled_light_node_keeps_its_roll_and_loses_its_scale() {
+    let dir = TempDir::new("light-scale");
+    let mut doc = triangle_doc();
+    doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    doc["extensions"] = json!({ "KHR_lights_punctual": { "lights": [{ "type": "spot", "spot": {} }] } });
+    doc["scenes"] = json!([{ "nodes": [0, 1, 2] }]);
+    // A quarter turn about Z (roll only), scaled unevenly.
+    let half = std::f32::consts::FRAC_1_SQRT_2;
+    doc["nodes"] = json!([
+        { "mesh": 0 },
+        { "translation": [0.0, 1.0, 0.0], "rotation": [0.0, 0.0, half, half], "scale": [2.0, 3.0, 4.0],
+          "extensions": { "KHR_lights_punctual": { "light": 0 } } },
+        { "scale": [0.0, 0.0, 0.0], "extensions": { "KHR_lights_punctual": { "light": 0 } } }
+    ]);
+    let scene = load_doc(&dir, &doc).unwrap();
+    let m = scene.lights[0].world_from_light;
+    assert!(m.x_axis.truncate().distance(Vec3::Y) < 1e-6, "{m}");
+    assert!(m.y_axis.truncate().distance(Vec3::NEG_X) < 1e-6, "{m}");
+    assert!(m.z_axis.truncate().distance(Vec3::Z) < 1e-6, "{m}");
+    assert_eq!(scene.lights[0].position(), Vec3::Y);
+    // A node scaled to nothing still gives a light with a unit direction.
+    let collapsed = &scene.lights[1];
+    assert!((collapsed.direction().length() - 1.0).abs() < 1e-6);
+    assert!(collapsed.world_from_light.is_finite());
+}
+
+#[test]
 fn punctual_lights_take_their_node_transforms() {
     let dir = TempDir::new("lights");
     let mut doc = triangle_doc();
@@ -217,18 +244,20 @@ fn punctual_lights_take_their_node_transforms() {
     assert_eq!(point.color, Vec3::new(1.0, 0.5, 0.25));
     assert_eq!(point.intensity, 10.0);
     assert_eq!(point.range, None);
-    assert_eq!(point.position, Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(point.position(), Vec3::new(1.0, 2.0, 3.0));
 
     let spot = &scene.lights[1];
     assert_eq!(spot.name, "spot node");
     assert_eq!(spot.kind, LightKind::Spot { inner_cone_rad: 0.2, outer_cone_rad: 0.5 });
     assert_eq!(spot.range, Some(8.0));
     // +90 degrees about X turns -Z into +Y.
-    assert!(spot.direction.distance(Vec3::Y) < 1e-6, "{}", spot.direction);
+    assert!(spot.direction().distance(Vec3::Y) < 1e-6, "{}", spot.direction());
+    // The roll comes along: the node's +Y turns into +Z.
+    assert!(spot.world_from_light.y_axis.truncate().distance(Vec3::Z) < 1e-6, "{}", spot.world_from_light);
 
     let sun = &scene.lights[2];
     assert_eq!(sun.kind, LightKind::Directional);
-    assert_eq!(sun.direction, Vec3::NEG_Z);
+    assert_eq!(sun.direction(), Vec3::NEG_Z);
     assert_eq!(sun.color, Vec3::ONE);
     assert_eq!(sun.name, "light 2");
 
@@ -702,7 +731,7 @@ fn shared_assets_load_with_their_documented_lights() {
             assert_eq!(count(|k| *k == LightKind::Point), point, "{folder}");
             assert_eq!(scene.cameras.len(), cameras, "{folder}");
             for light in &scene.lights {
-                assert!((light.direction.length() - 1.0).abs() < 1e-4, "{folder}: {}", light.name);
+                assert!((light.direction().length() - 1.0).abs() < 1e-4, "{folder}: {}", light.name);
             }
             for mesh in &scene.meshes {
                 for p in &mesh.primitives {

@@ -4,6 +4,7 @@
 
 mod common;
 
+use chiaro_compare::ShadowComparison;
 use chiaro_math::shadow::other::cube_face;
 use chiaro_render::ShadowStatus;
 use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene};
@@ -12,29 +13,24 @@ use common::*;
 use glam::Vec3;
 
 fn spot(position: Vec3, direction: Vec3, outer_deg: f32, range: f32) -> Light {
+    let kind =
+        LightKind::Spot { inner_cone_rad: (outer_deg * 0.7).to_radians(), outer_cone_rad: outer_deg.to_radians() };
     Light {
         name: "spot".into(),
         node: 50,
-        kind: LightKind::Spot {
-            inner_cone_rad: (outer_deg * 0.7).to_radians(),
-            outer_cone_rad: outer_deg.to_radians(),
-        },
-        color: Vec3::ONE,
         intensity: 40.0,
         range: Some(range),
-        position,
-        direction: direction.normalize(),
-        shadow: LightShadow::default(),
+        ..Light::new(kind, position, direction)
     }
 }
 
-fn verdicts(scene: &Scene, result: &chiaro_render::shadow_compare::ShadowComparison) -> Vec<PixelVerdict> {
+fn verdicts(scene: &Scene, result: &ShadowComparison) -> Vec<PixelVerdict> {
     let light = &scene.lights[0];
     let range = light.range.unwrap_or(f32::INFINITY);
     classify_pixels(&result.rendered[0], &result.reference.position, &result.reference, 0, light, range)
 }
 
-fn assert_agrees(label: &str, result: &chiaro_render::shadow_compare::ShadowComparison) {
+fn assert_agrees(label: &str, result: &ShadowComparison) {
     assert_eq!(result.status[0], ShadowStatus::Mapped, "{label}: no shadow map");
     let c = &result.reports[0].comparison;
     assert!(c.compared > 2000, "{label}: only {} pixels compared", c.compared);

@@ -1,45 +1,19 @@
-//! The GPU mirror of a `Scene`: one vertex and one index buffer for all geometry, an
-//! object buffer of transforms, a bind group per material, and the draw list.
+//! The GPU mirror of a `Scene`: one vertex and one index buffer for all geometry (laid
+//! out by `plan::draws::GeometryLayout`), an object buffer of transforms, a bind group per
+//! material, and the draw list the frame plans index.
 
-use crate::gpu_types::{GpuMaterial, GpuObject, GpuTextureTransform, GpuVertex};
-use crate::textures::{SamplerCache, solid, upload_image};
-use chiaro_math::Aabb;
-use chiaro_scene::{AlphaMode, CastShadows, Material, Scene, TextureRef};
-use glam::{Vec3, Vec4};
+mod textures;
+
+use crate::gpu::{GpuMaterial, GpuObject, GpuTextureTransform, GpuVertex};
+use crate::plan::draws::{Draw, GeometryLayout, scene_draws};
+use crate::shader_constants::{
+    MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_ALPHA_OPAQUE, MATERIAL_FLAG_NORMAL_TEXTURE,
+};
+use bytemuck::Zeroable;
+use chiaro_scene::{AlphaMode, Material, Scene, TextureRef};
+use glam::{Vec2, Vec3, Vec4};
+use textures::{SamplerCache, solid, upload_image};
 use wgpu::util::DeviceExt;
-
-/// One primitive of one mesh instance.
-#[derive(Clone, Debug)]
-pub struct Draw {
-    pub first_index: u32,
-    pub index_count: u32,
-    pub base_vertex: i32,
-    /// Index into the object buffer, passed as the draw's first instance.
-    pub object: u32,
-    /// Index into `GpuScene::materials` (the last one is the glTF default material).
-    pub material: usize,
-    pub alpha_mode: AlphaMode,
-    pub double_sided: bool,
-    /// The instance's transform mirrors (negative determinant), which flips the winding.
-    pub mirrored: bool,
-    /// World-space centre, for sorting transparent draws back to front.
-    pub center_ws: Vec3,
-    /// World-space bounds, for culling casters per shadow tile.
-    pub bounds_ws: Aabb,
-    pub cast_shadows: CastShadows,
-}
-
-impl Draw {
-    /// Drawn by the camera (shadows-only casters are not).
-    pub fn visible(&self) -> bool {
-        self.cast_shadows != CastShadows::ShadowsOnly
-    }
-
-    /// Alpha-blended surfaces cast no shadows (the reference skips them too).
-    pub fn casts_shadows(&self) -> bool {
-        self.cast_shadows != CastShadows::Off && self.alpha_mode != AlphaMode::Blend
-    }
-}
 
 pub struct GpuScene {
     pub vertices: wgpu::Buffer,
@@ -86,12 +60,14 @@ pub fn material_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 
 fn texture_transform(t: Option<&TextureRef>) -> GpuTextureTransform {
     let (m, set) = match t {
-        Some(t) => (t.transform.matrix(), t.tex_coord.min(1) as f32),
-        None => (chiaro_scene::UvTransform::default().matrix(), 0.0),
+        Some(t) => (t.transform.matrix(), t.tex_coord.min(1)),
+        None => (chiaro_scene::UvTransform::default().matrix(), 0),
     };
     GpuTextureTransform {
         linear: Vec4::new(m[0].x, m[0].y, m[1].x, m[1].y),
-        offset_uv_set: Vec4::new(m[2].x, m[2].y, set, 0.0),
+        offset: Vec2::new(m[2].x, m[2].y),
+        uv_set: set,
+        _pad: 0,
     }
 }
 
@@ -105,12 +81,12 @@ pub fn gpu_material(m: &Material) -> GpuMaterial {
         occlusion_strength: m.occlusion_strength,
         alpha_cutoff: m.alpha_cutoff,
         alpha_mode: match m.alpha_mode {
-            AlphaMode::Opaque => 0,
-            AlphaMode::Mask => 1,
-            AlphaMode::Blend => 2,
+            AlphaMode::Opaque => MATERIAL_ALPHA_OPAQUE,
+            AlphaMode::Mask => MATERIAL_ALPHA_MASK,
+            AlphaMode::Blend => MATERIAL_ALPHA_BLEND,
         },
         double_sided: m.double_sided as u32,
-        flags: m.normal_texture.is_some() as u32,
+        flags: if m.normal_texture.is_some() { MATERIAL_FLAG_NORMAL_TEXTURE } else { 0 },
         _pad: 0,
         base_color_uv: texture_transform(m.base_color_texture.as_ref()),
         metallic_roughness_uv: texture_transform(m.metallic_roughness_texture.as_ref()),
@@ -128,28 +104,21 @@ impl GpuScene {
         scene: &Scene,
     ) -> GpuScene {
         let _span = tracing::info_span!("upload scene").entered();
-        // Geometry: every mesh primitive once, instances refer to it.
-        let mut vertices: Vec<GpuVertex> = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
-        let mut ranges: Vec<Vec<(u32, u32, i32)>> = Vec::new();
-        for mesh in &scene.meshes {
-            let mut mesh_ranges = Vec::new();
-            for p in &mesh.primitives {
-                let base_vertex = vertices.len() as i32;
-                let first_index = indices.len() as u32;
-                for i in 0..p.positions.len() {
-                    vertices.push(GpuVertex {
-                        position: p.positions[i].to_array(),
-                        normal: p.normals.get(i).copied().unwrap_or(Vec3::Y).to_array(),
-                        tangent: p.tangents.get(i).copied().unwrap_or(Vec4::new(1.0, 0.0, 0.0, 1.0)).to_array(),
-                        uv0: p.uv0.get(i).copied().unwrap_or_default().to_array(),
-                        uv1: p.uv1.get(i).copied().unwrap_or_default().to_array(),
-                    });
-                }
-                indices.extend_from_slice(&p.indices);
-                mesh_ranges.push((first_index, p.indices.len() as u32, base_vertex));
+        // Geometry: every mesh primitive once, in the layout the draws point into.
+        let geometry = GeometryLayout::of(scene);
+        let mut vertices: Vec<GpuVertex> = Vec::with_capacity(geometry.vertex_count);
+        let mut indices: Vec<u32> = Vec::with_capacity(geometry.index_count);
+        for p in scene.meshes.iter().flat_map(|m| &m.primitives) {
+            for i in 0..p.positions.len() {
+                vertices.push(GpuVertex {
+                    position: p.positions[i].to_array(),
+                    normal: p.normals.get(i).copied().unwrap_or(Vec3::Y).to_array(),
+                    tangent: p.tangents.get(i).copied().unwrap_or(Vec4::new(1.0, 0.0, 0.0, 1.0)).to_array(),
+                    uv0: p.uv0.get(i).copied().unwrap_or_default().to_array(),
+                    uv1: p.uv1.get(i).copied().unwrap_or_default().to_array(),
+                });
             }
-            ranges.push(mesh_ranges);
+            indices.extend_from_slice(&p.indices);
         }
         // wgpu refuses empty buffers' bindings; keep at least one element.
         if vertices.is_empty() {
@@ -158,36 +127,9 @@ impl GpuScene {
         if indices.is_empty() {
             indices.push(0);
         }
-
-        let default_material = scene.materials.len();
-        let mut objects = Vec::new();
-        let mut draws = Vec::new();
-        for inst in &scene.instances {
-            let object = objects.len() as u32;
-            objects.push(GpuObject::new(inst.world_from_local, inst.receive_shadows));
-            for (p, &(first_index, index_count, base_vertex)) in
-                scene.meshes[inst.mesh].primitives.iter().zip(&ranges[inst.mesh])
-            {
-                if index_count == 0 {
-                    continue;
-                }
-                let material = p.material.filter(|&m| m < scene.materials.len()).unwrap_or(default_material);
-                let m = scene.materials.get(material).cloned().unwrap_or_default();
-                draws.push(Draw {
-                    first_index,
-                    index_count,
-                    base_vertex,
-                    object,
-                    material,
-                    alpha_mode: m.alpha_mode,
-                    double_sided: m.double_sided,
-                    mirrored: inst.world_from_local.determinant() < 0.0,
-                    center_ws: inst.world_from_local.transform_point3(p.bounds.center()),
-                    bounds_ws: p.bounds.transformed(&inst.world_from_local),
-                    cast_shadows: inst.cast_shadows,
-                });
-            }
-        }
+        let draws = scene_draws(scene, &geometry);
+        let mut objects: Vec<GpuObject> =
+            scene.instances.iter().map(|inst| GpuObject::new(inst.world_from_local, inst.receive_shadows)).collect();
         if objects.is_empty() {
             objects.push(GpuObject::new(glam::Mat4::IDENTITY, true));
         }
@@ -255,5 +197,3 @@ impl GpuScene {
         GpuScene { vertices, indices, objects, materials, draws }
     }
 }
-
-use bytemuck::Zeroable;

@@ -3,20 +3,52 @@
 use chiaro_scene::{ColorSpace, Image, SamplerDesc, WrapMode};
 use std::collections::HashMap;
 
-/// Halves an RGBA8 image with a 2x2 box filter (clamping odd edges).
+/// Each texel of a line of `to` texels averages the `from / to` source texels it covers,
+/// partial texels by their covered share: a box filter that, unlike picking two texels
+/// per output, never drops the last texel of an odd size. Returns (first source texel,
+/// weights) per output texel.
+fn box_weights(from: u32, to: u32) -> Vec<(u32, Vec<f32>)> {
+    let scale = from as f32 / to as f32;
+    (0..to)
+        .map(|i| {
+            let (start, end) = (i as f32 * scale, (i + 1) as f32 * scale);
+            let first = start.floor() as u32;
+            let last = (end.ceil() as u32).min(from);
+            let weights =
+                (first..last).map(|s| ((s + 1) as f32).min(end) - (s as f32).max(start)).map(|w| w / scale).collect();
+            (first, weights)
+        })
+        .collect()
+}
+
+/// Halves an RGBA8 image (each side to at least 1) with a box filter over every source
+/// texel; even sizes average 2x2 blocks.
 fn downsample(rgba: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
     let (w, h) = ((width / 2).max(1), (height / 2).max(1));
+    let (across, down) = (box_weights(width, w), box_weights(height, h));
+    // Rows first, into floats, then columns.
+    let mut rows = vec![0f32; (w * height * 4) as usize];
+    for y in 0..height {
+        for (x, (first, weights)) in across.iter().enumerate() {
+            for (k, weight) in weights.iter().enumerate() {
+                let src = ((y * width + first + k as u32) * 4) as usize;
+                let dst = ((y * w + x as u32) * 4) as usize;
+                for c in 0..4 {
+                    rows[dst + c] += weight * rgba[src + c] as f32;
+                }
+            }
+        }
+    }
     let mut out = vec![0u8; (w * h * 4) as usize];
-    for y in 0..h {
+    for (y, (first, weights)) in down.iter().enumerate() {
         for x in 0..w {
             for c in 0..4 {
-                let mut sum = 0u32;
-                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                    let sx = (x * 2 + dx).min(width - 1);
-                    let sy = (y * 2 + dy).min(height - 1);
-                    sum += rgba[((sy * width + sx) * 4 + c) as usize] as u32;
-                }
-                out[((y * w + x) * 4 + c) as usize] = ((sum + 2) / 4) as u8;
+                let sum: f32 = weights
+                    .iter()
+                    .enumerate()
+                    .map(|(k, weight)| weight * rows[(((first + k as u32) * w + x) * 4) as usize + c])
+                    .sum();
+                out[((y as u32 * w + x) * 4) as usize + c] = sum.round().clamp(0.0, 255.0) as u8;
             }
         }
     }
@@ -115,14 +147,46 @@ impl SamplerCache {
 mod tests {
     use super::*;
 
+    fn grey(values: &[u8]) -> Vec<u8> {
+        values.iter().flat_map(|&v| [v, v, v, 255]).collect()
+    }
+
     #[test]
-    fn downsample_averages_and_handles_odd_sizes() {
-        let rgba: Vec<u8> = [0u8, 100, 200, 255].iter().flat_map(|&v| [v, v, v, 255]).collect();
-        let (out, w, h) = downsample(&rgba, 2, 2);
+    fn even_sizes_average_two_by_two_blocks() {
+        let (out, w, h) = downsample(&grey(&[0, 100, 200, 255]), 2, 2);
         assert_eq!((w, h), (1, 1));
-        assert_eq!(out[0], 139); // (0 + 100 + 200 + 255 + 2) / 4
-        let (out, w, h) = downsample(&[7; 12], 3, 1);
+        assert_eq!(out, vec![139, 139, 139, 255]); // (0 + 100 + 200 + 255) / 4 = 138.75
+        let (out, w, h) = downsample(&grey(&[0, 40, 100, 200, 8, 40, 100, 200]), 4, 2);
+        assert_eq!((w, h), (2, 1));
+        assert_eq!(out, [grey(&[22]), grey(&[150])].concat());
+    }
+
+    #[test]
+    fn odd_sizes_keep_their_last_column_and_row() {
+        // A 3-wide ramp: the last column counts as much as the others.
+        let (out, w, h) = downsample(&grey(&[0, 90, 180]), 3, 1);
         assert_eq!((w, h), (1, 1));
-        assert_eq!(out, vec![7; 4]);
+        assert_eq!(out, grey(&[90]));
+        // 5 wide: output texels cover 2.5 texels each.
+        let (out, _, _) = downsample(&grey(&[0, 0, 100, 200, 200]), 5, 1);
+        assert_eq!(out, grey(&[20, 180]));
+        // 1x3 column: the bottom row is not lost either.
+        let (out, w, h) = downsample(&grey(&[30, 60, 255]), 1, 3);
+        assert_eq!((w, h), (1, 1));
+        assert_eq!(out, grey(&[115]));
+    }
+
+    #[test]
+    fn box_weights_cover_every_source_texel_once() {
+        for (from, to) in [(2, 1), (3, 1), (5, 2), (7, 3), (1024, 512), (1, 1)] {
+            let mut coverage = vec![0f32; from as usize];
+            for (first, weights) in box_weights(from, to) {
+                assert!(((weights.iter().sum::<f32>()) - 1.0).abs() < 1e-5, "{from} -> {to}");
+                for (k, w) in weights.iter().enumerate() {
+                    coverage[first as usize + k] += w * from as f32 / to as f32;
+                }
+            }
+            assert!(coverage.iter().all(|c| (c - 1.0).abs() < 1e-5), "{from} -> {to}: {coverage:?}");
+        }
     }
 }

@@ -1,11 +1,10 @@
 //! Rendered shadows against the ray-traced reference: renders a frame with its shadow
-//! AOVs, traces the same camera and resolution on the CPU (chiaro-trace), and judges each
-//! light with chiaro_trace::compare.
+//! AOVs (chiaro-render), traces the same camera and resolution on the CPU (chiaro-trace),
+//! and judges each light with chiaro_trace::compare. It sits above both crates so that
+//! the renderer does not depend on the tracer.
 
-use crate::error::RenderError;
-use crate::frame_lights::effective_range;
-use crate::renderer::{FrameOptions, PreparedScene, Renderer, ShadowStatus};
-use crate::view::View;
+use chiaro_render::plan::lights::effective_range;
+use chiaro_render::{FrameOptions, PreparedScene, RenderError, Renderer, ShadowStatus, View};
 use chiaro_scene::{Scene, Settings};
 use chiaro_trace::{
     LightComparison, PixelCamera, PixelVerdict, ShadowReference, classify_pixels, trace_shadow_reference,
@@ -73,5 +72,6 @@ pub fn compare_shadows(
             }
         })
         .collect();
-    Ok(ShadowComparison { reports, reference, rendered: frame.shadow_aovs, status: frame.shadow_status })
+    let status = frame.shadow_status(scene);
+    Ok(ShadowComparison { reports, reference, rendered: frame.shadow_aovs, status })
 }

@@ -5,26 +5,17 @@
 
 mod common;
 
+use chiaro_compare::ShadowComparison;
 use chiaro_render::View;
-use chiaro_render::shadow_compare::ShadowComparison;
-use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene};
+use chiaro_scene::{CastShadows, Light, LightKind, Scene};
 use chiaro_trace::{PixelVerdict, classify_pixels};
 use common::*;
 use glam::Vec3;
 
 fn sun(elevation_deg: f32, azimuth_deg: f32) -> Light {
     let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
-    Light {
-        name: "sun".into(),
-        node: 7,
-        kind: LightKind::Directional,
-        color: Vec3::ONE,
-        intensity: 3.0,
-        range: None,
-        position: Vec3::ZERO,
-        direction: -Vec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin()),
-        shadow: LightShadow::default(),
-    }
+    let direction = -Vec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
+    Light { name: "sun".into(), node: 7, intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, direction) }
 }
 
 /// A floor seen from a three-quarter view, with boxes (position, size, casting) on it.

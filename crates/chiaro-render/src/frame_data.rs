@@ -1,0 +1,111 @@
+//! Group 0 of every scene pass: the frame uniform, the light buffer and its light lists,
+//! the objects, the shadow uniform and the two atlases with their comparison sampler.
+//! A frame plan flows in and is uploaded; a bind group over this frame's buffers and
+//! atlases flows out.
+
+use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuShadows};
+use crate::graph::{Resource, Targets};
+use crate::plan::FramePlan;
+use crate::shader_constants::MAX_FRAME_LIGHTS;
+use chiaro_scene::{Scene, Settings};
+
+pub struct FrameData {
+    pub layout: wgpu::BindGroupLayout,
+    frame: wgpu::Buffer,
+    /// `MAX_FRAME_LIGHTS` lights, and as many list entries.
+    lights: wgpu::Buffer,
+    light_list: wgpu::Buffer,
+    shadows: wgpu::Buffer,
+    shadow_sampler: wgpu::Sampler,
+}
+
+fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None }
+}
+
+fn buffer(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None }
+}
+
+const DEPTH_TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
+    sample_type: wgpu::TextureSampleType::Depth,
+    view_dimension: wgpu::TextureViewDimension::D2,
+    multisampled: false,
+};
+
+impl FrameData {
+    pub fn new(device: &wgpu::Device) -> FrameData {
+        use wgpu::ShaderStages as S;
+        let storage = wgpu::BufferBindingType::Storage { read_only: true };
+        let uniform = wgpu::BufferBindingType::Uniform;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame layout"),
+            entries: &[
+                entry(0, S::VERTEX | S::FRAGMENT, buffer(uniform)),
+                entry(1, S::FRAGMENT, buffer(uniform)),
+                entry(2, S::FRAGMENT, buffer(uniform)),
+                entry(3, S::VERTEX, buffer(storage)),
+                entry(4, S::FRAGMENT, buffer(uniform)),
+                entry(5, S::FRAGMENT, DEPTH_TEXTURE),
+                entry(6, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
+                entry(7, S::FRAGMENT, DEPTH_TEXTURE),
+            ],
+        });
+        let uniform_buffer = |label, size| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        FrameData {
+            layout,
+            frame: uniform_buffer("frame uniform", size_of::<GpuFrame>() as u64),
+            lights: uniform_buffer("frame lights", (size_of::<GpuLight>() * MAX_FRAME_LIGHTS as usize) as u64),
+            light_list: uniform_buffer(
+                "frame light lists",
+                (size_of::<GpuLightListEntry>() * MAX_FRAME_LIGHTS as usize) as u64,
+            ),
+            shadows: uniform_buffer("shadows uniform", size_of::<GpuShadows>() as u64),
+            shadow_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("shadow comparison sampler"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            }),
+        }
+    }
+
+    pub fn upload(&self, queue: &wgpu::Queue, plan: &FramePlan, scene: &Scene, settings: &Settings) {
+        queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&plan.gpu_frame(settings)));
+        let lights = plan.gpu_lights(scene);
+        let list: Vec<GpuLightListEntry> =
+            plan.lists.concatenated().into_iter().map(|light| GpuLightListEntry { light, _pad: [0; 3] }).collect();
+        debug_assert!(lights.len() <= MAX_FRAME_LIGHTS as usize, "the plan keeps to the light limits");
+        if !lights.is_empty() {
+            queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
+            queue.write_buffer(&self.light_list, 0, bytemuck::cast_slice(&list));
+        }
+        queue.write_buffer(&self.shadows, 0, bytemuck::bytes_of(&plan.shadows.gpu));
+    }
+
+    pub fn bind_group(&self, device: &wgpu::Device, objects: &wgpu::Buffer, targets: &Targets) -> wgpu::BindGroup {
+        let view = |r| wgpu::BindingResource::TextureView(targets.view(r));
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame bind group"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: self.frame.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: self.lights.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: self.light_list.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: objects.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: self.shadows.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 5, resource: view(Resource::DirectionalShadowAtlas) },
+                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
+                wgpu::BindGroupEntry { binding: 7, resource: view(Resource::OtherShadowAtlas) },
+            ],
+        })
+    }
+}

@@ -1,0 +1,46 @@
+//! The per-frame uniform and the per-object transforms (`shaders/common/frame.wesl`).
+
+use crate::shader_constants::OBJECT_RECEIVES_SHADOWS;
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuFrame {
+    pub clip_from_world: Mat4,
+    pub view_from_world: Mat4,
+    pub camera_position_ws: Vec3,
+    /// Linear scale applied to radiance before it is stored (pre-exposure).
+    pub exposure_scale: f32,
+    pub ambient: Vec3,
+    /// `DEBUG_VIEW_*`.
+    pub debug_view: u32,
+    /// The frame's light index list holds, in order, this many directional lights, then
+    /// the shadowed point and spot lights, then the rest: `other_light_count` in all.
+    pub directional_light_count: u32,
+    pub shadowed_other_light_count: u32,
+    pub other_light_count: u32,
+    pub _pad: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuObject {
+    pub world_from_local: Mat4,
+    /// Inverse transpose of `world_from_local`, for normals and tangents.
+    pub normal_from_local: Mat4,
+    /// `OBJECT_*` bits.
+    pub flags: u32,
+    pub _pad: [u32; 3],
+}
+
+impl GpuObject {
+    pub fn new(world_from_local: Mat4, receives_shadows: bool) -> GpuObject {
+        GpuObject {
+            world_from_local,
+            normal_from_local: world_from_local.inverse().transpose(),
+            flags: if receives_shadows { OBJECT_RECEIVES_SHADOWS } else { 0 },
+            _pad: [0; 3],
+        }
+    }
+}

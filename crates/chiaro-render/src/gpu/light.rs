@@ -1,0 +1,50 @@
+//! One light of the frame's light buffer and one entry of its light lists
+//! (`shaders/lighting/light.wesl`), and the light the shadow AOV pass reports.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+/// Directional, point or spot light, as the shading reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuLight {
+    /// Colour times intensity: lux for directional lights, candela for the others.
+    pub color: Vec3,
+    /// `LIGHT_KIND_*`.
+    pub kind: u32,
+    pub position_ws: Vec3,
+    /// Where the range window reaches zero; unused by directional lights.
+    pub range: f32,
+    /// Unit vector the light shines along (spot axis, sun direction); unused by points.
+    pub direction_ws: Vec3,
+    /// `SHADOW_SLOT_*`.
+    pub shadow_slot: u32,
+    /// `(a, b)` of the spot cone `saturate(dot(direction, -l) * a + b)^2`; (0, 1) for
+    /// lights that never fade by angle.
+    pub spot_scale: f32,
+    pub spot_offset: f32,
+    /// 0 to 1: how dark its realtime shadow is.
+    pub shadow_strength: f32,
+    /// First tile of its atlas (directional: one per cascade; spot: one; point: six).
+    pub shadow_first_tile: u32,
+    /// `SHADOW_FILTER_*`.
+    pub shadow_filter: u32,
+    pub _pad: [u32; 3],
+}
+
+/// One entry of the frame's light lists: an index into the light buffer.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct GpuLightListEntry {
+    pub light: u32,
+    pub _pad: [u32; 3],
+}
+
+/// The light the shadow AOV pass reports, at a dynamic offset.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuAovLight {
+    /// Where the light sits in the frame's concatenated light lists, or `NO_LIGHT`.
+    pub list_index: u32,
+    pub _pad: [u32; 3],
+}

@@ -1,0 +1,67 @@
+//! `#[repr(C)]` mirrors of the WGSL structs the shaders read, with named fields and the
+//! flag bits and enumerations of `shader_constants`. The WGSL names drop the `Gpu` prefix;
+//! `GPU_STRUCT_LAYOUTS` lists every one with its fields' offsets, and a test checks each
+//! against naga's layout of the composed shaders.
+
+mod frame;
+mod light;
+mod material;
+mod shadow;
+mod vertex;
+
+pub use frame::{GpuFrame, GpuObject};
+pub use light::{GpuAovLight, GpuLight, GpuLightListEntry};
+pub use material::{GpuMaterial, GpuTextureTransform};
+pub use shadow::{GpuAtlas, GpuCascade, GpuCasterView, GpuShadowFade, GpuShadowTile, GpuShadows};
+pub use vertex::GpuVertex;
+
+/// A `Gpu*` struct's size and the byte offset of each named field.
+#[derive(Clone, Copy, Debug)]
+pub struct StructLayout {
+    pub rust_name: &'static str,
+    pub size: usize,
+    pub fields: &'static [(&'static str, usize)],
+}
+
+macro_rules! layouts {
+    ($($ty:ident { $($field:ident),* $(,)? })*) => {
+        /// Every `Gpu*` struct a shader reads as a struct (not `GpuVertex`, which arrives
+        /// as vertex attributes), with the fields its WGSL twin names alike.
+        pub const GPU_STRUCT_LAYOUTS: &[StructLayout] = &[$(
+            StructLayout {
+                rust_name: stringify!($ty),
+                size: std::mem::size_of::<$ty>(),
+                fields: &[$((stringify!($field), std::mem::offset_of!($ty, $field))),*],
+            }
+        ),*];
+    };
+}
+
+layouts! {
+    GpuFrame {
+        clip_from_world, view_from_world, camera_position_ws, exposure_scale, ambient, debug_view,
+        directional_light_count, shadowed_other_light_count, other_light_count,
+    }
+    GpuObject { world_from_local, normal_from_local, flags }
+    GpuLight {
+        color, kind, position_ws, range, direction_ws, shadow_slot, spot_scale, spot_offset,
+        shadow_strength, shadow_first_tile, shadow_filter,
+    }
+    GpuLightListEntry { light }
+    GpuAovLight { list_index }
+    GpuShadowTile { atlas_from_world, uv_min, uv_max, normal_bias }
+    GpuCascade { culling_sphere_center_ws, radius_squared, inverse_radius_squared }
+    GpuAtlas { size_texels, texel_uv }
+    GpuShadowFade { inverse_max_distance, inverse_distance_fade, inverse_cascade_fade }
+    GpuShadows {
+        directional_tiles, other_tiles, cascades, directional_atlas, other_atlas, fade, cascade_count,
+        cascade_blend,
+    }
+    GpuCasterView { clip_from_world, flags }
+    GpuTextureTransform { linear, offset, uv_set }
+    GpuMaterial {
+        base_color, emissive, metallic, roughness, normal_scale, occlusion_strength, alpha_cutoff,
+        alpha_mode, double_sided, flags, base_color_uv, metallic_roughness_uv, normal_uv, occlusion_uv,
+        emissive_uv,
+    }
+}

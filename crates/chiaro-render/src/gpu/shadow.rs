@@ -1,0 +1,109 @@
+//! Shadow data (`shaders/shadows/data.wesl`): every atlas tile's projection, clamp
+//! bounds and normal bias, the cascades' culling spheres, and the fades; and one caster
+//! view of the shadow-caster pass (`shaders/shadow_caster.wesl`).
+
+use crate::shader_constants::{MAX_CASCADES, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES};
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec2, Vec3};
+
+/// One atlas tile as the receivers sample it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuShadowTile {
+    /// Atlas texture coordinates (and depth) from world space; perspective tiles need the
+    /// divide by w.
+    pub atlas_from_world: Mat4,
+    /// Samples are clamped into [uv_min, uv_max], half a texel inside the tile, so that no
+    /// filter tap reads a neighbouring tile.
+    pub uv_min: Vec2,
+    pub uv_max: Vec2,
+    /// How far receivers move along their normal before sampling: metres for cascade
+    /// tiles; metres per metre of distance from the light's plane for perspective tiles.
+    pub normal_bias: f32,
+    pub _pad: [f32; 3],
+}
+
+impl Default for GpuShadowTile {
+    fn default() -> Self {
+        GpuShadowTile {
+            atlas_from_world: Mat4::IDENTITY,
+            uv_min: Vec2::ZERO,
+            uv_max: Vec2::ZERO,
+            normal_bias: 0.0,
+            _pad: [0.0; 3],
+        }
+    }
+}
+
+/// One cascade's culling sphere, shared by every directional light.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuCascade {
+    pub culling_sphere_center_ws: Vec3,
+    /// Of the sphere shrunk by the filter's reach.
+    pub radius_squared: f32,
+    pub inverse_radius_squared: f32,
+    pub _pad: [f32; 3],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuAtlas {
+    pub size_texels: f32,
+    /// One texel in texture coordinates: 1 / size.
+    pub texel_uv: f32,
+    pub _pad: [f32; 2],
+}
+
+/// The tutorial's fades, as reciprocals so the shader multiplies.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuShadowFade {
+    pub inverse_max_distance: f32,
+    pub inverse_distance_fade: f32,
+    /// 1 / (1 - (1 - cascade fade)^2).
+    pub inverse_cascade_fade: f32,
+    pub _pad: f32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuShadows {
+    pub directional_tiles: [GpuShadowTile; MAX_DIRECTIONAL_SHADOW_TILES as usize],
+    pub other_tiles: [GpuShadowTile; MAX_OTHER_SHADOW_TILES as usize],
+    pub cascades: [GpuCascade; MAX_CASCADES as usize],
+    pub directional_atlas: GpuAtlas,
+    pub other_atlas: GpuAtlas,
+    pub fade: GpuShadowFade,
+    /// 0 when no directional light has a shadow map this frame.
+    pub cascade_count: u32,
+    /// `CASCADE_BLEND_*`.
+    pub cascade_blend: u32,
+    pub _pad: [u32; 2],
+}
+
+impl Default for GpuShadows {
+    fn default() -> Self {
+        GpuShadows {
+            directional_tiles: [GpuShadowTile::default(); MAX_DIRECTIONAL_SHADOW_TILES as usize],
+            other_tiles: [GpuShadowTile::default(); MAX_OTHER_SHADOW_TILES as usize],
+            cascades: [GpuCascade::default(); MAX_CASCADES as usize],
+            directional_atlas: GpuAtlas { size_texels: 1.0, texel_uv: 1.0, _pad: [0.0; 2] },
+            other_atlas: GpuAtlas { size_texels: 1.0, texel_uv: 1.0, _pad: [0.0; 2] },
+            fade: GpuShadowFade::default(),
+            cascade_count: 0,
+            cascade_blend: 0,
+            _pad: [0; 2],
+        }
+    }
+}
+
+/// One shadow-caster view (a tile's light projection), at a dynamic offset.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuCasterView {
+    pub clip_from_world: Mat4,
+    /// `CASTER_*` bits.
+    pub flags: u32,
+    pub _pad: [u32; 3],
+}

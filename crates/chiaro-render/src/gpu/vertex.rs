@@ -1,0 +1,47 @@
+//! One interleaved vertex, as `shaders/common/mesh.wesl` reads it through attributes.
+
+use bytemuck::{Pod, Zeroable};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuVertex {
+    // Plain arrays: glam's SIMD Vec4 is 16-aligned and would pad the vertex.
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub tangent: [f32; 4],
+    pub uv0: [f32; 2],
+    pub uv1: [f32; 2],
+}
+
+impl GpuVertex {
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x2
+    ];
+
+    pub fn layout() -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<GpuVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &Self::ATTRIBUTES,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn attributes_sit_at_the_fields_offsets() {
+        let offsets = [
+            std::mem::offset_of!(GpuVertex, position),
+            std::mem::offset_of!(GpuVertex, normal),
+            std::mem::offset_of!(GpuVertex, tangent),
+            std::mem::offset_of!(GpuVertex, uv0),
+            std::mem::offset_of!(GpuVertex, uv1),
+        ];
+        for (attribute, offset) in GpuVertex::ATTRIBUTES.iter().zip(offsets) {
+            assert_eq!(attribute.offset as usize, offset, "location {}", attribute.shader_location);
+        }
+    }
+}

@@ -1,0 +1,174 @@
+//! What a caller asks of a frame and what it gets back: the images read back, the AOVs,
+//! each light's shadow status, and the frame's timings.
+
+use crate::plan::FramePlan;
+use crate::plan::lights::LightId;
+use crate::plan::shadows::ShadowSlot;
+use chiaro_scene::Scene;
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameOptions {
+    /// Also render world position, normal and view depth.
+    pub aovs: bool,
+    /// Also render each light's shadow attenuation (needs `readback`).
+    pub shadow_aovs: bool,
+    /// Copy the images back to the CPU, waiting for the frame (off for benchmarking and
+    /// for frames that go to a window).
+    pub readback: bool,
+    /// Tint the image by cascade.
+    pub debug_cascades: bool,
+    /// Copy the shadow atlases back to the CPU.
+    pub read_shadow_atlas: bool,
+}
+
+impl FrameOptions {
+    /// Whether the frame must be waited for.
+    pub fn reads_back(&self) -> bool {
+        self.readback || self.shadow_aovs || self.read_shadow_atlas
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct FrameTimings {
+    /// The frame's number, counting from 0 for each renderer.
+    pub frame: u64,
+    /// CPU time to plan the frame, upload its data and record its commands.
+    pub cpu_prepare_ms: f64,
+    /// GPU time of each pass that ran, from timestamp queries, when the frame was waited
+    /// for (see `Renderer::gpu_times` otherwise).
+    pub gpu_pass_ms: Vec<(&'static str, f64)>,
+    /// Wall time from the start of planning until the GPU finished, when waited for.
+    pub wall_ms: Option<f64>,
+}
+
+impl FrameTimings {
+    pub fn gpu_total_ms(&self) -> Option<f64> {
+        (!self.gpu_pass_ms.is_empty()).then(|| self.gpu_pass_ms.iter().map(|(_, t)| t).sum())
+    }
+}
+
+/// Pass times of a frame that finished on the GPU.
+#[derive(Clone, Debug, Default)]
+pub struct GpuFrameTimes {
+    pub frame: u64,
+    pub passes: Vec<(&'static str, f64)>,
+}
+
+impl GpuFrameTimes {
+    pub fn total_ms(&self) -> f64 {
+        self.passes.iter().map(|(_, t)| t).sum()
+    }
+}
+
+/// World-space AOVs; `NaN` where no surface covers the pixel.
+#[derive(Clone, Debug, Default)]
+pub struct Aovs {
+    pub position_ws: Vec<[f32; 3]>,
+    pub normal_ws: Vec<[f32; 3]>,
+    /// Linear depth along the view axis, metres; infinity where no surface is.
+    pub depth: Vec<f32>,
+}
+
+/// A shadow atlas as read back: its side and depths, row-major.
+#[derive(Clone, Debug)]
+pub struct AtlasImage {
+    /// "directional" or "other".
+    pub name: &'static str,
+    pub size: u32,
+    pub depths: Vec<f32>,
+}
+
+#[derive(Clone, Debug)]
+pub struct FrameOutput {
+    pub width: u32,
+    pub height: u32,
+    /// Linear radiance (not exposed), RGBA, row-major from the top-left; empty unless read
+    /// back.
+    pub hdr: Vec<[f32; 4]>,
+    /// Tone-mapped sRGB, RGBA8; empty unless read back to a texture of the renderer's.
+    pub ldr: Vec<u8>,
+    pub aovs: Option<Aovs>,
+    pub timings: FrameTimings,
+    /// Per scene light (by index in `Scene::lights`): the shadow attenuation the shading
+    /// used, 1 where no shadow map covers the pixel, NaN where no surface is.
+    pub shadow_aovs: Vec<Vec<f32>>,
+    /// The shadow atlases in use, if asked for.
+    pub shadow_atlases: Vec<AtlasImage>,
+    /// Shadow tiles rendered and caster draws issued into them.
+    pub shadow_tiles: usize,
+    pub shadow_caster_draws: usize,
+    /// What the frame did.
+    pub plan: FramePlan,
+}
+
+impl FrameOutput {
+    /// Point and spot lights shaded.
+    pub fn other_lights_shaded(&self) -> usize {
+        self.plan.other_light_count()
+    }
+
+    /// Visible point and spot lights left out by `max_other_lights`.
+    pub fn other_lights_dropped(&self) -> usize {
+        self.plan.dropped_other
+    }
+
+    /// Per scene light: whether it had a realtime shadow map this frame, and if not why.
+    pub fn shadow_status(&self, scene: &Scene) -> Vec<ShadowStatus> {
+        (0..scene.lights.len())
+            .map(|i| match self.plan.light_index(LightId(i as u32)).map(|k| self.plan.lights[k].shadow) {
+                _ if !scene.lights[i].shadow.casts() => ShadowStatus::Off,
+                None => ShadowStatus::NotShaded,
+                Some(ShadowSlot::Realtime { .. }) => ShadowStatus::Mapped,
+                Some(ShadowSlot::BakedOnly) => ShadowStatus::NoTile,
+                Some(ShadowSlot::None) => ShadowStatus::Off,
+            })
+            .collect()
+    }
+}
+
+/// Whether a light's shadows came from a shadow map this frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowStatus {
+    /// Sampled from its atlas tiles.
+    Mapped,
+    /// The light casts no shadows (extras `shadows: none` or strength 0).
+    Off,
+    /// The light was not shaded this frame (culled, or over the light limits).
+    NotShaded,
+    /// It casts shadows but found no free atlas tiles.
+    NoTile,
+}
+
+/// IEEE half to single precision (the HDR target is Rgba16Float).
+pub(crate) fn f16_to_f32(h: u16) -> f32 {
+    let sign = ((h >> 15) as u32) << 31;
+    let exponent = ((h >> 10) & 0x1f) as u32;
+    let mantissa = (h & 0x3ff) as u32;
+    let bits = match (exponent, mantissa) {
+        (0, 0) => sign,
+        (0, m) => {
+            // Subnormal: renormalise.
+            let shift = m.leading_zeros() - 21;
+            sign | ((127 - 15 - shift + 1) << 23) | ((m << shift) & 0x3ff) << 13
+        }
+        (0x1f, m) => sign | 0x7f80_0000 | (m << 13),
+        (e, m) => sign | ((e + 127 - 15) << 23) | (m << 13),
+    };
+    f32::from_bits(bits)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::f16_to_f32;
+
+    #[test]
+    fn half_floats_convert() {
+        assert_eq!(f16_to_f32(0x3c00), 1.0);
+        assert_eq!(f16_to_f32(0xc000), -2.0);
+        assert_eq!(f16_to_f32(0x7bff), 65504.0);
+        assert!(f16_to_f32(0x7c00).is_infinite());
+        assert!((f16_to_f32(0x0001) - 5.960_464_5e-8).abs() < 1e-12);
+        assert!((f16_to_f32(0x0200) - 3.051_757_8e-5).abs() < 1e-10);
+        assert_eq!(f16_to_f32(0x3555), 0.333_251_95);
+    }
+}

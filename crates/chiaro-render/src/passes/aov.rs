@@ -1,0 +1,64 @@
+//! The AOV pass: world position, shading normal and linear view depth of the surface the
+//! forward pass kept in each pixel (it tests against the forward pass's depth).
+
+use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
+use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
+use crate::plan::{FramePlan, PassId};
+use crate::shaders;
+
+pub const AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+pub struct AovPass {
+    pipelines: MeshPipelines,
+}
+
+impl AovPass {
+    pub fn new(device: &wgpu::Device, layout: wgpu::PipelineLayout, depth_format: wgpu::TextureFormat) -> AovPass {
+        AovPass {
+            pipelines: MeshPipelines::new(MeshPipelinesDesc {
+                label: "aov",
+                module: shaders::module(device, "aov", shaders::AOV),
+                fragment_entry: "fs_aov",
+                layout,
+                color_formats: vec![AOV_FORMAT, AOV_FORMAT],
+                blends: false,
+                depth_test: DepthTest::SameSurface,
+                depth_format,
+            }),
+        }
+    }
+}
+
+impl FramePass for AovPass {
+    fn id(&self) -> PassId {
+        PassId::Aov
+    }
+
+    fn io(&self, _plan: &FramePlan) -> PassIo {
+        PassIo {
+            reads: vec![Resource::Depth],
+            writes: vec![Resource::AovPosition, Resource::AovNormalDepth, Resource::Depth],
+        }
+    }
+
+    fn prepare(&mut self, cx: &PrepareContext<'_>) {
+        self.pipelines.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws);
+    }
+
+    fn record(&self, cx: &mut PassContext<'_>) {
+        let timestamp_writes = cx.timestamp_writes();
+        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("aov pass"),
+            color_attachments: &[
+                cleared(cx.targets.view(Resource::AovPosition), wgpu::Color::TRANSPARENT),
+                cleared(cx.targets.view(Resource::AovNormalDepth), wgpu::Color::TRANSPARENT),
+            ],
+            depth_stencil_attachment: Some(scene_depth(cx.targets.view(Resource::Depth), true)),
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, cx.frame_bind_group, &[]);
+        self.pipelines.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
+    }
+}

@@ -1,0 +1,184 @@
+//! What every pass that draws the scene's meshes from the camera shares: the pipelines
+//! (one per cull mode, winding and blending, since those are pipeline state in wgpu) and
+//! the loop that binds materials and issues the draws in the plan's order.
+
+use crate::gpu::GpuVertex;
+use crate::plan::draws::Draw;
+use crate::scene::GpuScene;
+use chiaro_scene::AlphaMode;
+use std::collections::HashMap;
+
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+pub struct MeshPipelineKey {
+    cull_back: bool,
+    front_cw: bool,
+    blend: bool,
+}
+
+/// How a pass tests depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthTest {
+    /// Keeps the nearest surface (reverse-Z: greater is nearer); transparent draws test
+    /// but do not write.
+    Nearest,
+    /// Passes where the surface is the one an earlier pass kept (GreaterEqual on its
+    /// depth), so each pixel is shaded once; every draw writes, so the nearest
+    /// transparent surface is the one reported.
+    SameSurface,
+}
+
+pub struct MeshPipelines {
+    label: &'static str,
+    module: wgpu::ShaderModule,
+    fragment_entry: &'static str,
+    layout: wgpu::PipelineLayout,
+    color_formats: Vec<wgpu::TextureFormat>,
+    /// Transparent draws blend (pre-multiplied) into the targets.
+    blends: bool,
+    depth_test: DepthTest,
+    depth_format: wgpu::TextureFormat,
+    pipelines: HashMap<MeshPipelineKey, wgpu::RenderPipeline>,
+}
+
+pub struct MeshPipelinesDesc {
+    pub label: &'static str,
+    pub module: wgpu::ShaderModule,
+    pub fragment_entry: &'static str,
+    pub layout: wgpu::PipelineLayout,
+    pub color_formats: Vec<wgpu::TextureFormat>,
+    pub blends: bool,
+    pub depth_test: DepthTest,
+    pub depth_format: wgpu::TextureFormat,
+}
+
+impl MeshPipelines {
+    pub fn new(desc: MeshPipelinesDesc) -> MeshPipelines {
+        MeshPipelines {
+            label: desc.label,
+            module: desc.module,
+            fragment_entry: desc.fragment_entry,
+            layout: desc.layout,
+            color_formats: desc.color_formats,
+            blends: desc.blends,
+            depth_test: desc.depth_test,
+            depth_format: desc.depth_format,
+            pipelines: HashMap::new(),
+        }
+    }
+
+    fn key(&self, d: &Draw) -> MeshPipelineKey {
+        MeshPipelineKey {
+            cull_back: !d.double_sided,
+            front_cw: d.mirrored,
+            blend: self.blends && d.alpha_mode == AlphaMode::Blend,
+        }
+    }
+
+    /// Makes the pipelines the draws in `order` need.
+    pub fn prepare(&mut self, device: &wgpu::Device, draws: &[Draw], order: &[u32]) {
+        for &i in order {
+            let key = self.key(&draws[i as usize]);
+            if !self.pipelines.contains_key(&key) {
+                let pipeline = self.create(device, key);
+                self.pipelines.insert(key, pipeline);
+            }
+        }
+    }
+
+    fn create(&self, device: &wgpu::Device, key: MeshPipelineKey) -> wgpu::RenderPipeline {
+        let targets: Vec<Option<wgpu::ColorTargetState>> = self
+            .color_formats
+            .iter()
+            .map(|&format| {
+                Some(wgpu::ColorTargetState {
+                    format,
+                    blend: key.blend.then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })
+            })
+            .collect();
+        let (depth_compare, depth_write) = match self.depth_test {
+            DepthTest::Nearest => (wgpu::CompareFunction::Greater, !key.blend),
+            DepthTest::SameSurface => (wgpu::CompareFunction::GreaterEqual, true),
+        };
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("{} {key:?}", self.label)),
+            layout: Some(&self.layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(GpuVertex::layout())],
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                front_face: if key.front_cw { wgpu::FrontFace::Cw } else { wgpu::FrontFace::Ccw },
+                cull_mode: key.cull_back.then_some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: self.depth_format,
+                depth_write_enabled: Some(depth_write),
+                depth_compare: Some(depth_compare),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(self.fragment_entry),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    /// Issues the draws in `order` (pipelines `prepare`d), binding each material once
+    /// per run of draws that share it. Group 0 must be bound by the caller.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, scene: &GpuScene, order: &[u32]) {
+        pass.set_vertex_buffer(0, scene.vertices.slice(..));
+        pass.set_index_buffer(scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+        let mut bound_material = usize::MAX;
+        let mut bound_key = None;
+        for &i in order {
+            let d = &scene.draws[i as usize];
+            let key = self.key(d);
+            if bound_key != Some(key) {
+                pass.set_pipeline(&self.pipelines[&key]);
+                bound_key = Some(key);
+            }
+            if bound_material != d.material {
+                pass.set_bind_group(1, &scene.materials[d.material], &[]);
+                bound_material = d.material;
+            }
+            pass.draw_indexed(d.first_index..d.first_index + d.index_count, d.base_vertex, d.object..d.object + 1);
+        }
+    }
+}
+
+/// A colour attachment that clears to `clear` and keeps what the pass writes.
+pub fn cleared(view: &wgpu::TextureView, clear: wgpu::Color) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+    })
+}
+
+/// The scene depth target, kept from the forward pass (`load`) or cleared to the far
+/// plane (reverse-Z: 0) with stencil 0.
+pub fn scene_depth(view: &wgpu::TextureView, load: bool) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    let (depth_load, stencil_load) = if load {
+        (wgpu::LoadOp::Load, wgpu::LoadOp::Load)
+    } else {
+        (wgpu::LoadOp::Clear(0.0), wgpu::LoadOp::Clear(0))
+    };
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations { load: depth_load, store: wgpu::StoreOp::Store }),
+        stencil_ops: Some(wgpu::Operations { load: stencil_load, store: wgpu::StoreOp::Store }),
+    }
+}

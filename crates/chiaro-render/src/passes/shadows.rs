@@ -1,0 +1,244 @@
+//! The shadow pass: casters drawn into their tiles of both atlases, depth only, from the
+//! tiles and caster lists the plan made. Pipelines vary by slope bias, cull mode, winding
+//! and depth clamping, since those are pipeline state in wgpu.
+
+use crate::context::GpuContext;
+use crate::gpu::{GpuCasterView, GpuVertex};
+use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
+use crate::plan::shadows::{CasterTile, ShadowAtlas};
+use crate::plan::{FramePlan, PassId};
+use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES};
+use crate::shaders;
+use chiaro_scene::CastShadows;
+use std::collections::HashMap;
+
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+const TOTAL_TILES: u64 = (MAX_DIRECTIONAL_SHADOW_TILES + MAX_OTHER_SHADOW_TILES) as u64;
+
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+struct CasterKey {
+    slope_bias_bits: u32,
+    cull_back: bool,
+    front_cw: bool,
+    /// Clamp depth (directional cascades); perspective tiles must not flatten casters
+    /// behind the light.
+    clamp_depth: bool,
+}
+
+pub struct ShadowPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    pipelines: HashMap<CasterKey, wgpu::RenderPipeline>,
+    /// One `GpuCasterView` per tile of the frame, at multiples of `stride`.
+    views: wgpu::Buffer,
+    stride: u64,
+    bind_group: Option<wgpu::BindGroup>,
+    /// Depth clamping by the rasterizer (DEPTH_CLIP_CONTROL); else in the vertex shader.
+    unclipped_depth: bool,
+}
+
+fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
+    CasterKey {
+        slope_bias_bits: tile.slope_bias.to_bits(),
+        cull_back: draw.cast_shadows != CastShadows::TwoSided && !draw.double_sided,
+        front_cw: draw.mirrored,
+        clamp_depth: tile.atlas == ShadowAtlas::Directional,
+    }
+}
+
+impl ShadowPass {
+    pub fn new(ctx: &GpuContext) -> ShadowPass {
+        let device = &ctx.device;
+        let alignment = device.limits().min_uniform_buffer_offset_alignment as u64;
+        let stride = (size_of::<GpuCasterView>() as u64).div_ceil(alignment) * alignment;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caster layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: true,
+                        min_binding_size: wgpu::BufferSize::new(size_of::<GpuCasterView>() as u64),
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("caster pipeline layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        ShadowPass {
+            module: shaders::module(device, "shadow caster", shaders::SHADOW_CASTER),
+            views: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("caster views"),
+                size: stride * TOTAL_TILES,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            stride,
+            bind_group: None,
+            unclipped_depth: device.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL),
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+        }
+    }
+
+    fn create(&self, device: &wgpu::Device, key: CasterKey) -> wgpu::RenderPipeline {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("caster pipeline {key:?}")),
+            layout: Some(&self.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some("vs_caster"),
+                compilation_options: Default::default(),
+                buffers: &[Some(GpuVertex::layout())],
+            },
+            primitive: wgpu::PrimitiveState {
+                front_face: if key.front_cw { wgpu::FrontFace::Cw } else { wgpu::FrontFace::Ccw },
+                cull_mode: key.cull_back.then_some(wgpu::Face::Back),
+                unclipped_depth: self.unclipped_depth && key.clamp_depth,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: SHADOW_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: wgpu::DepthBiasState {
+                    constant: 0,
+                    slope_scale: f32::from_bits(key.slope_bias_bits),
+                    clamp: 0.0,
+                },
+            }),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+impl FramePass for ShadowPass {
+    fn id(&self) -> PassId {
+        PassId::Shadows
+    }
+
+    fn io(&self, _plan: &FramePlan) -> PassIo {
+        PassIo { reads: vec![], writes: vec![Resource::DirectionalShadowAtlas, Resource::OtherShadowAtlas] }
+    }
+
+    fn prepare(&mut self, cx: &PrepareContext<'_>) {
+        let tiles = &cx.plan.shadows.tiles;
+        debug_assert!(tiles.len() as u64 <= TOTAL_TILES);
+        let mut bytes = vec![0u8; (self.stride * tiles.len() as u64) as usize];
+        for (i, tile) in tiles.iter().enumerate() {
+            let clamp_in_shader = tile.atlas == ShadowAtlas::Directional && !self.unclipped_depth;
+            let view = GpuCasterView {
+                clip_from_world: tile.clip_from_world,
+                flags: if clamp_in_shader { CASTER_CLAMP_DEPTH } else { 0 },
+                _pad: [0; 3],
+            };
+            let at = i * self.stride as usize;
+            bytes[at..at + size_of::<GpuCasterView>()].copy_from_slice(bytemuck::bytes_of(&view));
+            for &d in &tile.casters {
+                let key = caster_key(tile, &cx.scene.draws[d as usize]);
+                if !self.pipelines.contains_key(&key) {
+                    let pipeline = self.create(cx.device, key);
+                    self.pipelines.insert(key, pipeline);
+                }
+            }
+        }
+        if !bytes.is_empty() {
+            cx.queue.write_buffer(&self.views, 0, &bytes);
+        }
+        self.bind_group = Some(cx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("caster bind group"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.views,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(size_of::<GpuCasterView>() as u64),
+                    }),
+                },
+                wgpu::BindGroupEntry { binding: 1, resource: cx.scene.objects.as_entire_binding() },
+            ],
+        }));
+    }
+
+    /// One wgpu pass per atlas that has tiles this frame, each cleared first: every tile
+    /// of the plan is drawn anew. The first carries the start timestamp, the last the end.
+    fn record(&self, cx: &mut PassContext<'_>) {
+        let tiles = &cx.plan.shadows.tiles;
+        let bind_group = self.bind_group.as_ref().expect("prepared");
+        let atlases: Vec<(ShadowAtlas, Resource)> = [
+            (ShadowAtlas::Directional, Resource::DirectionalShadowAtlas),
+            (ShadowAtlas::Other, Resource::OtherShadowAtlas),
+        ]
+        .into_iter()
+        .filter(|(atlas, _)| tiles.iter().any(|t| t.atlas == *atlas))
+        .collect();
+        for (k, &(atlas, resource)) in atlases.iter().enumerate() {
+            let timestamp_writes = cx.timestamps.as_ref().map(|t| t.writes(k == 0, k + 1 == atlases.len()));
+            let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(match atlas {
+                    ShadowAtlas::Directional => "directional shadow pass",
+                    ShadowAtlas::Other => "other shadow pass",
+                }),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: cx.targets.view(resource),
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_vertex_buffer(0, cx.scene.vertices.slice(..));
+            pass.set_index_buffer(cx.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+            for (i, tile) in tiles.iter().enumerate().filter(|(_, t)| t.atlas == atlas) {
+                let (x, y, size) = tile.viewport;
+                pass.push_debug_group(&format!("shadow tile {} of light {}", tile.tile, tile.light.0));
+                pass.set_viewport(x as f32, y as f32, size as f32, size as f32, 0.0, 1.0);
+                pass.set_scissor_rect(x, y, size, size);
+                pass.set_bind_group(0, bind_group, &[(i as u64 * self.stride) as u32]);
+                let mut bound = None;
+                for &d in &tile.casters {
+                    let draw = &cx.scene.draws[d as usize];
+                    let key = caster_key(tile, draw);
+                    if bound != Some(key) {
+                        pass.set_pipeline(&self.pipelines[&key]);
+                        bound = Some(key);
+                    }
+                    pass.draw_indexed(
+                        draw.first_index..draw.first_index + draw.index_count,
+                        draw.base_vertex,
+                        draw.object..draw.object + 1,
+                    );
+                }
+                pass.pop_debug_group();
+                cx.stats.shadow_tiles_rendered += 1;
+                cx.stats.shadow_caster_draws += tile.casters.len();
+            }
+        }
+    }
+}

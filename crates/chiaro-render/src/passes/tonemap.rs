@@ -1,0 +1,113 @@
+//! Tone mapping: the pre-exposed HDR target to the display-referred output, an sRGB
+//! texture of the renderer's or a surface the caller lends (pipelines per output format;
+//! a linear format gets the sRGB encoding in the shader).
+
+use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
+use crate::plan::{FramePlan, PassId};
+use crate::shaders;
+use std::collections::HashMap;
+
+pub struct TonemapPass {
+    module: wgpu::ShaderModule,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    format: Option<wgpu::TextureFormat>,
+}
+
+impl TonemapPass {
+    pub fn new(device: &wgpu::Device) -> TonemapPass {
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tonemap layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("tonemap pipeline layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        TonemapPass {
+            module: shaders::module(device, "tonemap", shaders::TONEMAP),
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            format: None,
+        }
+    }
+
+    fn create(&self, device: &wgpu::Device, format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
+        let constants = [("0", if format.is_srgb() { 0.0 } else { 1.0 })];
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("tonemap {format:?}")),
+            layout: Some(&self.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some("fs_tonemap"),
+                compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+                targets: &[Some(format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+impl FramePass for TonemapPass {
+    fn id(&self) -> PassId {
+        PassId::Tonemap
+    }
+
+    fn io(&self, _plan: &FramePlan) -> PassIo {
+        PassIo { reads: vec![Resource::Hdr], writes: vec![Resource::Output] }
+    }
+
+    fn prepare(&mut self, cx: &PrepareContext<'_>) {
+        if !self.pipelines.contains_key(&cx.output_format) {
+            let pipeline = self.create(cx.device, cx.output_format);
+            self.pipelines.insert(cx.output_format, pipeline);
+        }
+        self.format = Some(cx.output_format);
+    }
+
+    fn record(&self, cx: &mut PassContext<'_>) {
+        let bind_group = cx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tonemap bind group"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(cx.targets.view(Resource::Hdr)),
+            }],
+        });
+        let pipeline = &self.pipelines[&self.format.expect("prepared")];
+        let timestamp_writes = cx.timestamp_writes();
+        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("tonemap pass"),
+            color_attachments: &[super::mesh::cleared(cx.targets.view(Resource::Output), wgpu::Color::BLACK)],
+            depth_stencil_attachment: None,
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

@@ -1,0 +1,181 @@
+//! The draws a scene makes: one per primitive of each mesh instance, where its indices sit
+//! in the shared vertex and index buffers, and the order the camera draws them in. Pure
+//! data: the GPU scene fills its buffers by `GeometryLayout`, and frame plans refer to
+//! draws by their index in `scene_draws`.
+
+use chiaro_math::Aabb;
+use chiaro_scene::{AlphaMode, CastShadows, Scene};
+use glam::Vec3;
+
+/// Where one primitive's indices and vertices start in the shared buffers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PrimitiveRange {
+    pub first_index: u32,
+    pub index_count: u32,
+    pub base_vertex: i32,
+}
+
+/// Every mesh primitive once, in scene order; instances refer to them.
+#[derive(Clone, Debug, Default)]
+pub struct GeometryLayout {
+    /// Per mesh, per primitive.
+    pub ranges: Vec<Vec<PrimitiveRange>>,
+    pub vertex_count: usize,
+    pub index_count: usize,
+}
+
+impl GeometryLayout {
+    pub fn of(scene: &Scene) -> GeometryLayout {
+        let mut layout = GeometryLayout::default();
+        for mesh in &scene.meshes {
+            let mut ranges = Vec::with_capacity(mesh.primitives.len());
+            for p in &mesh.primitives {
+                ranges.push(PrimitiveRange {
+                    first_index: layout.index_count as u32,
+                    index_count: p.indices.len() as u32,
+                    base_vertex: layout.vertex_count as i32,
+                });
+                layout.vertex_count += p.positions.len();
+                layout.index_count += p.indices.len();
+            }
+            layout.ranges.push(ranges);
+        }
+        layout
+    }
+}
+
+/// One primitive of one mesh instance.
+#[derive(Clone, Debug)]
+pub struct Draw {
+    pub first_index: u32,
+    pub index_count: u32,
+    pub base_vertex: i32,
+    /// Index into the object buffer (the instance's index), passed as the draw's first
+    /// instance.
+    pub object: u32,
+    /// Index of the material; `Scene::materials.len()` is the glTF default material.
+    pub material: usize,
+    pub alpha_mode: AlphaMode,
+    pub double_sided: bool,
+    /// The instance's transform mirrors (negative determinant), which flips the winding.
+    pub mirrored: bool,
+    /// World-space centre, for sorting transparent draws back to front.
+    pub center_ws: Vec3,
+    /// World-space bounds, for culling casters per shadow tile.
+    pub bounds_ws: Aabb,
+    pub cast_shadows: CastShadows,
+}
+
+impl Draw {
+    /// Drawn by the camera (shadows-only casters are not).
+    pub fn visible(&self) -> bool {
+        self.cast_shadows != CastShadows::ShadowsOnly
+    }
+
+    /// Alpha-blended surfaces cast no shadows (the reference skips them too).
+    pub fn casts_shadows(&self) -> bool {
+        self.cast_shadows != CastShadows::Off && self.alpha_mode != AlphaMode::Blend
+    }
+}
+
+/// The scene's draws in instance order, skipping empty primitives.
+pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
+    let default_material = scene.materials.len();
+    let mut draws = Vec::new();
+    for (object, inst) in scene.instances.iter().enumerate() {
+        for (p, range) in scene.meshes[inst.mesh].primitives.iter().zip(&layout.ranges[inst.mesh]) {
+            if range.index_count == 0 {
+                continue;
+            }
+            let material = p.material.filter(|&m| m < scene.materials.len()).unwrap_or(default_material);
+            let m = scene.materials.get(material).cloned().unwrap_or_default();
+            draws.push(Draw {
+                first_index: range.first_index,
+                index_count: range.index_count,
+                base_vertex: range.base_vertex,
+                object: object as u32,
+                material,
+                alpha_mode: m.alpha_mode,
+                double_sided: m.double_sided,
+                mirrored: inst.world_from_local.determinant() < 0.0,
+                center_ws: inst.world_from_local.transform_point3(p.bounds.center()),
+                bounds_ws: p.bounds.transformed(&inst.world_from_local),
+                cast_shadows: inst.cast_shadows,
+            });
+        }
+    }
+    draws
+}
+
+/// The camera's draw order, as indices into `draws`: opaque and masked draws first,
+/// grouped by pipeline state and material; then transparent draws from far to near, so
+/// that blending composes correctly.
+pub fn camera_draw_order(draws: &[Draw], eye: Vec3) -> Vec<u32> {
+    let (mut blended, mut solid): (Vec<u32>, Vec<u32>) = (0..draws.len() as u32)
+        .filter(|&i| draws[i as usize].visible())
+        .partition(|&i| draws[i as usize].alpha_mode == AlphaMode::Blend);
+    solid.sort_by_key(|&i| {
+        let d = &draws[i as usize];
+        (d.double_sided, d.mirrored, d.material)
+    });
+    let distance = |i: u32| draws[i as usize].center_ws.distance_squared(eye);
+    blended.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
+    solid.extend(blended);
+    solid
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use chiaro_scene::{Material, Mesh, MeshInstance, shapes};
+    use glam::Mat4;
+
+    fn scene() -> Scene {
+        let mut scene = Scene::default();
+        let mut cube = shapes::cuboid(Vec3::ONE);
+        cube.material = Some(0);
+        let mut glass = shapes::cuboid(Vec3::ONE);
+        glass.material = Some(1);
+        scene.meshes.push(Mesh { name: "cube".into(), primitives: vec![cube, glass] });
+        scene.materials.push(Material::default());
+        scene.materials.push(Material { alpha_mode: AlphaMode::Blend, ..Material::default() });
+        for (i, (x, cast)) in
+            [(0.0, CastShadows::On), (5.0, CastShadows::ShadowsOnly), (-8.0, CastShadows::On)].into_iter().enumerate()
+        {
+            scene.instances.push(MeshInstance {
+                mesh: 0,
+                node: i,
+                name: format!("cube {i}"),
+                world_from_local: Mat4::from_translation(Vec3::new(x, 0.0, 0.0)),
+                cast_shadows: cast,
+                receive_shadows: true,
+            });
+        }
+        scene
+    }
+
+    #[test]
+    fn draws_point_at_their_primitives_ranges() {
+        let scene = scene();
+        let layout = GeometryLayout::of(&scene);
+        let p = &scene.meshes[0].primitives;
+        assert_eq!(layout.vertex_count, 2 * p[0].positions.len());
+        assert_eq!(layout.ranges[0][1].first_index as usize, p[0].indices.len());
+        assert_eq!(layout.ranges[0][1].base_vertex as usize, p[0].positions.len());
+        let draws = scene_draws(&scene, &layout);
+        assert_eq!(draws.len(), 6);
+        assert_eq!(draws[3].object, 1);
+        assert_eq!(draws[3].first_index, layout.ranges[0][1].first_index);
+        assert!(draws[1].bounds_ws.center().abs_diff_eq(Vec3::ZERO, 1e-6));
+        assert!(draws[4].bounds_ws.center().abs_diff_eq(Vec3::new(-8.0, 0.0, 0.0), 1e-6));
+    }
+
+    #[test]
+    fn the_camera_draws_solids_first_then_glass_far_to_near_and_skips_shadow_only_casters() {
+        let scene = scene();
+        let draws = scene_draws(&scene, &GeometryLayout::of(&scene));
+        // Glass draws are 1 (x = 0), 3 (shadows only) and 5 (x = -8); the eye is at x = 10.
+        let order = camera_draw_order(&draws, Vec3::new(10.0, 0.0, 0.0));
+        assert_eq!(order, vec![0, 4, 5, 1]);
+    }
+}

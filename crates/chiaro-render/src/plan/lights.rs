@@ -1,0 +1,134 @@
+//! Which lights a frame shades: up to four directional lights, and the most important
+//! visible point and spot lights (chiaro_math::light::select_other_lights), each known by
+//! the stable id of its scene light; and the GPU record of each.
+
+use super::shadows::ShadowSlot;
+use crate::gpu::GpuLight;
+use crate::shader_constants::{
+    LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE,
+    SHADOW_SLOT_REALTIME,
+};
+use crate::view::View;
+use chiaro_math::Frustum;
+use chiaro_math::light::{
+    LightSelection, MAX_DIRECTIONAL_LIGHTS, OtherLightBounds, derived_range, select_other_lights, spot_angle_params,
+};
+use chiaro_scene::{Light, LightKind, Scene, Settings};
+
+/// A light's index in `Scene::lights`: the same light has the same id in every frame of
+/// the same scene, so atlas tiles (and later caches and cluster lists) can be keyed by it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct LightId(pub u32);
+
+impl LightId {
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// One light the frame shades.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameLight {
+    pub id: LightId,
+    /// The range it is shaded with (its own, or derived from its intensity); infinite for
+    /// directional lights.
+    pub range: f32,
+    pub shadow: ShadowSlot,
+}
+
+/// The lights chosen for a frame, before shadows are planned.
+#[derive(Clone, Debug, Default)]
+pub struct LightChoice {
+    /// Directional lights in scene order, at most `MAX_DIRECTIONAL_LIGHTS`.
+    pub directional: Vec<LightId>,
+    /// Visible point and spot lights, most important first, with their ranges.
+    pub other: Vec<(LightId, f32)>,
+    /// Directional lights over the limit.
+    pub dropped_directional: usize,
+    pub selection: LightSelection,
+}
+
+/// The range a point or spot light is shaded with: its own, or one derived from its
+/// intensity.
+pub fn effective_range(light: &Light, settings: &Settings) -> f32 {
+    light.range.unwrap_or_else(|| {
+        derived_range(light.intensity * light.color.max_element(), settings.lights.range_threshold_lux)
+    })
+}
+
+pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightChoice {
+    let id = |i: usize| LightId(i as u32);
+    let all_directional: Vec<usize> =
+        (0..scene.lights.len()).filter(|&i| scene.lights[i].kind == LightKind::Directional).collect();
+    let dropped_directional = all_directional.len().saturating_sub(MAX_DIRECTIONAL_LIGHTS);
+    if dropped_directional > 0 {
+        tracing::warn!(
+            "{dropped_directional} directional lights over the limit of {MAX_DIRECTIONAL_LIGHTS} are not shaded"
+        );
+    }
+    let directional = all_directional.iter().take(MAX_DIRECTIONAL_LIGHTS).map(|&i| id(i)).collect();
+
+    let others: Vec<usize> =
+        (0..scene.lights.len()).filter(|&i| scene.lights[i].kind != LightKind::Directional).collect();
+    let bounds: Vec<OtherLightBounds> = others
+        .iter()
+        .map(|&i| {
+            let l = &scene.lights[i];
+            OtherLightBounds {
+                position: l.position(),
+                range: effective_range(l, settings),
+                peak_intensity: l.intensity * l.color.max_element(),
+                spot: match l.kind {
+                    LightKind::Spot { outer_cone_rad, .. } => Some((l.direction(), outer_cone_rad)),
+                    _ => None,
+                },
+            }
+        })
+        .collect();
+    let selection = select_other_lights(
+        &bounds,
+        &Frustum::from_clip_from_world(&view.clip_from_world()),
+        view.eye(),
+        settings.lights.max_other_lights as usize,
+    );
+    if selection.dropped > 0 {
+        tracing::warn!(
+            "{} visible point/spot lights over the limit of {} are not shaded",
+            selection.dropped,
+            settings.lights.max_other_lights
+        );
+    }
+    let other = selection.visible.iter().map(|&k| (id(others[k]), bounds[k].range)).collect();
+    LightChoice { directional, other, dropped_directional, selection }
+}
+
+/// The light as the shaders read it.
+pub fn gpu_light(light: &Light, frame_light: &FrameLight) -> GpuLight {
+    let (kind, (spot_scale, spot_offset)) = match light.kind {
+        LightKind::Directional => (LIGHT_KIND_DIRECTIONAL, (0.0, 1.0)),
+        // saturate(x * 0 + 1)^2 = 1: a point light is a spot that never fades.
+        LightKind::Point => (LIGHT_KIND_POINT, (0.0, 1.0)),
+        LightKind::Spot { inner_cone_rad, outer_cone_rad } => {
+            (LIGHT_KIND_SPOT, spot_angle_params(inner_cone_rad, outer_cone_rad))
+        }
+    };
+    let (shadow_slot, shadow_first_tile, shadow_filter) = match frame_light.shadow {
+        ShadowSlot::None => (SHADOW_SLOT_NONE, 0, 0),
+        ShadowSlot::Realtime { first_tile, filter, .. } => (SHADOW_SLOT_REALTIME, first_tile, filter.index()),
+        ShadowSlot::BakedOnly => (SHADOW_SLOT_BAKED_ONLY, 0, 0),
+    };
+    GpuLight {
+        color: light.color * light.intensity,
+        kind,
+        position_ws: light.position(),
+        range: frame_light.range,
+        direction_ws: light.direction(),
+        shadow_slot,
+        spot_scale,
+        spot_offset,
+        shadow_strength: light.shadow.strength,
+        shadow_first_tile,
+        shadow_filter,
+        _pad: [0; 3],
+    }
+}

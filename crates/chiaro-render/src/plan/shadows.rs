@@ -1,0 +1,344 @@
+//! Plans a frame's realtime shadows on the CPU: which lights get atlas tiles (kept from
+//! frame to frame by chiaro_math's `TileAllocator`), each directional cascade's culling
+//! sphere and stable projection, each spot's and cube face's perspective projection, the
+//! casters each tile draws, and the shadow uniform the shaders read. The math is
+//! chiaro_math::shadow; this module only arranges it.
+
+use super::draws::Draw;
+use super::lights::LightId;
+use crate::gpu::{GpuAtlas, GpuCascade, GpuShadowFade, GpuShadowTile, GpuShadows};
+use crate::shader_constants::{
+    CASCADE_BLEND_DITHER, CASCADE_BLEND_HARD, CASCADE_BLEND_SOFT, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES,
+};
+use crate::view::View;
+use chiaro_math::Sphere;
+use chiaro_math::shadow::bias::{cascade_texel_size_ws, normal_bias_ws};
+use chiaro_math::shadow::culling::{caster_in_range, caster_in_tile};
+use chiaro_math::shadow::fade::distance_fade_params;
+use chiaro_math::shadow::other::{
+    POINT_LIGHT_FACES, perspective_normal_bias, point_face_fov_rad, point_face_view, spot_shadow_view,
+};
+use chiaro_math::shadow::{
+    AtlasLayout, ShadowFilter, TileAllocator, cascade_splits, fit_cascade, slice_culling_sphere,
+};
+use chiaro_scene::{CascadeBlend, Light, LightKind, Scene, Settings, ShadowMode};
+use glam::Mat4;
+
+/// Where a light's realtime shadow comes from this frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowSlot {
+    /// The light casts no shadows (extras `shadows: none`, or strength 0).
+    None,
+    /// Sampled from `tile_count` tiles of its atlas from `first_tile` (one per cascade,
+    /// one per spot, six per point light).
+    Realtime { first_tile: u32, tile_count: u32, filter: ShadowFilter },
+    /// It casts shadows but found no free atlas tiles: no realtime shadow; baked shadows
+    /// (the tutorial's negative strength) are what would apply.
+    BakedOnly,
+}
+
+/// Which of the two atlases a tile lies in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShadowAtlas {
+    /// Directional cascades: orthographic tiles, depth clamped (pancaking).
+    Directional,
+    /// Spot and point lights: perspective tiles, never clamped.
+    Other,
+}
+
+/// One tile to render casters into.
+#[derive(Clone, Debug)]
+pub struct CasterTile {
+    pub atlas: ShadowAtlas,
+    pub light: LightId,
+    /// Tile index in its atlas.
+    pub tile: u32,
+    pub clip_from_world: Mat4,
+    /// (x, y, size) in texels.
+    pub viewport: (u32, u32, u32),
+    /// Slope-scale depth bias of the light.
+    pub slope_bias: f32,
+    /// A point or spot light's range sphere: its tiles draw the casters inside it.
+    pub light_range: Option<Sphere>,
+    /// Indices into the scene's draws of the casters that can reach the tile.
+    pub casters: Vec<u32>,
+}
+
+/// Tile allocators of both atlases, kept by the renderer from frame to frame.
+#[derive(Clone, Debug)]
+pub struct ShadowAtlasTiles {
+    pub directional: TileAllocator<LightId>,
+    pub other: TileAllocator<LightId>,
+}
+
+impl Default for ShadowAtlasTiles {
+    fn default() -> Self {
+        ShadowAtlasTiles {
+            directional: TileAllocator::new(MAX_DIRECTIONAL_SHADOW_TILES as usize),
+            other: TileAllocator::new(MAX_OTHER_SHADOW_TILES as usize),
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct ShadowPlan {
+    pub gpu: GpuShadows,
+    /// Atlas sides in texels; 0 when no light casts into that atlas this frame.
+    pub directional_atlas_size: u32,
+    pub other_atlas_size: u32,
+    /// Directional tiles first, then point and spot tiles.
+    pub tiles: Vec<CasterTile>,
+    /// World-space culling spheres (unshrunk), for the debug view and the tests.
+    pub cascade_spheres: Vec<Sphere>,
+    /// Every shadowed light kept the tiles it had last frame.
+    pub tiles_kept: bool,
+}
+
+/// The slot of each input light, in input order.
+pub struct ShadowSlots {
+    pub directional: Vec<ShadowSlot>,
+    pub other: Vec<ShadowSlot>,
+}
+
+/// The light's filter: `hard` lights take the 2x2 one whatever the settings say.
+fn light_filter(light: &Light, settings_filter: ShadowFilter) -> ShadowFilter {
+    match light.shadow.mode {
+        ShadowMode::Hard => ShadowFilter::Pcf2x2,
+        _ => settings_filter,
+    }
+}
+
+/// Plans shadows for the frame's `directional` lights (slot order) and `other` lights
+/// (most important first, with the range each is shaded with).
+pub fn plan_shadows(
+    scene: &Scene,
+    draws: &[Draw],
+    view: &View,
+    settings: &Settings,
+    directional: &[LightId],
+    other: &[(LightId, f32)],
+    atlases: &mut ShadowAtlasTiles,
+) -> (ShadowPlan, ShadowSlots) {
+    let ds = &settings.shadows.directional;
+    let max_distance = match view.zfar {
+        Some(far) => settings.shadows.max_distance.min(far),
+        None => settings.shadows.max_distance,
+    };
+    let [inverse_max_distance, inverse_distance_fade, inverse_cascade_fade] =
+        distance_fade_params(max_distance, settings.shadows.distance_fade, ds.cascade_fade);
+    let mut plan = ShadowPlan {
+        gpu: GpuShadows {
+            fade: GpuShadowFade { inverse_max_distance, inverse_distance_fade, inverse_cascade_fade, _pad: 0.0 },
+            cascade_blend: match ds.cascade_blend {
+                CascadeBlend::Hard => CASCADE_BLEND_HARD,
+                CascadeBlend::Soft => CASCADE_BLEND_SOFT,
+                CascadeBlend::Dither => CASCADE_BLEND_DITHER,
+            },
+            ..GpuShadows::default()
+        },
+        directional_atlas_size: 0,
+        other_atlas_size: 0,
+        tiles: Vec::new(),
+        cascade_spheres: Vec::new(),
+        tiles_kept: true,
+    };
+    let directional_slots = plan_directional(&mut plan, scene, view, settings, max_distance, directional, atlases);
+    let other_slots = plan_other(&mut plan, scene, settings, other, atlases);
+    for tile in &mut plan.tiles {
+        tile.casters = tile_casters(draws, tile);
+    }
+    (plan, ShadowSlots { directional: directional_slots, other: other_slots })
+}
+
+fn plan_directional(
+    plan: &mut ShadowPlan,
+    scene: &Scene,
+    view: &View,
+    settings: &Settings,
+    max_distance: f32,
+    directional: &[LightId],
+    atlases: &mut ShadowAtlasTiles,
+) -> Vec<ShadowSlot> {
+    let ds = &settings.shadows.directional;
+    let filter = ds.shadow_filter();
+    let cascade_count = ds.cascade_count as usize;
+    let requests: Vec<(LightId, usize)> = directional
+        .iter()
+        .filter(|id| scene.lights[id.index()].shadow.casts())
+        .map(|&id| (id, cascade_count))
+        .collect();
+    let allocation = atlases.directional.allocate(&requests);
+    plan.tiles_kept &= allocation.kept;
+    if requests.is_empty() {
+        return vec![ShadowSlot::None; directional.len()];
+    }
+    let layout = AtlasLayout::for_tiles(ds.atlas_size, allocation.used_tiles);
+    let tile_size = layout.tile_size();
+    let splits = cascade_splits(max_distance, ds.cascade_ratios, cascade_count);
+    let tan_half_fov = (view.yfov_rad * 0.5).tan();
+    let mut texel_sizes = Vec::with_capacity(cascade_count);
+    for (i, &far) in splits.iter().enumerate() {
+        let near = if i == 0 { view.znear } else { splits[i - 1] };
+        let sphere_vs = slice_culling_sphere(near, far.max(near + 1e-3), tan_half_fov, view.aspect());
+        let sphere =
+            Sphere { center: view.world_from_view.transform_point3(sphere_vs.center), radius: sphere_vs.radius };
+        let texel = cascade_texel_size_ws(sphere.radius, tile_size);
+        // Shrink by the filter's reach so samples near the edge stay inside the tile.
+        let shrunk = (sphere.radius - texel * filter.footprint_texels()).max(sphere.radius * 0.5);
+        plan.gpu.cascades[i] = GpuCascade {
+            culling_sphere_center_ws: sphere.center,
+            radius_squared: shrunk * shrunk,
+            inverse_radius_squared: 1.0 / (shrunk * shrunk),
+            _pad: [0.0; 3],
+        };
+        plan.cascade_spheres.push(sphere);
+        texel_sizes.push(texel);
+    }
+    let first_tiles: std::collections::HashMap<LightId, usize> = requests
+        .iter()
+        .zip(&allocation.first_tiles)
+        .map(|(&(id, _), first)| (id, first.expect("every directional light fits its atlas")))
+        .collect();
+    let slots = directional
+        .iter()
+        .map(|id| {
+            let Some(&first_tile) = first_tiles.get(id) else {
+                return ShadowSlot::None;
+            };
+            let light = &scene.lights[id.index()];
+            let filter = light_filter(light, filter);
+            for (c, sphere) in plan.cascade_spheres.iter().enumerate() {
+                let tile = first_tile + c;
+                let fit = fit_cascade(*sphere, light.direction(), tile_size, light.shadow.near_plane);
+                let (uv_min, uv_max) = layout.tile_bounds_uv(tile);
+                plan.gpu.directional_tiles[tile] = GpuShadowTile {
+                    atlas_from_world: layout.atlas_from_clip(tile) * fit.clip_from_world,
+                    uv_min,
+                    uv_max,
+                    normal_bias: light.shadow.normal_bias * normal_bias_ws(texel_sizes[c], filter),
+                    _pad: [0.0; 3],
+                };
+                plan.tiles.push(CasterTile {
+                    atlas: ShadowAtlas::Directional,
+                    light: *id,
+                    tile: tile as u32,
+                    clip_from_world: fit.clip_from_world,
+                    viewport: layout.tile_viewport(tile),
+                    slope_bias: light.shadow.depth_bias,
+                    light_range: None,
+                    casters: Vec::new(),
+                });
+            }
+            ShadowSlot::Realtime { first_tile: first_tile as u32, tile_count: cascade_count as u32, filter }
+        })
+        .collect();
+    plan.gpu.cascade_count = cascade_count as u32;
+    plan.gpu.directional_atlas = atlas_params(ds.atlas_size);
+    plan.directional_atlas_size = ds.atlas_size;
+    slots
+}
+
+/// Tiles in the second atlas for the point and spot lights that cast shadows, in
+/// importance order; a light that does not fit becomes `BakedOnly`.
+fn plan_other(
+    plan: &mut ShadowPlan,
+    scene: &Scene,
+    settings: &Settings,
+    other: &[(LightId, f32)],
+    atlases: &mut ShadowAtlasTiles,
+) -> Vec<ShadowSlot> {
+    let os = &settings.shadows.other;
+    let tiles_wanted = |light: &Light| if light.kind == LightKind::Point { POINT_LIGHT_FACES } else { 1 };
+    let requests: Vec<(LightId, usize)> = other
+        .iter()
+        .map(|&(id, _)| (id, &scene.lights[id.index()]))
+        .filter(|(_, light)| light.shadow.casts())
+        .map(|(id, light)| (id, tiles_wanted(light)))
+        .collect();
+    let allocation = atlases.other.allocate(&requests);
+    plan.tiles_kept &= allocation.kept;
+    if requests.is_empty() {
+        return vec![ShadowSlot::None; other.len()];
+    }
+    let first_tiles: std::collections::HashMap<LightId, Option<usize>> =
+        requests.iter().zip(&allocation.first_tiles).map(|(&(id, _), &first)| (id, first)).collect();
+    let layout = AtlasLayout::for_tiles(os.atlas_size, allocation.used_tiles);
+    let tile_size = layout.tile_size();
+    let mut overflow = Vec::new();
+    let slots = other
+        .iter()
+        .map(|&(id, range)| {
+            let light = &scene.lights[id.index()];
+            let Some(&first) = first_tiles.get(&id) else {
+                return ShadowSlot::None;
+            };
+            let Some(first_tile) = first else {
+                overflow.push(light.name.clone());
+                return ShadowSlot::BakedOnly;
+            };
+            let filter = light_filter(light, os.shadow_filter());
+            let views: Vec<(Mat4, Mat4)> = match light.kind {
+                LightKind::Spot { outer_cone_rad, .. } => vec![spot_shadow_view(
+                    light.position(),
+                    light.direction(),
+                    outer_cone_rad,
+                    light.shadow.near_plane,
+                    range,
+                )],
+                _ => {
+                    let fov = point_face_fov_rad(tile_size, filter, light.shadow.normal_bias);
+                    (0..POINT_LIGHT_FACES)
+                        .map(|face| point_face_view(light.position(), face, fov, light.shadow.near_plane, range))
+                        .collect()
+                }
+            };
+            for (k, (clip_from_view, clip_from_world)) in views.iter().enumerate() {
+                let tile = first_tile + k;
+                let (uv_min, uv_max) = layout.tile_bounds_uv(tile);
+                plan.gpu.other_tiles[tile] = GpuShadowTile {
+                    atlas_from_world: layout.atlas_from_clip(tile) * *clip_from_world,
+                    uv_min,
+                    uv_max,
+                    normal_bias: perspective_normal_bias(tile_size, clip_from_view, filter) * light.shadow.normal_bias,
+                    _pad: [0.0; 3],
+                };
+                plan.tiles.push(CasterTile {
+                    atlas: ShadowAtlas::Other,
+                    light: id,
+                    tile: tile as u32,
+                    clip_from_world: *clip_from_world,
+                    viewport: layout.tile_viewport(tile),
+                    slope_bias: light.shadow.depth_bias,
+                    light_range: Some(Sphere { center: light.position(), radius: range }),
+                    casters: Vec::new(),
+                });
+            }
+            ShadowSlot::Realtime { first_tile: first_tile as u32, tile_count: views.len() as u32, filter }
+        })
+        .collect();
+    if !overflow.is_empty() {
+        tracing::warn!(
+            "{} point/spot lights get no realtime shadow, the {MAX_OTHER_SHADOW_TILES} tiles of the other-light \
+             atlas being taken: {}",
+            overflow.len(),
+            overflow.join(", ")
+        );
+    }
+    plan.gpu.other_atlas = atlas_params(os.atlas_size);
+    plan.other_atlas_size = os.atlas_size;
+    slots
+}
+
+fn atlas_params(size: u32) -> GpuAtlas {
+    GpuAtlas { size_texels: size as f32, texel_uv: 1.0 / size as f32, _pad: [0.0; 2] }
+}
+
+/// The casters that can draw into `tile`: those overlapping a perspective tile's light
+/// range, or a cascade tile's box (with pancaking).
+fn tile_casters(draws: &[Draw], tile: &CasterTile) -> Vec<u32> {
+    let reaches = |d: &Draw| match &tile.light_range {
+        Some(sphere) => caster_in_range(&d.bounds_ws, sphere),
+        None => caster_in_tile(&tile.clip_from_world, &d.bounds_ws, true),
+    };
+    (0..draws.len() as u32).filter(|&i| draws[i as usize].casts_shadows() && reaches(&draws[i as usize])).collect()
+}

@@ -1,0 +1,91 @@
+//! Numbers the CPU and the shaders must agree on: limits that size arrays, and the
+//! enumerations and flag bits of the `Gpu*` structs. build.rs hands every entry of
+//! `U32_CONSTANTS` and `F32_CONSTANTS` to WESL's virtual `constants` module, so a shader
+//! writes `import constants::LIGHT_KIND_POINT;` and gets the very value Rust uses.
+
+use chiaro_math::light::{MAX_DIRECTIONAL_LIGHTS, MAX_OTHER_LIGHTS};
+use chiaro_math::shadow::other::MAX_OTHER_SHADOW_TILES as OTHER_TILES;
+use chiaro_math::shadow::{MAX_CASCADES as CASCADES, MAX_SHADOWED_DIRECTIONAL_LIGHTS, ShadowFilter};
+
+pub const MAX_CASCADES: u32 = CASCADES as u32;
+/// Shadowed directional lights x cascades.
+pub const MAX_DIRECTIONAL_SHADOW_TILES: u32 = (MAX_SHADOWED_DIRECTIONAL_LIGHTS * CASCADES) as u32;
+pub const MAX_OTHER_SHADOW_TILES: u32 = OTHER_TILES as u32;
+/// Lights one frame shades: four directional lights and `MAX_OTHER_LIGHTS` point and
+/// spot lights (the light buffer's length).
+pub const MAX_FRAME_LIGHTS: u32 = (MAX_DIRECTIONAL_LIGHTS + MAX_OTHER_LIGHTS) as u32;
+
+/// `GpuLight::kind`.
+pub const LIGHT_KIND_DIRECTIONAL: u32 = 0;
+pub const LIGHT_KIND_POINT: u32 = 1;
+pub const LIGHT_KIND_SPOT: u32 = 2;
+
+/// `GpuLight::shadow_slot`: the GPU side of `plan::ShadowSlot`.
+pub const SHADOW_SLOT_NONE: u32 = 0;
+pub const SHADOW_SLOT_REALTIME: u32 = 1;
+pub const SHADOW_SLOT_BAKED_ONLY: u32 = 2;
+
+/// `GpuLight::shadow_filter`.
+pub const SHADOW_FILTER_PCF2X2: u32 = ShadowFilter::Pcf2x2.index();
+pub const SHADOW_FILTER_TENT3X3: u32 = ShadowFilter::Tent3x3.index();
+pub const SHADOW_FILTER_TENT5X5: u32 = ShadowFilter::Tent5x5.index();
+pub const SHADOW_FILTER_TENT7X7: u32 = ShadowFilter::Tent7x7.index();
+
+/// `GpuShadows::cascade_blend`.
+pub const CASCADE_BLEND_HARD: u32 = 0;
+pub const CASCADE_BLEND_SOFT: u32 = 1;
+pub const CASCADE_BLEND_DITHER: u32 = 2;
+
+/// `GpuObject::flags` bit: the object receives shadows.
+pub const OBJECT_RECEIVES_SHADOWS: u32 = 1;
+
+/// `GpuMaterial::alpha_mode`.
+pub const MATERIAL_ALPHA_OPAQUE: u32 = 0;
+pub const MATERIAL_ALPHA_MASK: u32 = 1;
+pub const MATERIAL_ALPHA_BLEND: u32 = 2;
+/// `GpuMaterial::flags` bit: the material has a normal texture.
+pub const MATERIAL_FLAG_NORMAL_TEXTURE: u32 = 1;
+
+/// `GpuFrame::debug_view`.
+pub const DEBUG_VIEW_NONE: u32 = 0;
+pub const DEBUG_VIEW_CASCADES: u32 = 1;
+
+/// `GpuCasterView::flags` bit: clamp depth in the vertex shader (pancaking), for devices
+/// that cannot leave depth unclipped.
+pub const CASTER_CLAMP_DEPTH: u32 = 1;
+
+/// `GpuAovLight::list_index` of a light the frame does not shade.
+pub const NO_LIGHT: u32 = u32::MAX;
+
+/// Every `u32` constant above, by the name the shaders import it with.
+pub const U32_CONSTANTS: &[(&str, u32)] = &[
+    ("MAX_CASCADES", MAX_CASCADES),
+    ("MAX_DIRECTIONAL_SHADOW_TILES", MAX_DIRECTIONAL_SHADOW_TILES),
+    ("MAX_OTHER_SHADOW_TILES", MAX_OTHER_SHADOW_TILES),
+    ("MAX_FRAME_LIGHTS", MAX_FRAME_LIGHTS),
+    ("LIGHT_KIND_DIRECTIONAL", LIGHT_KIND_DIRECTIONAL),
+    ("LIGHT_KIND_POINT", LIGHT_KIND_POINT),
+    ("LIGHT_KIND_SPOT", LIGHT_KIND_SPOT),
+    ("SHADOW_SLOT_NONE", SHADOW_SLOT_NONE),
+    ("SHADOW_SLOT_REALTIME", SHADOW_SLOT_REALTIME),
+    ("SHADOW_SLOT_BAKED_ONLY", SHADOW_SLOT_BAKED_ONLY),
+    ("SHADOW_FILTER_PCF2X2", SHADOW_FILTER_PCF2X2),
+    ("SHADOW_FILTER_TENT3X3", SHADOW_FILTER_TENT3X3),
+    ("SHADOW_FILTER_TENT5X5", SHADOW_FILTER_TENT5X5),
+    ("SHADOW_FILTER_TENT7X7", SHADOW_FILTER_TENT7X7),
+    ("CASCADE_BLEND_HARD", CASCADE_BLEND_HARD),
+    ("CASCADE_BLEND_SOFT", CASCADE_BLEND_SOFT),
+    ("CASCADE_BLEND_DITHER", CASCADE_BLEND_DITHER),
+    ("OBJECT_RECEIVES_SHADOWS", OBJECT_RECEIVES_SHADOWS),
+    ("MATERIAL_ALPHA_OPAQUE", MATERIAL_ALPHA_OPAQUE),
+    ("MATERIAL_ALPHA_MASK", MATERIAL_ALPHA_MASK),
+    ("MATERIAL_ALPHA_BLEND", MATERIAL_ALPHA_BLEND),
+    ("MATERIAL_FLAG_NORMAL_TEXTURE", MATERIAL_FLAG_NORMAL_TEXTURE),
+    ("DEBUG_VIEW_NONE", DEBUG_VIEW_NONE),
+    ("DEBUG_VIEW_CASCADES", DEBUG_VIEW_CASCADES),
+    ("CASTER_CLAMP_DEPTH", CASTER_CLAMP_DEPTH),
+    ("NO_LIGHT", NO_LIGHT),
+];
+
+/// Every `f32` constant the shaders share with chiaro_math.
+pub const F32_CONSTANTS: &[(&str, f32)] = &[("MIN_DISTANCE_SQUARED", chiaro_math::light::MIN_DISTANCE_SQUARED)];

@@ -1,0 +1,115 @@
+//! What frames deliver on the software device: the same image in a texture of the
+//! caller's (as a window's surface would be) as offscreen, GPU times for frames nobody
+//! waited for, and tone mapping equal to its CPU twin.
+
+mod common;
+
+use chiaro_math::tonemap::{exposure_scale, pbr_neutral};
+use chiaro_render::readback::{copy_texture, finish_copies};
+use chiaro_render::{FrameOptions, View};
+use chiaro_scene::Settings;
+use chiaro_scene::demo::demo_scene;
+use common::renderer;
+use glam::Vec3;
+
+const SIZE: u32 = 96;
+
+fn srgb_encode(linear: f32) -> f32 {
+    let c = linear.clamp(0.0, 1.0);
+    if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+}
+
+#[test]
+fn a_frame_renders_into_a_texture_of_the_callers_as_it_does_offscreen() {
+    let mut renderer = renderer();
+    let scene = demo_scene(4);
+    let prepared = renderer.prepare(&scene).unwrap();
+    let view = View::from_camera(&scene, 0, SIZE, SIZE);
+    let settings = Settings::default();
+    let offscreen = renderer
+        .render(&scene, &prepared, &view, &settings, FrameOptions { readback: true, ..Default::default() })
+        .unwrap();
+    // A linear BGRA target, as many window surfaces are: the shader encodes sRGB itself
+    // and the channels come swapped.
+    for (format, bgra) in [(wgpu::TextureFormat::Bgra8Unorm, true), (wgpu::TextureFormat::Rgba8UnormSrgb, false)] {
+        let texture = renderer.ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("caller's target"),
+            size: wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let target = texture.create_view(&Default::default());
+        let frame =
+            renderer.render_to(&scene, &prepared, &view, &settings, FrameOptions::default(), &target, format).unwrap();
+        assert!(frame.ldr.is_empty() && frame.timings.wall_ms.is_none(), "nothing read back or waited for");
+        let mut encoder = renderer.ctx.device.create_command_encoder(&Default::default());
+        let copy = copy_texture(&renderer.ctx.device, &mut encoder, &texture, 4);
+        renderer.ctx.queue.submit([encoder.finish()]);
+        let bytes = finish_copies(&renderer.ctx, vec![copy]).unwrap().remove(0);
+        let mut worst = 0;
+        for (got, want) in bytes.chunks_exact(4).zip(offscreen.ldr.chunks_exact(4)) {
+            let got = if bgra { [got[2], got[1], got[0]] } else { [got[0], got[1], got[2]] };
+            for c in 0..3 {
+                worst = worst.max((got[c] as i32 - want[c] as i32).abs());
+            }
+        }
+        assert!(worst <= 1, "{format:?}: differs from the offscreen image by up to {worst}/255");
+    }
+}
+
+#[test]
+fn frames_nobody_waits_for_report_their_gpu_times_later() {
+    let mut renderer = renderer();
+    let scene = demo_scene(4);
+    let prepared = renderer.prepare(&scene).unwrap();
+    let view = View::from_camera(&scene, 0, SIZE, SIZE);
+    let mut frames = Vec::new();
+    for _ in 0..4 {
+        let out = renderer.render(&scene, &prepared, &view, &Settings::default(), FrameOptions::default()).unwrap();
+        assert!(out.timings.gpu_pass_ms.is_empty() && out.timings.wall_ms.is_none());
+        frames.push(out.timings.frame);
+    }
+    assert_eq!(frames, vec![0, 1, 2, 3]);
+    let times = renderer.gpu_times(true).unwrap();
+    let numbers: Vec<u64> = times.iter().map(|t| t.frame).collect();
+    assert_eq!(numbers, frames, "every frame's times arrive once, in order");
+    for t in &times {
+        let passes: Vec<&str> = t.passes.iter().map(|(p, _)| *p).collect();
+        assert_eq!(passes, ["shadows", "forward", "tonemap"]);
+        assert!(t.passes.iter().all(|(_, ms)| *ms > 0.0 && ms.is_finite()), "{t:?}");
+    }
+    assert!(renderer.gpu_times(true).unwrap().is_empty(), "taken once");
+}
+
+#[test]
+fn tone_mapping_matches_the_cpu_twin() {
+    let mut renderer = renderer();
+    let scene = demo_scene(8);
+    let prepared = renderer.prepare(&scene).unwrap();
+    let view = View::from_camera(&scene, 0, SIZE, SIZE);
+    // Two stops brighter than the default, so highlights reach the compressed range.
+    let mut settings = Settings::default();
+    settings.render.exposure_ev100 = -2.0;
+    let frame = renderer
+        .render(&scene, &prepared, &view, &settings, FrameOptions { readback: true, ..Default::default() })
+        .unwrap();
+    let exposure = exposure_scale(-2.0);
+    let (mut compressed, mut worst) = (0, 0.0f32);
+    for (hdr, ldr) in frame.hdr.iter().zip(frame.ldr.chunks_exact(4)) {
+        let exposed = Vec3::new(hdr[0], hdr[1], hdr[2]) * exposure;
+        if exposed.max_element() > 0.8 {
+            compressed += 1;
+        }
+        let display = pbr_neutral(exposed.max(Vec3::ZERO));
+        for c in 0..3 {
+            let expected = srgb_encode(display[c]) * 255.0;
+            worst = worst.max((ldr[c] as f32 - expected).abs());
+        }
+    }
+    assert!(compressed > 100, "only {compressed} pixels in the highlight roll-off");
+    assert!(worst <= 1.0, "tone mapped pixels differ from chiaro_math::tonemap by up to {worst}/255");
+}

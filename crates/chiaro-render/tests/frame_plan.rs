@@ -1,0 +1,166 @@
+//! Frame plans, inspected without a GPU: lights keep their ids and come in lists with the
+//! shadowed ones apart, shadow slots say where each light's shadow comes from, atlas
+//! tiles stay with their lights from frame to frame, and casters are culled per tile.
+
+use chiaro_render::View;
+use chiaro_render::plan::draws::{Draw, GeometryLayout, scene_draws};
+use chiaro_render::plan::lights::LightId;
+use chiaro_render::plan::shadows::{ShadowAtlasTiles, ShadowSlot};
+use chiaro_render::plan::{FramePlan, PassId, PlanRequest};
+use chiaro_render::shader_constants::{SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE, SHADOW_SLOT_REALTIME};
+use chiaro_scene::demo::demo_scene;
+use chiaro_scene::test_scenes::{add_box, floor_scene, point_light, unlit_settings};
+use chiaro_scene::{CastShadows, LightKind, Scene, Settings, ShadowMode};
+use glam::Vec3;
+
+fn draws(scene: &Scene) -> Vec<Draw> {
+    scene_draws(scene, &GeometryLayout::of(scene))
+}
+
+fn plan(scene: &Scene, view: &View, atlases: &mut ShadowAtlasTiles, request: PlanRequest) -> FramePlan {
+    FramePlan::new(scene, &draws(scene), view, &Settings::default(), atlases, request)
+}
+
+fn slot_of(plan: &FramePlan, light: usize) -> ShadowSlot {
+    plan.lights[plan.light_index(LightId(light as u32)).expect("shaded")].shadow
+}
+
+#[test]
+fn the_demo_plans_lists_with_shadowed_lights_apart() {
+    let scene = demo_scene(8);
+    let view = View::from_camera(&scene, 0, 320, 180);
+    let plan = plan(&scene, &view, &mut ShadowAtlasTiles::default(), PlanRequest::default());
+    // The sun, then the eight others.
+    assert_eq!(plan.lights.len(), 9);
+    assert_eq!(plan.lists.directional, vec![0]);
+    assert_eq!(plan.lights[0].id, LightId(0));
+    // Four spots and two points cast shadows; two points do not.
+    assert_eq!(plan.lists.shadowed_other.len(), 6);
+    assert_eq!(plan.lists.unshadowed_other.len(), 2);
+    for &i in &plan.lists.shadowed_other {
+        assert!(matches!(plan.lights[i as usize].shadow, ShadowSlot::Realtime { .. }));
+    }
+    for &i in &plan.lists.unshadowed_other {
+        let light = &scene.lights[plan.lights[i as usize].id.index()];
+        assert_eq!(light.shadow.mode, ShadowMode::None, "{}", light.name);
+        assert_eq!(plan.lights[i as usize].shadow, ShadowSlot::None);
+    }
+    // Lists keep importance order within themselves and cover every light once.
+    let mut all = plan.lists.concatenated();
+    assert_eq!(all.len(), 9);
+    all.sort();
+    assert_eq!(all, (0..9).collect::<Vec<u32>>());
+    // The GPU records follow the lights and their slots.
+    let gpu = plan.gpu_lights(&scene);
+    assert_eq!(gpu.len(), 9);
+    for (light, record) in plan.lights.iter().zip(&gpu) {
+        let expected = match light.shadow {
+            ShadowSlot::None => SHADOW_SLOT_NONE,
+            ShadowSlot::Realtime { first_tile, .. } => {
+                assert_eq!(record.shadow_first_tile, first_tile);
+                SHADOW_SLOT_REALTIME
+            }
+            ShadowSlot::BakedOnly => SHADOW_SLOT_BAKED_ONLY,
+        };
+        assert_eq!(record.shadow_slot, expected);
+        assert_eq!(record.position_ws, scene.lights[light.id.index()].position());
+    }
+    let frame = plan.gpu_frame(&Settings::default());
+    assert_eq!((frame.directional_light_count, frame.shadowed_other_light_count, frame.other_light_count), (1, 6, 8));
+    // Sixteen point/spot tiles and four cascades: every tile has a light and a viewport.
+    assert_eq!(plan.shadows.tiles.len(), 4 + 16);
+    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::Forward, PassId::Tonemap]);
+    let printed = plan.to_string();
+    assert!(printed.contains("9 lights") && printed.contains("passes: shadows, forward, tonemap"), "{printed}");
+}
+
+#[test]
+fn shadowed_lights_keep_their_tiles_from_frame_to_frame() {
+    let scene = demo_scene(8);
+    let mut atlases = ShadowAtlasTiles::default();
+    let view = View::from_camera(&scene, 0, 320, 180);
+    let first = plan(&scene, &view, &mut atlases, PlanRequest::default());
+    // From elsewhere the lights rank differently, but the same ones cast shadows.
+    let mut moved = scene.clone();
+    moved.cameras[0].world_from_view =
+        glam::Mat4::look_at_rh(Vec3::new(-9.0, 6.0, -3.0), Vec3::ZERO, Vec3::Y).inverse();
+    let moved_view = View::from_camera(&moved, 0, 320, 180);
+    let second = plan(&moved, &moved_view, &mut atlases, PlanRequest::default());
+    let order = |p: &FramePlan| p.lists.shadowed_other.iter().map(|&i| p.lights[i as usize].id).collect::<Vec<_>>();
+    assert_ne!(order(&first), order(&second), "the camera move must reorder the lights for this test to mean much");
+    assert!(second.shadows.tiles_kept);
+    for light in 0..scene.lights.len() {
+        if first.light_index(LightId(light as u32)).is_some() {
+            assert_eq!(slot_of(&first, light), slot_of(&second, light), "light {light}");
+        }
+    }
+    // A light that stops casting changes the set: tiles are dealt out again.
+    let mut fewer = moved.clone();
+    let spot = fewer.lights.iter().position(|l| matches!(l.kind, LightKind::Spot { .. })).unwrap();
+    fewer.lights[spot].shadow.mode = ShadowMode::None;
+    let third = plan(&fewer, &moved_view, &mut atlases, PlanRequest::default());
+    assert!(!third.shadows.tiles_kept);
+    assert_eq!(slot_of(&third, spot), ShadowSlot::None);
+    assert_eq!(third.lists.shadowed_other.len(), 5);
+}
+
+#[test]
+fn lights_that_find_no_tiles_are_baked_only() {
+    // Three shadowed points want 18 tiles of 16.
+    let lights = (0..3).map(|i| point_light(Vec3::new(i as f32 - 1.0, 1.0, 0.0), 10.0 + i as f32, Some(4.0))).collect();
+    let scene = floor_scene(10.0, Vec3::new(0.0, 6.0, 0.01), lights);
+    let view = View::from_camera(&scene, 0, 64, 64);
+    let plan = FramePlan::new(
+        &scene,
+        &draws(&scene),
+        &view,
+        &unlit_settings(),
+        &mut ShadowAtlasTiles::default(),
+        PlanRequest::default(),
+    );
+    let slots: Vec<ShadowSlot> = (0..3).map(|i| slot_of(&plan, i)).collect();
+    // The brightest two fit; the dimmest (light 0) does not.
+    assert_eq!(slots[0], ShadowSlot::BakedOnly);
+    assert!(matches!(slots[1], ShadowSlot::Realtime { tile_count: 6, .. }));
+    assert!(matches!(slots[2], ShadowSlot::Realtime { tile_count: 6, .. }));
+    assert_eq!(plan.lists.shadowed_other.len(), 2);
+    assert_eq!(plan.lists.unshadowed_other.len(), 1);
+    let gpu = plan.gpu_lights(&scene);
+    assert_eq!(gpu[plan.light_index(LightId(0)).unwrap()].shadow_slot, SHADOW_SLOT_BAKED_ONLY);
+}
+
+#[test]
+fn each_tile_draws_only_the_casters_that_reach_it() {
+    let light = point_light(Vec3::new(0.0, 1.0, 0.0), 10.0, Some(3.0));
+    let mut scene = floor_scene(30.0, Vec3::new(0.0, 8.0, 0.01), vec![light]);
+    add_box(&mut scene, Vec3::new(1.0, 0.5, 0.0), Vec3::ONE, 0.0, CastShadows::On); // draw 1: in range
+    add_box(&mut scene, Vec3::new(10.0, 0.5, 0.0), Vec3::ONE, 0.0, CastShadows::On); // draw 2: out of range
+    add_box(&mut scene, Vec3::new(-1.0, 0.5, 0.0), Vec3::ONE, 0.0, CastShadows::Off); // draw 3: casts none
+    let view = View::from_camera(&scene, 0, 64, 64);
+    let plan = FramePlan::new(
+        &scene,
+        &draws(&scene),
+        &view,
+        &unlit_settings(),
+        &mut ShadowAtlasTiles::default(),
+        PlanRequest { aovs: true, ..Default::default() },
+    );
+    assert_eq!(plan.shadows.tiles.len(), 6);
+    for tile in &plan.shadows.tiles {
+        assert_eq!(tile.casters, vec![0, 1], "tile {}", tile.tile);
+    }
+    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::Forward, PassId::Aov, PassId::Tonemap]);
+    // With shadows off, no tile and no shadow pass.
+    let mut unshadowed = scene.clone();
+    unshadowed.lights[0].shadow.mode = ShadowMode::None;
+    let plan = FramePlan::new(
+        &unshadowed,
+        &draws(&unshadowed),
+        &view,
+        &unlit_settings(),
+        &mut ShadowAtlasTiles::default(),
+        PlanRequest::default(),
+    );
+    assert!(plan.shadows.tiles.is_empty());
+    assert_eq!(plan.passes, vec![PassId::Forward, PassId::Tonemap]);
+}
