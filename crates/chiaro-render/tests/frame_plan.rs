@@ -21,6 +21,12 @@ fn plan(scene: &Scene, view: &View, atlases: &mut ShadowAtlasTiles, request: Pla
     FramePlan::new(scene, &draws(scene), view, &Settings::default(), atlases, request)
 }
 
+/// The first frame of `scene` from its camera, with no ambient term.
+fn first_plan(scene: &Scene, request: PlanRequest) -> FramePlan {
+    let view = View::from_camera(scene, 0, 64, 64);
+    FramePlan::new(scene, &draws(scene), &view, &unlit_settings(), &mut ShadowAtlasTiles::default(), request)
+}
+
 fn slot_of(plan: &FramePlan, light: usize) -> ShadowSlot {
     plan.lights[plan.light_index(LightId(light as u32)).expect("shaded")].shadow
 }
@@ -109,15 +115,7 @@ fn lights_that_find_no_tiles_are_baked_only() {
     // Three shadowed points want 18 tiles of 16.
     let lights = (0..3).map(|i| point_light(Vec3::new(i as f32 - 1.0, 1.0, 0.0), 10.0 + i as f32, Some(4.0))).collect();
     let scene = floor_scene(10.0, Vec3::new(0.0, 6.0, 0.01), lights);
-    let view = View::from_camera(&scene, 0, 64, 64);
-    let plan = FramePlan::new(
-        &scene,
-        &draws(&scene),
-        &view,
-        &unlit_settings(),
-        &mut ShadowAtlasTiles::default(),
-        PlanRequest::default(),
-    );
+    let plan = first_plan(&scene, PlanRequest::default());
     let slots: Vec<ShadowSlot> = (0..3).map(|i| slot_of(&plan, i)).collect();
     // The brightest two fit; the dimmest (light 0) does not.
     assert_eq!(slots[0], ShadowSlot::BakedOnly);
@@ -136,15 +134,7 @@ fn each_tile_draws_only_the_casters_that_reach_it() {
     add_box(&mut scene, Vec3::new(1.0, 0.5, 0.0), Vec3::ONE, 0.0, CastShadows::On); // draw 1: in range
     add_box(&mut scene, Vec3::new(10.0, 0.5, 0.0), Vec3::ONE, 0.0, CastShadows::On); // draw 2: out of range
     add_box(&mut scene, Vec3::new(-1.0, 0.5, 0.0), Vec3::ONE, 0.0, CastShadows::Off); // draw 3: casts none
-    let view = View::from_camera(&scene, 0, 64, 64);
-    let plan = FramePlan::new(
-        &scene,
-        &draws(&scene),
-        &view,
-        &unlit_settings(),
-        &mut ShadowAtlasTiles::default(),
-        PlanRequest { aovs: true, ..Default::default() },
-    );
+    let plan = first_plan(&scene, PlanRequest { aovs: true, ..Default::default() });
     assert_eq!(plan.shadows.tiles.len(), 6);
     for tile in &plan.shadows.tiles {
         assert_eq!(tile.casters, vec![0, 1], "tile {}", tile.tile);
@@ -153,14 +143,7 @@ fn each_tile_draws_only_the_casters_that_reach_it() {
     // With shadows off, no tile and no shadow pass.
     let mut unshadowed = scene.clone();
     unshadowed.lights[0].shadow.mode = ShadowMode::None;
-    let plan = FramePlan::new(
-        &unshadowed,
-        &draws(&unshadowed),
-        &view,
-        &unlit_settings(),
-        &mut ShadowAtlasTiles::default(),
-        PlanRequest::default(),
-    );
+    let plan = first_plan(&unshadowed, PlanRequest::default());
     assert!(plan.shadows.tiles.is_empty());
     assert_eq!(plan.passes, vec![PassId::Forward, PassId::Tonemap]);
 }
