@@ -15,15 +15,29 @@ pub fn perspective_reverse_z(yfov_rad: f32, aspect: f32, znear: f32, zfar: Optio
     }
 }
 
+/// Bounding-sphere radii, metres, that `frame_bounds` frames: below the smallest, f32
+/// squares underflow; beyond the largest, they overflow.
+pub const FRAMEABLE_RADIUS_M: std::ops::RangeInclusive<f32> = 1.0e-6..=1.0e15;
+
+/// Whether `frame_bounds` can frame `bounds` (empty bounds get a unit view).
+pub fn can_frame(bounds: &Aabb) -> bool {
+    if bounds.is_empty() {
+        return true;
+    }
+    let s = bounds.bounding_sphere();
+    FRAMEABLE_RADIUS_M.contains(&s.radius) && s.center.abs().max_element() <= *FRAMEABLE_RADIUS_M.end()
+}
+
 /// A camera placed to see all of `bounds`: looking at its centre from above and in front
 /// (a three-quarter view down the -Z axis), far enough that its bounding sphere fits the
-/// narrower field of view. Returns `(world_from_view, znear, zfar)`.
+/// narrower field of view. Returns `(world_from_view, znear, zfar)`. Bounds that
+/// `can_frame` refuses are framed as well as f32 allows, which may be not at all.
 pub fn frame_bounds(bounds: &Aabb, yfov_rad: f32, aspect: f32) -> (Mat4, f32, f32) {
     let (center, radius) = if bounds.is_empty() {
         (Vec3::ZERO, 1.0)
     } else {
         let s = bounds.bounding_sphere();
-        (s.center, s.radius.max(1.0e-3))
+        (s.center, s.radius.max(*FRAMEABLE_RADIUS_M.start()))
     };
     let xfov = 2.0 * ((yfov_rad * 0.5).tan() * aspect).atan();
     let half_fov = 0.5 * yfov_rad.min(xfov);
@@ -55,8 +69,12 @@ mod tests {
 
     #[test]
     fn framed_bounds_are_inside_the_frustum() {
-        let bounds = Aabb::from_points([Vec3::new(-3.0, 0.0, -1.0), Vec3::new(5.0, 2.0, 4.0)]);
-        for aspect in [0.5f32, 1.0, 2.0] {
+        let box_at =
+            |scale: f32| Aabb::from_points([Vec3::new(-3.0, 0.0, -1.0) * scale, Vec3::new(5.0, 2.0, 4.0) * scale]);
+        for (bounds, aspect) in
+            [(box_at(1.0), 0.5f32), (box_at(1.0), 1.0), (box_at(1.0), 2.0), (box_at(1e-6), 1.0), (box_at(1e14), 1.0)]
+        {
+            assert!(can_frame(&bounds));
             let yfov = 0.8;
             let (world_from_view, near, far) = frame_bounds(&bounds, yfov, aspect);
             let clip = perspective_reverse_z(yfov, aspect, near, Some(far)) * world_from_view.inverse();
@@ -66,5 +84,6 @@ mod tests {
                 assert!(inside, "corner {c} outside for aspect {aspect}");
             }
         }
+        assert!(!can_frame(&box_at(1e19)) && !can_frame(&box_at(1e-9)));
     }
 }

@@ -14,6 +14,17 @@ pub const MAX_DIRECTIONAL_LIGHTS: usize = 4;
 /// Most point and spot lights shaded per frame.
 pub const MAX_OTHER_LIGHTS: usize = 64;
 
+/// Brightest light Chiaro shades, candela (point, spot) or lux (directional): ten billion
+/// suns. Brighter lights make radiance overflow `f32` before any exposure applies.
+pub const MAX_LIGHT_INTENSITY: f32 = 1.0e15;
+/// Dimmest illuminance a derived range may cut off at (`range_threshold_lux`): lower
+/// values give ranges whose squares overflow `f32`.
+pub const MIN_RANGE_THRESHOLD_LUX: f32 = 1.0e-6;
+/// Longest range a light is shaded with, metres. The range window is 1 to within 1e-30
+/// over any distance a scene spans short of this, so a longer range changes nothing but
+/// would overflow the squares the window takes.
+pub const MAX_SHADED_RANGE_M: f32 = 1.0e15;
+
 /// Smallest squared distance used in the inverse-square term, so a surface touching a
 /// light does not divide by zero (1 mm squared).
 pub const MIN_DISTANCE_SQUARED: f32 = 1.0e-6;

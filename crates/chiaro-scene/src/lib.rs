@@ -5,14 +5,16 @@
 
 pub mod demo;
 pub mod error;
+pub mod files;
 pub mod gltf_import;
 pub mod settings;
+mod settings_text;
 pub mod shapes;
 pub mod test_scenes;
 pub mod types;
 pub mod vertex_gen;
 
 pub use error::SceneError;
-pub use gltf_import::load_gltf;
+pub use gltf_import::{load_gltf, load_gltf_bytes};
 pub use settings::{CascadeBlend, Settings};
 pub use types::*;

@@ -4,6 +4,8 @@
 //! fall back to a default silently. Later stages (shadows, baking, the deferred path) add
 //! their own sections here.
 
+use crate::settings_text::{key_at, line_of_key};
+use chiaro_math::light::MIN_RANGE_THRESHOLD_LUX;
 use chiaro_math::shadow::{MAX_CASCADES, ShadowFilter};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -54,9 +56,9 @@ pub struct LightSettings {
     /// Most point and spot lights shaded per frame (1 to 64). The most important visible
     /// ones are kept; a lower cap is faster but drops distant lights.
     pub max_other_lights: u32,
-    /// Illuminance (lux) at which a light with no range in its file is cut off:
-    /// `range = sqrt(intensity / threshold)`. Too high cuts lights off visibly early; too
-    /// low gives huge volumes that touch everything and cost shading time.
+    /// Illuminance (lux, 1e-6 to 1e6) at which a light with no range in its file is cut
+    /// off: `range = sqrt(intensity / threshold)`. Too high cuts lights off visibly early;
+    /// too low gives huge volumes that touch everything and cost shading time.
     pub range_threshold_lux: f32,
 }
 
@@ -152,8 +154,11 @@ pub struct DirectionalShadowSettings {
     /// Cascades per light (1 to 4). More cascades keep near shadows sharp at the cost of
     /// one shadow pass each.
     pub cascade_count: u32,
-    /// Far end of the first three cascades as fractions of `max_distance`, increasing.
-    pub cascade_ratios: [f32; MAX_CASCADES - 1],
+    /// Far end of each cascade but the last as fractions of `max_distance`, increasing:
+    /// `cascade_count - 1` of them (the last cascade ends at `max_distance`). Unset, they
+    /// are the first of 0.1, 0.25, 0.5. Too small a first ratio spends a cascade on a
+    /// sliver near the camera; too large blurs near shadows.
+    pub cascade_ratios: Option<Vec<f32>>,
     /// Fraction of the last cascade over which shadows fade out (0.001 to 1).
     pub cascade_fade: f32,
     /// "hard", "soft" or "dither": how fragments cross from one cascade to the next.
@@ -166,16 +171,29 @@ impl Default for DirectionalShadowSettings {
             atlas_size: 2048,
             filter: "pcf2x2".into(),
             cascade_count: 4,
-            cascade_ratios: [0.1, 0.25, 0.5],
+            cascade_ratios: None,
             cascade_fade: 0.1,
             cascade_blend: CascadeBlend::Hard,
         }
     }
 }
 
+/// Cascade ratios when the settings give none.
+pub const DEFAULT_CASCADE_RATIOS: [f32; MAX_CASCADES - 1] = [0.1, 0.25, 0.5];
+
 impl DirectionalShadowSettings {
     pub fn shadow_filter(&self) -> ShadowFilter {
         ShadowFilter::parse(&self.filter).unwrap_or_default()
+    }
+
+    /// The ratios the cascades use: the settings' (validated to be `cascade_count - 1`),
+    /// the defaults after them.
+    pub fn ratios(&self) -> [f32; MAX_CASCADES - 1] {
+        let mut ratios = DEFAULT_CASCADE_RATIOS;
+        for (r, &given) in ratios.iter_mut().zip(self.cascade_ratios.iter().flatten()) {
+            *r = given;
+        }
+        ratios
     }
 }
 
@@ -189,18 +207,32 @@ pub enum SettingsError {
 
 impl Settings {
     pub fn load(path: &Path) -> Result<Settings, SettingsError> {
-        let text =
-            std::fs::read_to_string(path).map_err(|source| SettingsError::Io { path: path.to_path_buf(), source })?;
+        let text = crate::files::read_regular_file(path)
+            .map_err(|source| SettingsError::Io { path: path.to_path_buf(), source })?;
+        let text = String::from_utf8(text)
+            .map_err(|_| SettingsError::Invalid { path: path.to_path_buf(), message: "not UTF-8 text".into() })?;
         Settings::parse(&text).map_err(|message| SettingsError::Invalid { path: path.to_path_buf(), message })
     }
 
-    /// Parses and validates TOML text; the error names the offending key.
+    /// Parses and validates TOML text; the error starts with the offending key and the
+    /// line it is on: `render.width (line 2): invalid type: string "64", expected u32`.
     pub fn parse(text: &str) -> Result<Settings, String> {
         let settings: Settings = toml::from_str(text).map_err(|e| {
             // toml's message spans several lines with a source excerpt; keep it on one.
-            e.message().trim().replace('\n', " ")
+            let message = e.message().trim().replace('\n', " ");
+            match e.span().map(|span| key_at(text, span.start)) {
+                Some((Some(key), line)) => format!("{key} (line {line}): {message}"),
+                Some((None, line)) => format!("line {line}: {message}"),
+                None => message,
+            }
         })?;
-        settings.validate()?;
+        settings.validate().map_err(|message| {
+            // Validation messages start with `key: `; say where the file sets the key.
+            let located = message
+                .split_once(": ")
+                .and_then(|(key, rest)| Some(format!("{key} (line {}): {rest}", line_of_key(text, key)?)));
+            located.unwrap_or(message)
+        })?;
         Ok(settings)
     }
 
@@ -222,12 +254,7 @@ impl Settings {
             1.0,
             chiaro_math::light::MAX_OTHER_LIGHTS as f32,
         )?;
-        if !(l.range_threshold_lux.is_finite() && l.range_threshold_lux > 0.0) {
-            return Err(format!(
-                "lights.range_threshold_lux: must be a positive number, got {}",
-                l.range_threshold_lux
-            ));
-        }
+        check_range("lights.range_threshold_lux", l.range_threshold_lux, MIN_RANGE_THRESHOLD_LUX, 1.0e6)?;
         check_range("camera.auto_yfov_deg", self.camera.auto_yfov_deg, 1.0, 179.0)?;
         let sh = &self.shadows;
         check_range("shadows.max_distance", sh.max_distance, 0.1, 10000.0)?;
@@ -235,9 +262,21 @@ impl Settings {
         let d = &sh.directional;
         check_atlas_and_filter("shadows.directional", d.atlas_size, &d.filter)?;
         check_range("shadows.directional.cascade_count", d.cascade_count as f32, 1.0, MAX_CASCADES as f32)?;
-        let r = d.cascade_ratios;
-        if !(r.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0) && r[0] < r[1] && r[1] < r[2]) {
-            return Err(format!("shadows.directional.cascade_ratios: {r:?} must increase strictly between 0 and 1"));
+        if let Some(r) = &d.cascade_ratios {
+            let wanted = d.cascade_count as usize - 1;
+            if r.len() != wanted {
+                return Err(format!(
+                    "shadows.directional.cascade_ratios: takes cascade_count - 1 = {wanted} entries (the last \
+                     cascade ends at max_distance), got {}",
+                    r.len()
+                ));
+            }
+            let increasing = r.windows(2).all(|w| w[0] < w[1]);
+            if !(r.iter().all(|v| v.is_finite() && *v > 0.0 && *v < 1.0) && increasing) {
+                return Err(format!(
+                    "shadows.directional.cascade_ratios: {r:?} must increase strictly between 0 and 1"
+                ));
+            }
         }
         check_range("shadows.directional.cascade_fade", d.cascade_fade, 0.001, 1.0)?;
         check_atlas_and_filter("shadows.other", sh.other.atlas_size, &sh.other.filter)?;
@@ -259,8 +298,13 @@ fn check_range(key: &str, value: f32, min: f32, max: f32) -> Result<(), String> 
     if value.is_finite() && (min..=max).contains(&value) {
         Ok(())
     } else {
-        Err(format!("{key}: {value} is out of range ({min} to {max})"))
+        Err(format!("{key}: {} is out of range ({} to {})", number(value), number(min), number(max)))
     }
+}
+
+/// A number as a reader would write it: 1e-40, not forty zeros.
+fn number(v: f32) -> String {
+    if v != 0.0 && v.is_finite() && !(1.0e-4..1.0e7).contains(&v.abs()) { format!("{v:e}") } else { format!("{v}") }
 }
 
 #[cfg(test)]
@@ -314,6 +358,11 @@ mod tests {
             ("[shadows.directional]\nfilter = \"gauss\"\n", "shadows.directional.filter"),
             ("[shadows.directional]\ncascade_count = 5\n", "shadows.directional.cascade_count"),
             ("[shadows.directional]\ncascade_ratios = [0.5, 0.2, 0.7]\n", "shadows.directional.cascade_ratios"),
+            ("[shadows.directional]\ncascade_ratios = [0.1, 0.2, 0.3, 0.4]\n", "shadows.directional.cascade_ratios"),
+            (
+                "[shadows.directional]\ncascade_count = 3\ncascade_ratios = [0.1]\n",
+                "shadows.directional.cascade_ratios",
+            ),
             ("[shadows]\nmax_distance = -1\n", "shadows.max_distance"),
             ("[shadows.other]\natlas_size = 100\n", "shadows.other.atlas_size"),
             ("[shadows.other]\nfilter = \"box\"\n", "shadows.other.filter"),
@@ -326,8 +375,41 @@ mod tests {
     }
 
     #[test]
-    fn wrong_types_are_errors() {
-        let e = Settings::parse("[render]\nwidth = \"wide\"\n").unwrap_err();
-        assert!(e.contains("width") || e.contains("invalid type"), "{e}");
+    fn messages_name_the_key_and_its_line() {
+        for (text, expected) in [
+            ("[render]\nwidth = \"64\"\n", "render.width (line 2): invalid type: string \"64\", expected u32"),
+            ("[render]\nwidth = 64\nwidth = 65\n", "render.width (line 3): duplicate key"),
+            (
+                "\n[shadows.directional]\nfilter = 3\n",
+                "shadows.directional.filter (line 3): invalid type: integer `3`, expected a string",
+            ),
+            (
+                "[shadows.directional]\ncascade_blend = \"smooth\"\n",
+                "shadows.directional.cascade_blend (line 2): unknown variant `smooth`, expected one of `hard`, \
+                 `soft`, `dither`",
+            ),
+            ("[render]\n\nwidth = 0\n", "render.width (line 3): 0 is out of range (1 to 16384)"),
+            (
+                "[shadows.directional]\ncascade_ratios = [0.1, 0.2, 0.3, 0.4]\n",
+                "shadows.directional.cascade_ratios (line 2): takes cascade_count - 1 = 3 entries (the last \
+                 cascade ends at max_distance), got 4",
+            ),
+            (
+                "[lights]\nrange_threshold_lux = 1e-40\n",
+                "lights.range_threshold_lux (line 2): 1e-40 is out of range (1e-6 to 1000000)",
+            ),
+        ] {
+            let e = Settings::parse(text).unwrap_err();
+            assert!(e.starts_with(expected), "{text:?}: {e}");
+        }
+    }
+
+    #[test]
+    fn cascade_ratios_take_one_fewer_than_the_cascades() {
+        let s = Settings::parse("[shadows.directional]\ncascade_count = 2\ncascade_ratios = [0.3]\n").unwrap();
+        assert_eq!(s.shadows.directional.ratios()[0], 0.3);
+        // Unset, the defaults serve any count.
+        let s = Settings::parse("[shadows.directional]\ncascade_count = 2\n").unwrap();
+        assert_eq!(s.shadows.directional.ratios(), DEFAULT_CASCADE_RATIOS);
     }
 }

@@ -314,6 +314,8 @@ pub struct Scene {
     pub lights: Vec<Light>,
     pub cameras: Vec<Camera>,
     pub ignored: Vec<String>,
+    /// Files the scene was read from: the document, then its external buffers and images.
+    pub inputs: Vec<PathBuf>,
 }
 
 impl Scene {

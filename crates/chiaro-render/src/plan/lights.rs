@@ -11,7 +11,8 @@ use crate::shader_constants::{
 use crate::view::View;
 use chiaro_math::Frustum;
 use chiaro_math::light::{
-    LightSelection, MAX_DIRECTIONAL_LIGHTS, OtherLightBounds, derived_range, select_other_lights, spot_angle_params,
+    LightSelection, MAX_DIRECTIONAL_LIGHTS, MAX_SHADED_RANGE_M, OtherLightBounds, derived_range, select_other_lights,
+    spot_angle_params,
 };
 use chiaro_scene::{Light, LightKind, Scene, Settings};
 
@@ -49,11 +50,12 @@ pub struct LightChoice {
 }
 
 /// The range a point or spot light is shaded with: its own, or one derived from its
-/// intensity.
+/// intensity, at most `MAX_SHADED_RANGE_M`.
 pub fn effective_range(light: &Light, settings: &Settings) -> f32 {
-    light.range.unwrap_or_else(|| {
+    let range = light.range.unwrap_or_else(|| {
         derived_range(light.intensity * light.color.max_element(), settings.lights.range_threshold_lux)
-    })
+    });
+    range.min(MAX_SHADED_RANGE_M)
 }
 
 pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightChoice {

@@ -174,7 +174,7 @@ fn plan_directional(
     }
     let layout = AtlasLayout::for_tiles(ds.atlas_size, allocation.used_tiles);
     let tile_size = layout.tile_size();
-    let splits = cascade_splits(max_distance, ds.cascade_ratios, cascade_count);
+    let splits = cascade_splits(max_distance, ds.ratios(), cascade_count);
     let tan_half_fov = (view.yfov_rad * 0.5).tan();
     let mut texel_sizes = Vec::with_capacity(cascade_count);
     for (i, &far) in splits.iter().enumerate() {

@@ -23,9 +23,11 @@ impl<'a> Loader<'a> {
                 None => Cow::Borrowed(
                     bin.ok_or_else(|| self.invalid(format!("{label} has no uri and the file has no binary chunk")))?,
                 ),
-                Some(uri) => Cow::Owned(
-                    uri::read_uri(self.base_dir, uri).map_err(|e| self.invalid(format!("{label}: {e}")))?.bytes,
-                ),
+                Some(uri) => {
+                    let data = uri::read_uri(self.base_dir, uri).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+                    self.inputs.borrow_mut().extend(data.file);
+                    Cow::Owned(data.bytes)
+                }
             };
             let declared = buffer.byte_length.0;
             if (data.len() as u64) < declared {

@@ -1,9 +1,11 @@
 //! File bytes in (a `.gltf` JSON text or a `.glb` container), a checked [`Document`] out:
 //! the JSON parsed both as a raw `serde_json::Value` and as the `gltf` crate's typed
-//! `Root`, with the BIN chunk of a GLB alongside. Required extensions and the index and
-//! enum validation are checked here, so the loader can index the typed model freely.
+//! `Root`, with the BIN chunk of a GLB alongside. Required extensions, the index and enum
+//! validation and the spec's other rules (`spec`) are checked here, so the loader can
+//! index the typed model freely.
 
 use super::glb::split_glb;
+use super::spec::check_spec;
 use super::validate::{check_required_extensions, validate};
 use crate::error::SceneError;
 use gltf::json;
@@ -34,6 +36,7 @@ impl<'a> Document<'a> {
             return Err(parse_error(format!("asset version is {}; Chiaro reads glTF 2.x", root.asset.version)));
         }
         validate(path, &raw, &root)?;
+        check_spec(&raw, &root).map_err(|message| SceneError::Invalid { path: path.to_path_buf(), message })?;
         Ok(Document { raw, root, bin })
     }
 }

@@ -52,6 +52,7 @@ impl Loader<'_> {
             ),
             (None, Some(uri)) => {
                 let data = uri::read_uri(self.base_dir, uri).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+                self.inputs.borrow_mut().extend(data.file.clone());
                 let mime = image
                     .mime_type
                     .as_ref()

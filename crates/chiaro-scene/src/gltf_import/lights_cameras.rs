@@ -7,6 +7,7 @@ use super::nodes::Placement;
 use super::object_label;
 use crate::error::SceneError;
 use crate::types::{Camera, Light, LightKind};
+use chiaro_math::light::MAX_LIGHT_INTENSITY;
 use chiaro_math::rigid::{looking_along, rigid_part};
 use glam::Vec3;
 use gltf::json;
@@ -38,6 +39,14 @@ impl Loader<'_> {
         }
         if !light.intensity.is_finite() || light.intensity < 0.0 {
             return Err(self.invalid(format!("{label}: intensity {} is negative or not finite", light.intensity)));
+        }
+        let peak = light.intensity * color.max_element();
+        if peak > MAX_LIGHT_INTENSITY {
+            return Err(self.invalid(format!(
+                "{label}: intensity {:e} times colour {color} is beyond {MAX_LIGHT_INTENSITY:e}, the brightest \
+                 light Chiaro shades",
+                light.intensity
+            )));
         }
         if let Some(range) = light.range
             && !(range.is_finite() && range > 0.0)

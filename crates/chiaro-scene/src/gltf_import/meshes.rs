@@ -162,7 +162,7 @@ impl Loader<'_> {
 
 /// Strips and fans become lists with the winding glTF 2.0 §3.7.2.1 gives them: strip
 /// triangle `i` is `(i, i+1, i+2)` with odd ones flipped, fan triangle `i` is
-/// `(i+1, i+2, 0)`. A list's incomplete last triangle is dropped.
+/// `(i+1, i+2, 0)`. Lists arrive whole (`spec::check_spec` refuses the rest).
 fn triangle_list(mode: json::mesh::Mode, indices: Vec<u32>) -> Vec<u32> {
     use json::mesh::Mode;
     let n = indices.len();
@@ -177,11 +177,7 @@ fn triangle_list(mode: json::mesh::Mode, indices: Vec<u32>) -> Vec<u32> {
             })
             .collect(),
         Mode::TriangleFan if n >= 3 => (0..n - 2).flat_map(|i| [indices[i + 1], indices[i + 2], indices[0]]).collect(),
-        Mode::Triangles => {
-            let mut indices = indices;
-            indices.truncate(n - n % 3);
-            indices
-        }
+        Mode::Triangles => indices,
         _ => Vec::new(),
     }
 }

@@ -27,6 +27,7 @@ mod lights_cameras;
 mod materials;
 mod meshes;
 mod nodes;
+mod spec;
 mod uri;
 mod validate;
 
@@ -39,7 +40,8 @@ use document::Document;
 use gltf::json;
 use serde_json::Value;
 use std::borrow::Cow;
-use std::path::Path;
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
@@ -48,8 +50,15 @@ pub const SUPPORTED_EXTENSIONS: [&str; 4] =
 
 /// Loads a `.gltf` or `.glb` file and everything it references.
 pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
-    let document = Document::parse(path, &bytes)?;
+    let bytes =
+        crate::files::read_regular_file(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+    load_gltf_bytes(path, &bytes)
+}
+
+/// Loads a glTF document from `bytes` as if read from `path` (which names it in errors,
+/// and whose folder holds its external buffers and images).
+pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
+    let document = Document::parse(path, bytes)?;
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let mut loader = Loader {
         path,
@@ -59,9 +68,11 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
         buffers: Vec::new(),
         ignored: Vec::new(),
         tally: Tally::default(),
+        inputs: RefCell::new(vec![path.to_path_buf()]),
     };
     let mut scene = loader.load(document.bin)?;
     scene.source = Some(path.to_path_buf());
+    scene.inputs = loader.inputs.into_inner();
     tracing::debug!(
         path = %path.display(),
         meshes = scene.meshes.len(),
@@ -93,6 +104,8 @@ struct Loader<'a> {
     buffers: Vec<Cow<'a, [u8]>>,
     ignored: Vec<String>,
     tally: Tally,
+    /// Files read: the document and its external buffers and images.
+    inputs: RefCell<Vec<PathBuf>>,
 }
 
 impl<'a> Loader<'a> {
@@ -153,6 +166,7 @@ impl<'a> Loader<'a> {
             lights,
             cameras,
             ignored: std::mem::take(&mut self.ignored),
+            inputs: Vec::new(),
         })
     }
 

@@ -500,9 +500,17 @@ fn node_cycles_are_invalid() {
     assert!(message.contains("reached twice"), "{message}");
 }
 
-/// The triangle with a material whose base colour texture is `image`.
+/// The triangle with TEXCOORD_0 and a material whose base colour texture is `image`.
 fn textured_doc(image: Value) -> Value {
     let mut doc = triangle_doc();
+    let bytes = f32_bytes(&[TRIANGLE.as_slice(), &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0]].concat());
+    doc["accessors"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC2" }));
+    doc["bufferViews"][0]["byteLength"] = json!(bytes.len());
+    doc["buffers"][0] = json!({ "byteLength": bytes.len(), "uri": data_uri(&bytes) });
+    doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(1);
     doc["meshes"][0]["primitives"][0]["material"] = json!(0);
     doc["materials"] = json!([{ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } }]);
     doc["textures"] = json!([{ "source": 0 }]);
@@ -548,7 +556,7 @@ fn materials_textures_and_generated_tangents() {
     bytes.extend([0u8, 1, 2, 0, 2, 3]);
     let mut doc = triangle_doc();
     doc["meshes"][0]["primitives"][0] = json!({
-        "attributes": { "POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2 },
+        "attributes": { "POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2, "TEXCOORD_1": 2 },
         "indices": 3, "material": 0
     });
     doc["accessors"] = json!([
@@ -747,4 +755,111 @@ fn shared_assets_load_with_their_documented_lights() {
             }
         }
     }
+}
+
+/// Files the glTF 2.0 spec forbids, each refused with the JSON path of what is wrong.
+#[test]
+fn spec_violations_are_errors_naming_the_json_path() {
+    let dir = TempDir::new("spec");
+    let textured = || textured_doc(json!({ "uri": "never-read.png" }));
+    let cases: Vec<(Value, &str)> = vec![
+        (
+            {
+                let mut d = textured();
+                d["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = json!([1.0, -0.5, 1.0, 1.0]);
+                d
+            },
+            "materials[0].pbrMetallicRoughness.baseColorFactor[1]: -0.5 is outside [0, 1]",
+        ),
+        (
+            {
+                let mut d = textured();
+                d["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = json!(5.0);
+                d
+            },
+            "materials[0].pbrMetallicRoughness.metallicFactor: 5 is outside [0, 1]",
+        ),
+        (
+            {
+                let mut d = textured();
+                d["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"] = json!(-1.0);
+                d
+            },
+            "materials[0].pbrMetallicRoughness.roughnessFactor: -1 is outside [0, 1]",
+        ),
+        (
+            {
+                let mut d = textured();
+                d["materials"][0]["emissiveFactor"] = json!([0.0, 2.0, 0.0]);
+                d
+            },
+            "materials[0].emissiveFactor[1]: 2 is outside [0, 1]",
+        ),
+        (
+            {
+                let mut d = triangle_doc();
+                d["bufferViews"][0]["byteStride"] = json!(4);
+                d
+            },
+            "accessors[0]: its elements are 12 bytes, more than bufferViews[0].byteStride (4), so they would overlap",
+        ),
+        (
+            {
+                let mut d = triangle_doc();
+                d["accessors"][0]["componentType"] = json!(5121);
+                d
+            },
+            "meshes[0].primitives[0].attributes[\"POSITION\"]: accessor 0 holds UNSIGNED_BYTE, which POSITION \
+             cannot be (without KHR_mesh_quantization)",
+        ),
+        (
+            {
+                let mut d = triangle_doc();
+                let bytes = f32_bytes(&[TRIANGLE.as_slice(), &[0.0, 0.0, 0.0]].concat());
+                d["accessors"][0]["count"] = json!(4);
+                d["bufferViews"][0]["byteLength"] = json!(bytes.len());
+                d["buffers"][0] = json!({ "byteLength": bytes.len(), "uri": data_uri(&bytes) });
+                d
+            },
+            "meshes[0].primitives[0]: 4 vertices do not make whole triangles (TRIANGLES takes a multiple of 3)",
+        ),
+        (
+            {
+                let mut d = textured();
+                d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = json!(1);
+                d
+            },
+            "meshes[0].primitives[0]: materials[0].pbrMetallicRoughness.baseColorTexture.texCoord is 1, but the \
+             primitive has no TEXCOORD_1",
+        ),
+        (
+            {
+                let mut d = triangle_doc();
+                d["nodes"][0]["matrix"] = json!([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]);
+                d["nodes"][0]["translation"] = json!([1, 2, 3]);
+                d
+            },
+            "nodes[0]: has both matrix and translation; glTF allows one or the other",
+        ),
+    ];
+    for (doc, expected) in cases {
+        let message = invalid_message(load_doc(&dir, &doc));
+        assert_eq!(message, expected);
+    }
+}
+
+#[test]
+fn quantized_positions_and_whole_index_lists_load() {
+    let dir = TempDir::new("spec-ok");
+    // UNSIGNED_BYTE positions are fine once the file uses KHR_mesh_quantization.
+    let mut doc = triangle_doc();
+    let bytes: Vec<u8> = vec![0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0];
+    doc["extensionsUsed"] = json!(["KHR_mesh_quantization"]);
+    doc["accessors"][0] = json!({ "bufferView": 0, "componentType": 5121, "count": 3, "type": "VEC3",
+        "min": [0, 0, 0], "max": [1, 1, 0] });
+    doc["bufferViews"][0] = json!({ "buffer": 0, "byteLength": 12, "byteStride": 4 });
+    doc["buffers"][0] = json!({ "byteLength": bytes.len(), "uri": data_uri(&bytes) });
+    let scene = load_doc(&dir, &doc).unwrap();
+    assert_eq!(scene.triangle_count(), 1);
+    assert_eq!(scene.meshes[0].primitives[0].positions[1], Vec3::X);
 }

@@ -10,6 +10,8 @@ pub(super) struct UriData {
     pub(super) bytes: Vec<u8>,
     /// The media type of a `data:` URI.
     pub(super) mime: Option<String>,
+    /// The file it was read from, for anything but a `data:` URI.
+    pub(super) file: Option<PathBuf>,
 }
 
 /// Reads a `data:` URI, a `file:` URI or a path relative to `base_dir`, the glTF file's
@@ -23,7 +25,7 @@ pub(super) fn read_uri(base_dir: &Path, uri: &str) -> Result<UriData, String> {
         };
         let bytes = if base64 { decode_base64(payload)? } else { percent_decode(payload)? };
         let mime = mime.split(';').next().unwrap_or("");
-        return Ok(UriData { bytes, mime: (!mime.is_empty()).then(|| mime.to_ascii_lowercase()) });
+        return Ok(UriData { bytes, mime: (!mime.is_empty()).then(|| mime.to_ascii_lowercase()), file: None });
     }
     let scheme_end = uri.find(':');
     let path = match scheme_end {
@@ -38,8 +40,8 @@ pub(super) fn read_uri(base_dir: &Path, uri: &str) -> Result<UriData, String> {
         }
         _ => base_dir.join(bytes_to_path(percent_decode(uri)?)?),
     };
-    let bytes = std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    Ok(UriData { bytes, mime: None })
+    let bytes = crate::files::read_regular_file(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    Ok(UriData { bytes, mime: None, file: Some(path) })
 }
 
 /// Standard or URL-safe base64 (RFC 4648 §4 and §5), as exporters write it in data URIs:
