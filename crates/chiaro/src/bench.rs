@@ -18,11 +18,11 @@ pub struct BenchArgs {
     pub width: u32,
     #[arg(long, default_value_t = 720)]
     pub height: u32,
-    /// Timed frames.
-    #[arg(long, default_value_t = 60)]
+    /// Timed frames (1 to 100000).
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub frames: u32,
-    /// Untimed frames first (pipelines, caches).
-    #[arg(long, default_value_t = 5)]
+    /// Untimed frames first, for pipelines and caches (0 to 100000).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(0..=100_000))]
     pub warmup: u32,
     #[arg(long)]
     pub camera: Option<String>,
@@ -48,7 +48,6 @@ fn stats(mut v: Vec<f64>) -> Stats {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
     let scene = load_scene(args.scene.as_deref(), &args.demo)?;

@@ -1,7 +1,7 @@
 //! `chiaro compare`: realtime shadows against the ray-traced reference, per light, as the
 //! share of compared pixels where they disagree, split into false and missed shadow.
 
-use crate::output::{sibling_path, write_png};
+use crate::output::{Encoded, Inputs, check_outputs, sibling_path, write_group};
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::{Result, bail};
@@ -29,11 +29,17 @@ pub struct CompareArgs {
     /// grey: agree, red: false shadow, blue: missed shadow).
     #[arg(long)]
     pub diff: Option<PathBuf>,
-    /// Exit with an error when any light disagrees on more than this percentage.
-    #[arg(long)]
+    /// Exit with an error when any light disagrees on more than this percentage (0 to 100).
+    #[arg(long, value_parser = percentage, allow_hyphen_values = true)]
     pub fail_above: Option<f64>,
     #[command(flatten)]
     pub shadow: ShadowArgs,
+}
+
+/// A percentage from 0 to 100 (NaN and infinities are not).
+fn percentage(text: &str) -> Result<f64, String> {
+    let value: f64 = text.parse().map_err(|_| format!("'{text}' is not a number"))?;
+    if (0.0..=100.0).contains(&value) { Ok(value) } else { Err(format!("{text} is not a percentage from 0 to 100")) }
 }
 
 pub fn run(args: CompareArgs) -> Result<()> {
@@ -41,6 +47,9 @@ pub fn run(args: CompareArgs) -> Result<()> {
     args.shadow.apply(&mut settings)?;
     let scene = load_scene(args.scene.as_deref(), &args.demo)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
+    let diff_path = |node: usize| args.diff.as_ref().map(|diff| sibling_path(diff, &format!("{node}.png")));
+    let outputs: Vec<PathBuf> = scene.lights.iter().filter_map(|l| diff_path(l.node)).collect();
+    check_outputs(&outputs, &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
     let result = compare_shadows(&mut renderer, &scene, &prepared, &view, &settings)?;
@@ -58,6 +67,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
         "node", "light", "type", "compared", "disagree %", "false %", "missed %"
     );
     let mut worst: f64 = 0.0;
+    let mut diffs: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     for report in &result.reports {
         let light = &scene.lights[report.light];
         let kind = match light.kind {
@@ -87,11 +97,12 @@ pub fn run(args: CompareArgs) -> Result<()> {
             100.0 * c.missed_share()
         );
         worst = worst.max(100.0 * c.disagreement());
-        if let Some(diff) = &args.diff {
-            let rgba: Vec<u8> = report.difference.iter().flatten().copied().collect();
-            write_png(&sibling_path(diff, &format!("{}.png", light.node)), args.width, args.height, &rgba)?;
+        if let Some(path) = diff_path(light.node) {
+            diffs.push((path, report.difference.iter().flatten().copied().collect()));
         }
     }
+    let (width, height) = (args.width, args.height);
+    write_group(diffs.iter().map(|(path, rgba8)| (path.clone(), Encoded::Png { width, height, rgba8 })).collect())?;
     if let Some(limit) = args.fail_above
         && worst > limit
     {

@@ -31,7 +31,23 @@ enum Command {
     Compare(compare::CompareArgs),
 }
 
+/// Mesa's Vulkan drivers load libwayland, which prints "XDG_RUNTIME_DIR is invalid or not
+/// set" when the variable is missing, turning a one-line error into three. Where it is
+/// missing or not a folder, point it at a private folder made for this run (there is no
+/// Wayland session to find then anyway). Returns the folder, removed when dropped.
+fn quiet_wayland_probe() -> Option<tempfile::TempDir> {
+    let usable = std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
+    if usable {
+        return None;
+    }
+    let dir = tempfile::Builder::new().prefix("chiaro-runtime-").tempdir().ok()?;
+    // SAFETY: called first thing in main, before any other thread exists.
+    unsafe { std::env::set_var("XDG_RUNTIME_DIR", dir.path()) };
+    Some(dir)
+}
+
 fn main() -> ExitCode {
+    let _runtime_dir = quiet_wayland_probe();
     tracing_subscriber::fmt()
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_env("CHIARO_LOG")

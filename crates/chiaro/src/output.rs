@@ -1,67 +1,152 @@
-//! Image files, written atomically: each goes to a temporary file beside its target and
-//! is renamed over it only when complete, so a failure never leaves half an image.
+//! The files a command writes. Before any work, every output path is checked: none may be
+//! an input of the command (the scene file, the buffers and images it reads, the settings
+//! file), none may be a folder, and each one's folder must take a new file. Afterwards they
+//! are written as a group: each to a temporary file beside its target, and only when all
+//! are complete is each renamed into place, so a failure leaves no half-written image and
+//! no image of a render whose other outputs failed.
 
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 
-/// Writes through `write` into a temporary file in `path`'s folder, then renames it.
-fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let dir = match path.parent() {
+/// One image to write.
+pub enum Encoded<'a> {
+    /// RGBA8, encoded as PNG.
+    Png { width: u32, height: u32, rgba8: &'a [u8] },
+    /// Linear RGB, float32 OpenEXR.
+    ExrRgb { width: u32, height: u32, rgb: &'a [[f32; 3]] },
+    /// One float32 channel named `Y`.
+    ExrSingle { width: u32, height: u32, values: &'a [f32] },
+}
+
+impl Encoded<'_> {
+    fn write(&self, path: &Path) -> Result<()> {
+        use exr::prelude::*;
+        match self {
+            Encoded::Png { width, height, rgba8 } => image::save_buffer_with_format(
+                path,
+                rgba8,
+                *width,
+                *height,
+                image::ExtendedColorType::Rgba8,
+                image::ImageFormat::Png,
+            )?,
+            Encoded::ExrRgb { width, height, rgb } => {
+                let w = *width as usize;
+                let pixels = SpecificChannels::rgb(|p: Vec2<usize>| {
+                    let c = rgb[p.1 * w + p.0];
+                    (c[0], c[1], c[2])
+                });
+                Image::from_channels((w, *height as usize), pixels).write().to_file(path)?
+            }
+            Encoded::ExrSingle { width, height, values } => {
+                let w = *width as usize;
+                let pixels = SpecificChannels::build()
+                    .with_channel("Y")
+                    .with_pixel_fn(|p: Vec2<usize>| (values[p.1 * w + p.0],));
+                Image::from_channels((w, *height as usize), pixels).write().to_file(path)?
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The folder a path's file goes in.
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
-    };
-    let tmp = tempfile::Builder::new()
-        .prefix(".chiaro-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-        .with_context(|| format!("{}: cannot create a file in {}", path.display(), dir.display()))?;
-    write(tmp.path()).with_context(|| format!("{}: cannot write image", path.display()))?;
-    // Temporary files are private (0600); a finished image is an ordinary file.
+    }
+}
+
+/// Whether two paths name the same file (the same inode where the platform says so).
+fn same_file(a: &Path, b: &Path) -> bool {
     #[cfg(unix)]
     {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(0o644))
-            .with_context(|| format!("{}: cannot set permissions", path.display()))?;
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(a), Ok(b)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return a.dev() == b.dev() && a.ino() == b.ino();
+        }
     }
-    tmp.persist(path).with_context(|| format!("{}: cannot move the finished image into place", path.display()))?;
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
+}
+
+/// What a command reads, so that no output replaces it.
+pub struct Inputs {
+    files: Vec<(PathBuf, &'static str)>,
+}
+
+impl Inputs {
+    /// The scene's files (the document, then what it reads) and the settings file.
+    pub fn new(scene_files: &[PathBuf], settings: Option<&Path>) -> Inputs {
+        let mut files: Vec<(PathBuf, &'static str)> = scene_files
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (f.clone(), if i == 0 { "the scene file" } else { "a file the scene reads" }))
+            .collect();
+        files.extend(settings.map(|s| (s.to_path_buf(), "the settings file")));
+        Inputs { files }
+    }
+}
+
+/// Checks, before any work, that each of `outputs` can be written and replaces no input.
+pub fn check_outputs(outputs: &[PathBuf], inputs: &Inputs) -> Result<()> {
+    for out in outputs {
+        if let Ok(meta) = std::fs::metadata(out) {
+            if meta.is_dir() {
+                bail!("{}: is a folder, not a file to write", out.display());
+            }
+            if let Some((input, what)) = inputs.files.iter().find(|(input, _)| same_file(out, input)) {
+                bail!(
+                    "{}: is {what} ({}), an input of this command; choose another output path",
+                    out.display(),
+                    input.display()
+                );
+            }
+        }
+        let folder = folder_of(out);
+        match std::fs::metadata(folder) {
+            Ok(meta) if meta.is_dir() => {}
+            Ok(_) => bail!("{}: cannot write there: {} is not a folder", out.display(), folder.display()),
+            Err(e) => bail!("{}: cannot write there: folder {}: {e}", out.display(), folder.display()),
+        }
+        tempfile::Builder::new()
+            .prefix(".chiaro-check-")
+            .tempfile_in(folder)
+            .with_context(|| format!("{}: cannot write in folder {}", out.display(), folder.display()))?;
+    }
     Ok(())
 }
 
-pub fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {
-    write_atomically(path, |tmp| {
-        image::save_buffer_with_format(
-            tmp,
-            rgba8,
-            width,
-            height,
-            image::ExtendedColorType::Rgba8,
-            image::ImageFormat::Png,
-        )?;
-        Ok(())
-    })
+/// Writes every file of the group or none: all to temporary files first, then each
+/// renamed into place.
+pub fn write_group(files: Vec<(PathBuf, Encoded<'_>)>) -> Result<()> {
+    write_group_with(files.into_iter().map(|(path, image)| (path, move |tmp: &Path| image.write(tmp))).collect())
 }
 
-/// Linear RGB float32.
-pub fn write_exr_rgb(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]]) -> Result<()> {
-    write_atomically(path, |tmp| {
-        exr::prelude::write_rgb_file(tmp, width as usize, height as usize, |x, y| {
-            let p = rgb[y * width as usize + x];
-            (p[0], p[1], p[2])
-        })?;
-        Ok(())
-    })
-}
-
-/// One float32 channel named `Y`.
-pub fn write_exr_single(path: &Path, width: u32, height: u32, values: &[f32]) -> Result<()> {
-    use exr::prelude::*;
-    write_atomically(path, |tmp| {
-        let pixels = SpecificChannels::build()
-            .with_channel("Y")
-            .with_pixel_fn(|p: Vec2<usize>| (values[p.1 * width as usize + p.0],));
-        Image::from_channels((width as usize, height as usize), pixels).write().to_file(tmp)?;
-        Ok(())
-    })
+/// `write_group` with any writer, for the tests.
+fn write_group_with<W: FnOnce(&Path) -> Result<()>>(files: Vec<(PathBuf, W)>) -> Result<()> {
+    let mut written = Vec::with_capacity(files.len());
+    for (path, write) in files {
+        let folder = folder_of(&path);
+        let tmp = tempfile::Builder::new()
+            .prefix(".chiaro-")
+            .suffix(".tmp")
+            .tempfile_in(folder)
+            .with_context(|| format!("{}: cannot create a file in {}", path.display(), folder.display()))?;
+        write(tmp.path()).with_context(|| format!("{}: cannot write image", path.display()))?;
+        // Temporary files are private (0600); a finished image is an ordinary file.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(0o644))
+                .with_context(|| format!("{}: cannot set permissions", path.display()))?;
+        }
+        written.push((path, tmp));
+    }
+    for (path, tmp) in written {
+        tmp.persist(&path).with_context(|| format!("{}: cannot move the finished image into place", path.display()))?;
+    }
+    Ok(())
 }
 
 /// The output kinds Chiaro writes, chosen by extension.
@@ -92,4 +177,51 @@ pub fn aov_path(output: &Path, kind: &str) -> PathBuf {
 pub fn sibling_path(output: &Path, suffix: &str) -> PathBuf {
     let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "chiaro".into());
     output.with_file_name(format!("{stem}.{suffix}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failing_file_leaves_the_whole_group_unwritten() {
+        let dir = tempfile::tempdir().unwrap();
+        let main = dir.path().join("main.png");
+        std::fs::write(&main, b"the previous image").unwrap();
+        let aov = dir.path().join("main.depth.exr");
+        type Writer = Box<dyn FnOnce(&Path) -> Result<()>>;
+        let writers: Vec<(PathBuf, Writer)> = vec![
+            (main.clone(), Box::new(|tmp: &Path| Ok(std::fs::write(tmp, b"new image")?))),
+            (aov.clone(), Box::new(|_: &Path| bail!("no space left on device"))),
+        ];
+        let e = write_group_with(writers).unwrap_err();
+        assert!(format!("{e:#}").contains("main.depth.exr: cannot write image: no space left"), "{e:#}");
+        assert_eq!(std::fs::read(&main).unwrap(), b"the previous image");
+        assert!(!aov.exists());
+        let leftovers = std::fs::read_dir(dir.path()).unwrap().count();
+        assert_eq!(leftovers, 1, "no temporary files stay behind");
+    }
+
+    #[test]
+    fn outputs_that_are_inputs_or_folders_or_homeless_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = dir.path().join("s.png");
+        std::fs::write(&scene, b"{}").unwrap();
+        let texture = dir.path().join("tex.png");
+        std::fs::write(&texture, b"png").unwrap();
+        let inputs = Inputs::new(&[scene.clone(), texture.clone()], None);
+        let message = |out: PathBuf| format!("{:#}", check_outputs(&[out], &inputs).unwrap_err());
+        assert!(message(scene.clone()).contains("s.png: is the scene file"), "{}", message(scene.clone()));
+        // The same file by another name is still the texture.
+        let other_name = dir.path().join(".").join("tex.png");
+        assert!(message(other_name).contains("is a file the scene reads"));
+        assert!(message(dir.path().to_path_buf()).contains("is a folder"));
+        let homeless = dir.path().join("no-such-folder").join("out.png");
+        let m = message(homeless);
+        assert!(
+            m.contains("no-such-folder/out.png: cannot write there: folder") && m.contains("no-such-folder"),
+            "{m}"
+        );
+        assert!(check_outputs(&[dir.path().join("new.png")], &inputs).is_ok());
+    }
 }

@@ -1,6 +1,6 @@
 //! `chiaro render`: one frame to an image, with optional AOVs beside it.
 
-use crate::output::{OutputFormat, aov_path, output_format, sibling_path, write_exr_rgb, write_exr_single, write_png};
+use crate::output::{Encoded, Inputs, OutputFormat, aov_path, check_outputs, output_format, sibling_path, write_group};
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::Result;
@@ -63,6 +63,25 @@ pub struct RenderArgs {
     pub shadow: ShadowArgs,
 }
 
+/// Every file the render will write, known before it runs.
+fn planned_outputs(args: &RenderArgs, scene: &chiaro_scene::Scene) -> Vec<PathBuf> {
+    let mut outputs = vec![args.output.clone()];
+    for (aov, name) in [(Aov::Position, "position"), (Aov::Normal, "normal"), (Aov::Depth, "depth")] {
+        if args.aov.contains(&aov) {
+            outputs.push(aov_path(&args.output, name));
+        }
+    }
+    if args.aov.contains(&Aov::Shadow) {
+        outputs.extend(scene.lights.iter().map(|l| aov_path(&args.output, &format!("shadow.{}", l.node))));
+    }
+    if args.debug.contains(&Debug::ShadowAtlas) {
+        for file in ["shadow-atlas.png", "other-shadow-atlas.png"] {
+            outputs.push(sibling_path(&args.output, file));
+        }
+    }
+    outputs
+}
+
 pub fn run(args: RenderArgs) -> Result<()> {
     let format = output_format(&args.output)?;
     let mut settings = load_settings(args.settings.as_deref())?;
@@ -75,6 +94,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let height = args.height.unwrap_or(settings.render.height);
     let scene = load_scene(args.scene.as_deref(), &args.demo)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
+    check_outputs(&planned_outputs(&args, &scene), &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
     let wants = |aov: Aov| args.aov.contains(&aov);
@@ -86,46 +106,58 @@ pub fn run(args: RenderArgs) -> Result<()> {
         read_shadow_atlas: args.debug.contains(&Debug::ShadowAtlas),
     };
     let frame = renderer.render(&scene, &prepared, &view, &settings, options)?;
-    match format {
-        OutputFormat::Png => write_png(&args.output, width, height, &frame.ldr)?,
-        OutputFormat::Exr => {
-            let rgb: Vec<[f32; 3]> = frame.hdr.iter().map(|p| [p[0], p[1], p[2]]).collect();
-            write_exr_rgb(&args.output, width, height, &rgb)?
-        }
-    }
+    warn_if_clipped(&frame.hdr, settings.render.exposure_ev100);
+
+    let rgb: Vec<[f32; 3]> = frame.hdr.iter().map(|p| [p[0], p[1], p[2]]).collect();
+    let atlases: Vec<(PathBuf, u32, Vec<u8>)> = frame
+        .shadow_atlases
+        .iter()
+        .map(|atlas| {
+            let grey = atlas
+                .depths
+                .iter()
+                .flat_map(|d| {
+                    let v = (d.clamp(0.0, 1.0) * 255.0).round() as u8;
+                    [v, v, v, 255]
+                })
+                .collect();
+            let file = if atlas.name == "directional" {
+                "shadow-atlas.png".to_string()
+            } else {
+                format!("{}-shadow-atlas.png", atlas.name)
+            };
+            (sibling_path(&args.output, &file), atlas.size, grey)
+        })
+        .collect();
+    let mut files = vec![(
+        args.output.clone(),
+        match format {
+            OutputFormat::Png => Encoded::Png { width, height, rgba8: &frame.ldr },
+            OutputFormat::Exr => Encoded::ExrRgb { width, height, rgb: &rgb },
+        },
+    )];
     if let Some(aovs) = &frame.aovs {
         for aov in &args.aov {
-            match aov {
-                Aov::Position => write_exr_rgb(&aov_path(&args.output, "position"), width, height, &aovs.position_ws)?,
-                Aov::Normal => write_exr_rgb(&aov_path(&args.output, "normal"), width, height, &aovs.normal_ws)?,
-                Aov::Depth => write_exr_single(&aov_path(&args.output, "depth"), width, height, &aovs.depth)?,
-                Aov::Shadow => {}
-            }
+            let (name, image) = match aov {
+                Aov::Position => ("position", Encoded::ExrRgb { width, height, rgb: &aovs.position_ws }),
+                Aov::Normal => ("normal", Encoded::ExrRgb { width, height, rgb: &aovs.normal_ws }),
+                Aov::Depth => ("depth", Encoded::ExrSingle { width, height, values: &aovs.depth }),
+                Aov::Shadow => continue,
+            };
+            files.push((aov_path(&args.output, name), image));
         }
     }
     for (light, shadow) in scene.lights.iter().zip(&frame.shadow_aovs) {
         let path = aov_path(&args.output, &format!("shadow.{}", light.node));
-        write_exr_single(&path, width, height, shadow)?;
+        files.push((path, Encoded::ExrSingle { width, height, values: shadow }));
     }
-    for atlas in &frame.shadow_atlases {
-        let grey: Vec<u8> = atlas
-            .depths
-            .iter()
-            .flat_map(|d| {
-                let v = (d.clamp(0.0, 1.0) * 255.0).round() as u8;
-                [v, v, v, 255]
-            })
-            .collect();
-        let file = if atlas.name == "directional" {
-            "shadow-atlas.png".to_string()
-        } else {
-            format!("{}-shadow-atlas.png", atlas.name)
-        };
-        write_png(&sibling_path(&args.output, &file), atlas.size, atlas.size, &grey)?;
+    for (path, size, grey) in &atlases {
+        files.push((path.clone(), Encoded::Png { width: *size, height: *size, rgba8: grey }));
     }
     if args.debug.contains(&Debug::ShadowAtlas) && frame.shadow_atlases.is_empty() {
         tracing::warn!("no light casts a shadow: no atlas to write");
     }
+    write_group(files)?;
     eprintln!(
         "chiaro: wrote {} ({width}x{height}, {} point/spot lights shaded, {:.1} ms)",
         args.output.display(),
@@ -133,4 +165,19 @@ pub fn run(args: RenderArgs) -> Result<()> {
         frame.timings.wall_ms.unwrap_or_default()
     );
     Ok(())
+}
+
+/// The HDR target holds half floats: pre-exposed radiance stops at 65504. Says so when
+/// pixels reached it, with the exposure that would keep them.
+fn warn_if_clipped(hdr: &[[f32; 4]], exposure_ev100: f32) {
+    const HALF_MAX: f32 = 65504.0;
+    let limit = HALF_MAX / chiaro_math::tonemap::exposure_scale(exposure_ev100);
+    let clipped = hdr.iter().filter(|p| p[..3].iter().any(|c| *c >= limit * 0.999)).count();
+    if clipped > 0 {
+        let brightest = hdr.iter().flat_map(|p| p[..3].iter().copied()).filter(|c| c.is_finite()).fold(0.0, f32::max);
+        tracing::warn!(
+            "{clipped} pixels reached the HDR target's limit ({limit:e} at EV100 {exposure_ev100}): their radiance \
+             is clipped there (brightest kept: {brightest:e}); raise --exposure to keep more"
+        );
+    }
 }

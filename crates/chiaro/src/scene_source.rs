@@ -1,6 +1,7 @@
 //! Turns command-line arguments into a scene, settings and a view.
 
 use anyhow::{Context, Result, bail};
+use chiaro_math::camera::can_frame;
 use chiaro_render::View;
 use chiaro_scene::demo::{DEMO_OTHER_LIGHTS, DEMO_SHADOWED_POINTS, DEMO_SHADOWED_SPOTS, demo_scene_with_shadows};
 use chiaro_scene::{Scene, Settings, load_gltf};
@@ -13,18 +14,21 @@ pub fn load_settings(path: Option<&Path>) -> Result<Settings> {
     }
 }
 
+/// Most point and spot lights the demo scene is made with.
+pub const MAX_DEMO_LIGHTS: u32 = 65536;
+
 /// How the built-in demo is made when no scene file is given.
 #[derive(clap::Args, Clone, Debug)]
 pub struct DemoArgs {
-    /// Point and spot lights in the demo scene (alternating, spots first).
-    #[arg(long, default_value_t = DEMO_OTHER_LIGHTS)]
-    pub demo_lights: usize,
-    /// Demo spot lights that cast realtime shadows.
-    #[arg(long, default_value_t = DEMO_SHADOWED_SPOTS)]
-    pub demo_shadowed_spots: usize,
-    /// Demo point lights that cast realtime shadows.
-    #[arg(long, default_value_t = DEMO_SHADOWED_POINTS)]
-    pub demo_shadowed_points: usize,
+    /// Point and spot lights in the demo scene (alternating, spots first; 0 to 65536).
+    #[arg(long, default_value_t = DEMO_OTHER_LIGHTS as u32, value_parser = clap::value_parser!(u32).range(0..=MAX_DEMO_LIGHTS as i64))]
+    pub demo_lights: u32,
+    /// Demo spot lights that cast realtime shadows (0 to 65536).
+    #[arg(long, default_value_t = DEMO_SHADOWED_SPOTS as u32, value_parser = clap::value_parser!(u32).range(0..=MAX_DEMO_LIGHTS as i64))]
+    pub demo_shadowed_spots: u32,
+    /// Demo point lights that cast realtime shadows (0 to 65536).
+    #[arg(long, default_value_t = DEMO_SHADOWED_POINTS as u32, value_parser = clap::value_parser!(u32).range(0..=MAX_DEMO_LIGHTS as i64))]
+    pub demo_shadowed_points: u32,
 }
 
 /// The file's scene, or the built-in demo.
@@ -37,7 +41,11 @@ pub fn load_scene(path: Option<&Path>, demo: &DemoArgs) -> Result<Scene> {
             }
             Ok(scene)
         }
-        None => Ok(demo_scene_with_shadows(demo.demo_lights, demo.demo_shadowed_spots, demo.demo_shadowed_points)),
+        None => Ok(demo_scene_with_shadows(
+            demo.demo_lights as usize,
+            demo.demo_shadowed_spots as usize,
+            demo.demo_shadowed_points as usize,
+        )),
     }
 }
 
@@ -64,6 +72,19 @@ pub fn choose_view(scene: &Scene, camera: Option<&str>, settings: &Settings, wid
             Ok(View::from_camera(scene, index, width, height))
         }
         None if !scene.cameras.is_empty() => Ok(View::from_camera(scene, 0, width, height)),
-        None => Ok(View::framing(scene, settings.camera.auto_yfov_deg.to_radians(), width, height)),
+        None => {
+            let bounds = scene.bounds();
+            if !can_frame(&bounds) {
+                let s = bounds.bounding_sphere();
+                bail!(
+                    "{}: the scene's bounding sphere (radius {:e} m around {}) is beyond what the automatic \
+                     camera frames (radius 1e-6 to 1e15 m, within 1e15 m of the origin); give the file a camera",
+                    scene.source.as_ref().map_or("scene".into(), |p| p.display().to_string()),
+                    s.radius,
+                    s.center
+                );
+            }
+            Ok(View::framing(scene, settings.camera.auto_yfov_deg.to_radians(), width, height))
+        }
     }
 }

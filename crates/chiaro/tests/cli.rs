@@ -2,82 +2,9 @@
 //! kind of bad input gets a one-line error naming the file and the problem, a non-zero
 //! exit, no panic, and no half-written output.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-/// A triangle's three positions as a data URI.
-const TRIANGLE_BUFFER: &str = "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIC/";
-
-fn triangle_gltf(nodes: &str, buffer_uri: &str, byte_length: u32, position_accessor: u32) -> String {
-    format!(
-        r#"{{
-  "asset": {{"version": "2.0"}},
-  "scene": 0,
-  "scenes": [{{"nodes": [0]}}],
-  "nodes": {nodes},
-  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": {position_accessor}}}}}]}}],
-  "buffers": [{{"uri": "{buffer_uri}", "byteLength": {byte_length}}}],
-  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}}],
-  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                  "min": [0, 0, -1], "max": [1, 0, 0]}}]
-}}"#
-    )
-}
-
-fn good_triangle() -> String {
-    triangle_gltf(r#"[{"mesh": 0}]"#, TRIANGLE_BUFFER, 36, 0)
-}
-
-struct Run {
-    code: i32,
-    stderr: String,
-    stdout: String,
-}
-
-fn chiaro(args: &[&str], env: &[(&str, &str)], dir: &Path) -> Run {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_chiaro"));
-    cmd.args(args).current_dir(dir);
-    for (k, v) in env {
-        cmd.env(k, v);
-    }
-    let Output { status, stdout, stderr } = cmd.output().expect("run chiaro");
-    Run {
-        code: status.code().unwrap_or(-1),
-        stderr: String::from_utf8_lossy(&stderr).into_owned(),
-        stdout: String::from_utf8_lossy(&stdout).into_owned(),
-    }
-}
-
-/// The error line, without lavapipe's harmless XDG_RUNTIME_DIR complaints.
-fn error_lines(run: &Run) -> Vec<&str> {
-    run.stderr.lines().filter(|l| l.starts_with("chiaro: error:")).collect()
-}
-
-/// Writes `files` into a fresh folder, renders `scene` there, and checks the failure.
-fn expect_failure(files: &[(&str, &[u8])], args: &[&str], env: &[(&str, &str)], must_contain: &[&str]) {
-    let dir = tempfile::tempdir().unwrap();
-    for (name, content) in files {
-        std::fs::write(dir.path().join(name), content).unwrap();
-    }
-    let run = chiaro(args, env, dir.path());
-    assert_ne!(run.code, 0, "succeeded: {}", run.stderr);
-    assert_ne!(run.code, 101, "panicked: {}", run.stderr);
-    assert!(!run.stderr.contains("panicked"), "panicked: {}", run.stderr);
-    let lines = error_lines(&run);
-    assert_eq!(lines.len(), 1, "one error line expected: {}", run.stderr);
-    for needle in must_contain {
-        assert!(lines[0].contains(needle), "'{}' lacks '{needle}'", lines[0]);
-    }
-    let leftovers: Vec<PathBuf> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            let name = p.file_name().unwrap().to_string_lossy();
-            name.ends_with(".png") || name.ends_with(".exr") || name.ends_with(".tmp")
-        })
-        .collect();
-    assert!(leftovers.is_empty(), "left files behind: {leftovers:?}");
-}
+use common::*;
 
 #[test]
 fn missing_file() {
@@ -139,18 +66,12 @@ fn accessor_index_out_of_range() {
 
 #[test]
 fn unsupported_image_format() {
-    let gltf = good_triangle().replace(r#""POSITION": 0}"#, r#""POSITION": 0}, "material": 0"#).replace(
-        r#""asset": {"version": "2.0"},"#,
-        r#""asset": {"version": "2.0"},
-  "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
-  "textures": [{"source": 0}],
-  "images": [{"uri": "texture.gif"}],"#,
-    );
+    let scene = textured_scene("texture.gif");
     expect_failure(
-        &[("textured.gltf", gltf.as_bytes()), ("texture.gif", b"GIF89a\x01\x00\x01\x00\x00\x00\x00;")],
-        &["render", "textured.gltf", "-o", "out.png"],
+        &[("scene.gltf", &scene[0].1), ("texture.gif", b"GIF89a\x01\x00\x01\x00\x00\x00\x00;")],
+        &["render", "scene.gltf", "-o", "out.png"],
         &[],
-        &["textured.gltf", "image"],
+        &["scene.gltf", "image 0 (texture.gif): unsupported image format"],
     );
 }
 
@@ -229,13 +150,6 @@ fn no_gpu_adapter() {
         &[("VK_ICD_FILENAMES", "/nonexistent/icd.json"), ("VK_DRIVER_FILES", "/nonexistent/icd.json")],
         &["no GPU adapter", "mesa-vulkan-drivers"],
     );
-}
-
-fn read_exr_channels(path: &Path) -> Vec<(String, Vec<f32>)> {
-    use exr::prelude::*;
-    let image = read_all_flat_layers_from_file(path).unwrap();
-    let layer = &image.layer_data[0];
-    layer.channel_data.list.iter().map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect())).collect()
 }
 
 #[test]
