@@ -69,6 +69,33 @@ pub enum AlphaMode {
     Blend,
 }
 
+/// How a material's surfaces cast shadows (material `extras.shadowCasting`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ShadowCasting {
+    /// Solid casters, whatever their alpha.
+    #[default]
+    On,
+    /// Alpha-tested: no shadow where base colour alpha is below the material's cutoff,
+    /// as the camera sees the holes of MASK materials.
+    Clip,
+    /// Stippled by a stable dither pattern against alpha, so that filtered shadows darken
+    /// in proportion to opacity (for transparent surfaces).
+    Dither,
+    /// No shadows.
+    Off,
+}
+
+impl ShadowCasting {
+    /// The glTF alpha mode's natural choice: clip for MASK, dither for BLEND, on for OPAQUE.
+    pub fn default_for(alpha: AlphaMode) -> ShadowCasting {
+        match alpha {
+            AlphaMode::Opaque => ShadowCasting::On,
+            AlphaMode::Mask => ShadowCasting::Clip,
+            AlphaMode::Blend => ShadowCasting::Dither,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum WrapMode {
     Repeat,
@@ -150,6 +177,7 @@ pub struct Material {
     pub alpha_mode: AlphaMode,
     pub alpha_cutoff: f32,
     pub double_sided: bool,
+    pub shadow_casting: ShadowCasting,
 }
 
 impl Default for Material {
@@ -172,6 +200,7 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             alpha_cutoff: 0.5,
             double_sided: false,
+            shadow_casting: ShadowCasting::On,
         }
     }
 }

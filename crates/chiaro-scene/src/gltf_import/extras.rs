@@ -1,10 +1,11 @@
 //! glTF `extras` Chiaro reads, since glTF has no place for shadow settings: a light's
 //! `{"shadows": "none"|"hard"|"soft", "shadowStrength", "shadowDepthBias",
 //! "shadowNormalBias", "shadowNearPlane"}` and a mesh node's `{"castShadows":
-//! "on"|"off"|"two-sided"|"shadows-only", "receiveShadows": bool}`. Other keys are left
-//! alone; a known key with a wrong value is an error naming it.
+//! "on"|"off"|"two-sided"|"shadows-only", "receiveShadows": bool}`, and a material's
+//! `{"shadowCasting": "on"|"clip"|"dither"|"off"}`. Other keys are left alone; a known key
+//! with a wrong value is an error naming it.
 
-use crate::types::{CastShadows, LightShadow, ShadowMode};
+use crate::types::{AlphaMode, CastShadows, LightShadow, ShadowCasting, ShadowMode};
 use gltf::json;
 use serde::Deserialize;
 use serde_json::value::RawValue;
@@ -24,6 +25,12 @@ struct LightExtras {
 struct NodeExtras {
     cast_shadows: Option<serde_json::Value>,
     receive_shadows: Option<bool>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(rename_all = "camelCase")]
+struct MaterialExtras {
+    shadow_casting: Option<serde_json::Value>,
 }
 
 fn parse<'a, T: Deserialize<'a> + Default>(extras: Option<&'a RawValue>) -> Result<T, String> {
@@ -91,6 +98,23 @@ pub(super) fn node_shadows(node: &json::scene::Node) -> Result<(CastShadows, boo
     Ok((cast, e.receive_shadows.unwrap_or(true)))
 }
 
+/// How a material's surfaces cast shadows: its extras' `shadowCasting`, else what its
+/// alpha mode implies.
+pub(super) fn material_shadow_casting(extras: Option<&RawValue>, alpha: AlphaMode) -> Result<ShadowCasting, String> {
+    let e: MaterialExtras = parse(extras)?;
+    match e.shadow_casting {
+        None => Ok(ShadowCasting::default_for(alpha)),
+        Some(serde_json::Value::String(s)) => match s.as_str() {
+            "on" => Ok(ShadowCasting::On),
+            "clip" => Ok(ShadowCasting::Clip),
+            "dither" => Ok(ShadowCasting::Dither),
+            "off" => Ok(ShadowCasting::Off),
+            other => Err(format!("extras.shadowCasting: '{other}' is not on, clip, dither or off")),
+        },
+        Some(other) => Err(format!("extras.shadowCasting: {other} is not a string")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -140,5 +164,18 @@ mod tests {
         );
         assert_eq!(node_shadows(&node(r#"{"castShadows": "two-sided"}"#)).unwrap().0, CastShadows::TwoSided);
         assert!(node_shadows(&node(r#"{"castShadows": "sometimes"}"#)).unwrap_err().contains("castShadows"));
+    }
+
+    #[test]
+    fn material_extras_choose_shadow_casting_and_alpha_modes_set_the_default() {
+        assert_eq!(material_shadow_casting(None, AlphaMode::Opaque).unwrap(), ShadowCasting::On);
+        assert_eq!(material_shadow_casting(None, AlphaMode::Mask).unwrap(), ShadowCasting::Clip);
+        assert_eq!(material_shadow_casting(None, AlphaMode::Blend).unwrap(), ShadowCasting::Dither);
+        let extras = raw(r#"{"shadowCasting": "off"}"#);
+        assert_eq!(material_shadow_casting(Some(&extras), AlphaMode::Mask).unwrap(), ShadowCasting::Off);
+        let extras = raw(r#"{"shadowCasting": "dither"}"#);
+        assert_eq!(material_shadow_casting(Some(&extras), AlphaMode::Opaque).unwrap(), ShadowCasting::Dither);
+        let e = material_shadow_casting(Some(&raw(r#"{"shadowCasting": "sometimes"}"#)), AlphaMode::Opaque);
+        assert_eq!(e.unwrap_err(), "extras.shadowCasting: 'sometimes' is not on, clip, dither or off");
     }
 }

@@ -91,6 +91,13 @@ impl Loader<'_> {
             None => None,
         };
 
+        let alpha_mode = match m.alpha_mode {
+            Checked::Valid(json::material::AlphaMode::Mask) => AlphaMode::Mask,
+            Checked::Valid(json::material::AlphaMode::Blend) => AlphaMode::Blend,
+            _ => AlphaMode::Opaque,
+        };
+        let shadow_casting = super::extras::material_shadow_casting(m.extras.as_deref(), alpha_mode)
+            .map_err(|e| self.invalid(format!("{label}: {e}")))?;
         let emissive_strength =
             m.extensions.as_ref().and_then(|e| e.emissive_strength.as_ref()).map_or(1.0, |s| s.emissive_strength.0);
         let material = Material {
@@ -106,13 +113,10 @@ impl Loader<'_> {
             occlusion_texture,
             emissive: Vec3::from_array(m.emissive_factor.0) * emissive_strength,
             emissive_texture,
-            alpha_mode: match m.alpha_mode {
-                Checked::Valid(json::material::AlphaMode::Mask) => AlphaMode::Mask,
-                Checked::Valid(json::material::AlphaMode::Blend) => AlphaMode::Blend,
-                _ => AlphaMode::Opaque,
-            },
+            alpha_mode,
             alpha_cutoff: m.alpha_cutoff.map_or(0.5, |c| c.0),
             double_sided: m.double_sided,
+            shadow_casting,
         };
         let factors_finite = material.base_color.is_finite()
             && material.emissive.is_finite()
