@@ -1,16 +1,19 @@
 //! A bounding volume hierarchy over every triangle of a scene, in world space.
 //!
-//! A `Scene` flows in; `SceneBvh` answers two ray queries: `closest_hit` (what the camera
-//! sees: instances that are drawn) and `occluded` (what blocks a light: instances that cast
-//! shadows, both faces). Queries are single rays taking `&self`, so callers parallelise
+//! A `Scene` flows in; `SceneBvh` answers ray queries: `closest_hit` (what the camera
+//! sees: instances that are drawn, through the holes MASK materials cut) and
+//! `transmittance` (how much of a light reaches along a ray: casters block it, both faces;
+//! alpha-tested casters only where their alpha passes the cutoff; dithered casters let
+//! `1 - alpha` through). Queries are single rays taking `&self`, so callers parallelise
 //! over rays.
 //!
 //! The hierarchy is obvhs's compressed wide BVH8 (PLOC build, SIMD node tests). obvhs
 //! speaks glam 0.34 while Chiaro uses 0.30, so vectors cross the boundary as `[f32; 3]`
 //! arrays; no glam 0.34 type is named here, `.into()` infers them from obvhs's signatures.
 
-use chiaro_scene::{AlphaMode, CastShadows, MeshInstance, Scene};
-use glam::Vec3;
+use crate::alpha::{AlphaImage, AlphaMaterial, alpha_images};
+use chiaro_scene::{AlphaMode, CastShadows, MeshInstance, Scene, ShadowCasting};
+use glam::{Vec2, Vec3};
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
@@ -55,8 +58,36 @@ pub struct SceneBvh {
     /// The instance of each entry of `triangles`.
     triangle_instance: Vec<u32>,
     /// `VISIBLE | CASTER` bits of each entry of `triangles`: its instance's casting mode,
-    /// less CASTER for alpha-blended materials, which cast no shadows (as in the renderer).
+    /// less CASTER where its material casts no shadows (as in the renderer).
     triangle_mask: Vec<u8>,
+    /// Per entry of `triangles`, its index in `alpha_triangles`, or `NO_ALPHA`.
+    triangle_alpha: Vec<u32>,
+    /// Triangles whose material tests its alpha.
+    alpha_triangles: Vec<AlphaTriangle>,
+    alpha_materials: Vec<AlphaMaterial>,
+    alpha_images: Vec<AlphaImage>,
+}
+
+const NO_ALPHA: u32 = u32::MAX;
+
+/// A triangle whose surface has holes or lets light through.
+#[derive(Clone, Copy, Debug)]
+struct AlphaTriangle {
+    /// Its index among the scene's triangles, the same for every reference a pre-split
+    /// build makes to it.
+    original: u32,
+    material: u32,
+    /// Texture coordinates of its corners, in the UV set its material's texture reads.
+    uv: [Vec2; 3],
+}
+
+/// One triangle gathered from the scene: its world corners, instance, mask bits, and
+/// alpha data where its material needs it.
+struct Gathered {
+    triangle: Triangle,
+    instance: u32,
+    mask: u8,
+    alpha: Option<(u32, [Vec2; 3])>,
 }
 
 impl SceneBvh {
@@ -66,15 +97,11 @@ impl SceneBvh {
     pub fn build(scene: &Scene) -> SceneBvh {
         let _span = tracing::info_span!("bvh_build").entered();
         let start = Instant::now();
-        let gathered: Vec<(Triangle, (u32, u8))> = scene
+        let gathered: Vec<Gathered> = scene
             .instances
             .par_iter()
             .enumerate()
-            .flat_map_iter(|(index, instance)| {
-                let mask = instance_mask(instance.cast_shadows);
-                world_triangles(scene, instance)
-                    .map(move |(tri, blended)| (tri, (index as u32, if blended { mask & !CASTER } else { mask })))
-            })
+            .flat_map_iter(|(index, instance)| world_triangles(scene, index as u32, instance))
             .collect();
         // Not `Scene::triangle_count`, which trusts every instance's mesh index.
         let submitted: usize = scene
@@ -90,29 +117,60 @@ impl SceneBvh {
                 "skipped degenerate, non-finite or out-of-range triangles"
             );
         }
+        let alpha_materials = scene.materials.iter().map(AlphaMaterial::new).collect();
+        let alpha_images = alpha_images(scene);
         if gathered.is_empty() {
             return SceneBvh {
                 bvh: None,
                 triangles: Vec::new(),
                 triangle_instance: Vec::new(),
                 triangle_mask: Vec::new(),
+                triangle_alpha: Vec::new(),
+                alpha_triangles: Vec::new(),
+                alpha_materials,
+                alpha_images,
             };
         }
 
-        let source: Vec<Triangle> = gathered.iter().map(|(tri, _)| *tri).collect();
+        let source: Vec<Triangle> = gathered.iter().map(|g| g.triangle).collect();
         let bvh = build_cwbvh_from_tris(&source, BvhBuildParams::medium_build(), &mut Duration::default());
         // With pre-splits a triangle may be referenced from several leaves; copying per
         // reference keeps every lookup direct.
-        let (triangles, tags): (Vec<Triangle>, Vec<(u32, u8)>) =
-            bvh.primitive_indices.iter().map(|&i| gathered[i as usize]).unzip();
-        let (triangle_instance, triangle_mask) = tags.into_iter().unzip();
+        let mut alpha_triangles = Vec::new();
+        let mut triangle_alpha = Vec::with_capacity(bvh.primitive_indices.len());
+        let mut triangles = Vec::with_capacity(bvh.primitive_indices.len());
+        let mut triangle_instance = Vec::with_capacity(bvh.primitive_indices.len());
+        let mut triangle_mask = Vec::with_capacity(bvh.primitive_indices.len());
+        for &i in &bvh.primitive_indices {
+            let g = &gathered[i as usize];
+            triangles.push(g.triangle);
+            triangle_instance.push(g.instance);
+            triangle_mask.push(g.mask);
+            triangle_alpha.push(match g.alpha {
+                Some((material, uv)) => {
+                    alpha_triangles.push(AlphaTriangle { original: i, material, uv });
+                    (alpha_triangles.len() - 1) as u32
+                }
+                None => NO_ALPHA,
+            });
+        }
         tracing::debug!(
             triangles = source.len(),
+            alpha_tested = alpha_triangles.len(),
             nodes = bvh.nodes.len(),
             ms = start.elapsed().as_secs_f64() * 1e3,
             "built scene BVH"
         );
-        SceneBvh { bvh: Some(bvh), triangles, triangle_instance, triangle_mask }
+        SceneBvh {
+            bvh: Some(bvh),
+            triangles,
+            triangle_instance,
+            triangle_mask,
+            triangle_alpha,
+            alpha_triangles,
+            alpha_materials,
+            alpha_images,
+        }
     }
 
     /// Number of triangle references in the hierarchy (the valid triangles, unless a
@@ -122,13 +180,24 @@ impl SceneBvh {
     }
 
     /// The nearest drawn surface (any instance but `ShadowsOnly`) with `0 <= t < max_t`,
-    /// either face. `direction` need not be unit; `t` and `max_t` are in its units.
-    /// Non-finite or zero rays hit nothing.
+    /// either face, where a MASK material's alpha passes its cutoff. `direction` need not
+    /// be unit; `t` and `max_t` are in its units. Non-finite or zero rays hit nothing.
     pub fn closest_hit(&self, origin: Vec3, direction: Vec3, max_t: f32) -> Option<Hit> {
         let bvh = self.bvh.as_ref()?;
         let ray = make_ray(origin, direction, max_t)?;
         let mut ray_hit = RayHit::none();
-        let found = bvh.ray_traverse(ray, &mut ray_hit, |ray, id| self.intersect_masked(ray, id, VISIBLE));
+        let found = bvh.ray_traverse(ray, &mut ray_hit, |ray, id| {
+            if self.triangle_mask[id] & VISIBLE == 0 {
+                return f32::INFINITY;
+            }
+            let t = self.triangles[id].intersect(ray);
+            match self.alpha_at(id, ray, t) {
+                Some((material, alpha)) if material.alpha_mode == AlphaMode::Mask && alpha < material.cutoff => {
+                    f32::INFINITY
+                }
+                _ => t,
+            }
+        });
         if !found {
             return None;
         }
@@ -143,21 +212,77 @@ impl SceneBvh {
         })
     }
 
-    /// Whether any shadow caster (any instance but `CastShadows::Off`), either face, lies
-    /// on the ray with `0 <= t < max_t`. Non-finite or zero rays are not occluded.
-    pub fn occluded(&self, origin: Vec3, direction: Vec3, max_t: f32) -> bool {
+    /// How much light gets along the ray with `0 <= t < max_t`: 0 where a solid caster
+    /// (or an alpha-tested one where its alpha passes) lies on it, else the product of
+    /// `1 - alpha` over the dithered casters it crosses. Instances that cast no shadows
+    /// let everything through; non-finite or zero rays too.
+    pub fn transmittance(&self, origin: Vec3, direction: Vec3, max_t: f32) -> f32 {
         let (Some(bvh), Some(ray)) = (self.bvh.as_ref(), make_ray(origin, direction, max_t)) else {
-            return false;
+            return 1.0;
         };
-        !bvh.ray_traverse_miss(ray, |ray, id| self.intersect_masked(ray, id, CASTER))
+        let mut crossed: Vec<u32> = Vec::new();
+        let mut through = 1.0;
+        let blocked = !bvh.ray_traverse_miss(ray, |ray, id| {
+            if self.triangle_mask[id] & CASTER == 0 {
+                return f32::INFINITY;
+            }
+            let t = self.triangles[id].intersect(ray);
+            let Some((material, alpha)) = self.alpha_at(id, ray, t) else {
+                return t;
+            };
+            match material.casting {
+                ShadowCasting::Clip if alpha < material.cutoff => f32::INFINITY,
+                ShadowCasting::Dither => {
+                    // Each triangle once, however many leaves reference it.
+                    let original = self.alpha_triangles[self.triangle_alpha[id] as usize].original;
+                    if !crossed.contains(&original) {
+                        crossed.push(original);
+                        through *= 1.0 - alpha.clamp(0.0, 1.0);
+                    }
+                    f32::INFINITY
+                }
+                _ => t,
+            }
+        });
+        if blocked { 0.0 } else { through }
     }
 
-    fn intersect_masked(&self, ray: &Ray, id: usize, mask: u8) -> f32 {
-        if self.triangle_mask[id] & mask == 0 {
-            return f32::INFINITY;
-        }
-        self.triangles[id].intersect(ray)
+    /// Whether a caster blocks the ray entirely (see `transmittance`).
+    pub fn occluded(&self, origin: Vec3, direction: Vec3, max_t: f32) -> bool {
+        self.transmittance(origin, direction, max_t) == 0.0
     }
+
+    /// The material and alpha of triangle reference `id` where `ray` meets it at `t`, for
+    /// triangles whose material tests alpha; `None` for the others and for misses.
+    fn alpha_at(&self, id: usize, ray: &Ray, t: f32) -> Option<(&AlphaMaterial, f32)> {
+        let index = *self.triangle_alpha.get(id)?;
+        if index == NO_ALPHA || !t.is_finite() {
+            return None;
+        }
+        let alpha_triangle = &self.alpha_triangles[index as usize];
+        let material = &self.alpha_materials[alpha_triangle.material as usize];
+        let tri = &self.triangles[id];
+        let [a, b, c] = [tri.v0, tri.v1, tri.v2].map(|v| Vec3::from_array(v.into()));
+        let origin = Vec3::from_array(ray.origin.into());
+        let direction = Vec3::from_array(ray.direction.into());
+        let [u, v, w] = barycentrics(a, b, c, origin + direction * t);
+        let [ua, ub, uc] = alpha_triangle.uv;
+        Some((material, material.alpha(&self.alpha_images, ua * u + ub * v + uc * w)))
+    }
+}
+
+/// Barycentric weights of `p` (in the triangle's plane) for corners `a`, `b`, `c`.
+fn barycentrics(a: Vec3, b: Vec3, c: Vec3, p: Vec3) -> [f32; 3] {
+    let (e0, e1, e2) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (e0.dot(e0), e0.dot(e1), e1.dot(e1));
+    let (d20, d21) = (e2.dot(e0), e2.dot(e1));
+    let denominator = d00 * d11 - d01 * d01;
+    if denominator == 0.0 {
+        return [1.0, 0.0, 0.0];
+    }
+    let v = (d11 * d20 - d01 * d21) / denominator;
+    let w = (d00 * d21 - d01 * d20) / denominator;
+    [1.0 - v - w, v, w]
 }
 
 /// An obvhs ray, or `None` where obvhs's finiteness assumptions would not hold.
@@ -170,14 +295,25 @@ fn make_ray(origin: Vec3, direction: Vec3, max_t: f32) -> Option<Ray> {
     valid.then(|| Ray::new(origin.to_array().into(), direction.to_array().into(), 0.0, max_t))
 }
 
-/// The valid world-space triangles of one instance, as obvhs triangles, each with whether
-/// its material is alpha-blended.
-fn world_triangles<'a>(scene: &'a Scene, instance: &'a MeshInstance) -> impl Iterator<Item = (Triangle, bool)> + 'a {
+/// The valid world-space triangles of one instance, with its mask bits (less CASTER where
+/// the material casts no shadows) and, where the material tests alpha, its index and the
+/// corners' texture coordinates.
+fn world_triangles<'a>(
+    scene: &'a Scene,
+    index: u32,
+    instance: &'a MeshInstance,
+) -> impl Iterator<Item = Gathered> + 'a {
     let primitives = scene.meshes.get(instance.mesh).map(|mesh| mesh.primitives.as_slice()).unwrap_or_default();
     let world_from_local = instance.world_from_local;
+    let instance_bits = instance_mask(instance.cast_shadows);
     primitives.iter().flat_map(move |primitive| {
-        let blended =
-            primitive.material.and_then(|m| scene.materials.get(m)).is_some_and(|m| m.alpha_mode == AlphaMode::Blend);
+        let material = primitive.material.and_then(|m| scene.materials.get(m).map(|material| (m, material)));
+        let casts = material.is_none_or(|(_, m)| m.shadow_casting != ShadowCasting::Off);
+        let mask = if casts { instance_bits } else { instance_bits & !CASTER };
+        let alpha = material.filter(|(_, m)| AlphaMaterial::needed(m)).map(|(m, material)| {
+            let uvs = if AlphaMaterial::new(material).uv_set() == 1 { &primitive.uv1 } else { &primitive.uv0 };
+            (m as u32, uvs)
+        });
         primitive.indices.chunks_exact(3).filter_map(move |corners| {
             let mut world = [Vec3::ZERO; 3];
             for (w, &index) in world.iter_mut().zip(corners) {
@@ -186,7 +322,14 @@ fn world_triangles<'a>(scene: &'a Scene, instance: &'a MeshInstance) -> impl Ite
             let [a, b, c] = world;
             // Catches non-finite corners too: their cross product does not normalise.
             (b - a).cross(c - a).try_normalize()?;
-            Some((Triangle { v0: a.to_array().into(), v1: b.to_array().into(), v2: c.to_array().into() }, blended))
+            let alpha = alpha
+                .map(|(m, uvs)| (m, [0, 1, 2].map(|k| uvs.get(corners[k] as usize).copied().unwrap_or(Vec2::ZERO))));
+            Some(Gathered {
+                triangle: Triangle { v0: a.to_array().into(), v1: b.to_array().into(), v2: c.to_array().into() },
+                instance: index,
+                mask,
+                alpha,
+            })
         })
     })
 }
@@ -432,31 +575,115 @@ mod tests {
 }
 
 #[cfg(test)]
-mod blend_tests {
+mod alpha_tests {
     use super::*;
-    use chiaro_scene::{Material, Mesh, shapes};
+    use chiaro_scene::{ColorSpace, Image, Material, Mesh, SamplerDesc, TextureRef, shapes};
     use glam::Mat4;
 
-    #[test]
-    fn blended_surfaces_are_seen_but_cast_no_shadow() {
+    /// A 2 m plane at y = 0 (UVs 0..1 across it) with one material, seen from above.
+    fn plane_scene(material: Material, images: Vec<Image>) -> Scene {
         let mut plane = shapes::plane(2.0, 1);
         plane.material = Some(0);
-        let scene = Scene {
-            meshes: vec![Mesh { name: "glass".into(), primitives: vec![plane] }],
-            materials: vec![Material { alpha_mode: AlphaMode::Blend, ..Material::default() }],
+        Scene {
+            meshes: vec![Mesh { name: "plane".into(), primitives: vec![plane] }],
+            materials: vec![material],
+            images,
             instances: vec![MeshInstance {
                 mesh: 0,
                 node: 0,
-                name: "glass".into(),
+                name: "plane".into(),
                 world_from_local: Mat4::IDENTITY,
                 cast_shadows: CastShadows::On,
                 receive_shadows: true,
             }],
             ..Scene::default()
+        }
+    }
+
+    /// 2x2 alpha: opaque where x == y (nearest sampling).
+    fn checker_material(alpha_mode: AlphaMode, casting: ShadowCasting) -> (Material, Vec<Image>) {
+        let texel = |a: u8| [255u8, 255, 255, a];
+        let image = Image {
+            name: "checker".into(),
+            width: 2,
+            height: 2,
+            rgba8: [texel(255), texel(0), texel(0), texel(255)].concat(),
+            color_space: ColorSpace::Srgb,
         };
+        let material = Material {
+            alpha_mode,
+            shadow_casting: casting,
+            base_color_texture: Some(TextureRef {
+                image: 0,
+                sampler: SamplerDesc { mag_linear: false, ..SamplerDesc::default() },
+                tex_coord: 0,
+                transform: Default::default(),
+            }),
+            ..Material::default()
+        };
+        (material, vec![image])
+    }
+
+    /// Where (x, z) on the plane falls in the checker: the plane's UVs are (x + 1, z + 1),
+    /// so the 2x2 texture repeats every metre.
+    fn opaque_at(x: f32, z: f32) -> bool {
+        let (u, v) = ((x + 1.0).fract(), (z + 1.0).fract());
+        (u < 0.5) == (v < 0.5)
+    }
+
+    #[test]
+    fn clipped_casters_block_only_where_alpha_passes() {
+        let (material, images) = checker_material(AlphaMode::Mask, ShadowCasting::Clip);
+        let bvh = SceneBvh::build(&plane_scene(material, images));
+        let mut checked = 0;
+        for (x, z) in [(-0.75, -0.75), (-0.25, -0.75), (0.25, 0.25), (0.75, 0.25), (-0.8, 0.3), (0.2, 0.9)] {
+            let origin = Vec3::new(x, 1.0, z);
+            let blocked = bvh.occluded(origin, Vec3::NEG_Y, f32::INFINITY);
+            assert_eq!(blocked, opaque_at(x, z), "({x}, {z})");
+            // The camera sees the same holes.
+            assert_eq!(bvh.closest_hit(origin, Vec3::NEG_Y, f32::INFINITY).is_some(), opaque_at(x, z));
+            checked += 1;
+        }
+        assert_eq!(checked, 6);
+    }
+
+    #[test]
+    fn dithered_casters_let_one_minus_alpha_through_each_time() {
+        let material = Material {
+            alpha_mode: AlphaMode::Blend,
+            base_color: glam::Vec4::new(1.0, 1.0, 1.0, 0.3),
+            shadow_casting: ShadowCasting::Dither,
+            ..Material::default()
+        };
+        let mut scene = plane_scene(material, Vec::new());
+        // A second pane 0.5 m above the first.
+        let mut second = scene.instances[0].clone();
+        second.world_from_local = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0));
+        scene.instances.push(second);
         let bvh = SceneBvh::build(&scene);
+        let through = bvh.transmittance(Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y, f32::INFINITY);
+        assert!((through - 0.7 * 0.7).abs() < 1e-6, "{through}");
+        // Blended glass is still seen by the camera.
+        assert!(bvh.closest_hit(Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y, f32::INFINITY).is_some());
+        // Between the panes, one is crossed.
+        let through = bvh.transmittance(Vec3::new(0.1, 0.25, 0.2), Vec3::Y, f32::INFINITY);
+        assert!((through - 0.7).abs() < 1e-6, "{through}");
+    }
+
+    #[test]
+    fn materials_that_cast_off_are_seen_but_block_nothing() {
+        let material = Material { shadow_casting: ShadowCasting::Off, ..Material::default() };
+        let bvh = SceneBvh::build(&plane_scene(material, Vec::new()));
         let origin = Vec3::new(0.1, 1.0, 0.2);
         assert!(bvh.closest_hit(origin, Vec3::NEG_Y, f32::INFINITY).is_some());
-        assert!(!bvh.occluded(origin, Vec3::NEG_Y, f32::INFINITY));
+        assert_eq!(bvh.transmittance(origin, Vec3::NEG_Y, f32::INFINITY), 1.0);
+    }
+
+    #[test]
+    fn barycentrics_rebuild_the_point() {
+        let (a, b, c) = (Vec3::ZERO, Vec3::X, Vec3::new(0.0, 0.0, 2.0));
+        let p = a * 0.2 + b * 0.3 + c * 0.5;
+        let w = barycentrics(a, b, c, p);
+        assert!((w[0] - 0.2).abs() < 1e-6 && (w[1] - 0.3).abs() < 1e-6 && (w[2] - 0.5).abs() < 1e-6, "{w:?}");
     }
 }

@@ -5,6 +5,7 @@
 //! visibility (`trace_shadow_reference`), and per-light verdicts comparing a rendered
 //! shadow with it (`compare_light`, `difference_image`). Nothing here touches the GPU.
 
+pub mod alpha;
 pub mod bvh;
 pub mod compare;
 pub mod reference;

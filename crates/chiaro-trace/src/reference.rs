@@ -2,8 +2,9 @@
 //!
 //! A `Scene`, a `PixelCamera` and one range per light flow in; `ShadowReference` flows out:
 //! for every pixel the surface the camera sees (position, camera-facing geometric normal,
-//! whether it receives shadows) and, per light, whether a shadow ray from that surface
-//! reaches the light. `compare` judges a rendered shadow against it.
+//! whether it receives shadows) and, per light, how much of it a shadow ray from that
+//! surface carries (through alpha-tested holes, dimmed by dithered casters). `compare`
+//! judges a rendered shadow against it.
 
 use crate::bvh::SceneBvh;
 use chiaro_scene::{Light, LightKind, Scene};
@@ -62,7 +63,8 @@ pub struct ShadowReference {
     /// The seen instance's `receive_shadows`; false for sky.
     pub receives: Vec<bool>,
     /// `visibility[light][pixel]`: 1 where a shadow ray reaches `scene.lights[light]`
-    /// unoccluded, 0 where a caster blocks it, NaN for sky. Computed for every surface,
+    /// unoccluded, 0 where a caster blocks it, `1 - alpha` products through dithered
+    /// casters, NaN for sky. Computed for every surface,
     /// whether or not it receives shadows, faces the light, or lies in its range or cone.
     pub visibility: Vec<Vec<f32>>,
     /// The range each light was traced with (`ranges` as given, the light's own or
@@ -159,7 +161,8 @@ fn trace_row(scene: &Scene, bvh: &SceneBvh, world_from_clip: &Mat4, camera: &Pix
     row
 }
 
-/// 1 if a shadow ray from just off the surface reaches `light`, 0 if a caster blocks it.
+/// How much of `light` a shadow ray from just off the surface carries: 1 unoccluded, 0
+/// behind a caster, between for dithered (transparent) casters.
 fn visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3) -> f32 {
     let offset = SHADOW_RAY_OFFSET_SCALE * position.abs().max_element().max(1.0);
     let origin = position + facing_normal * offset;
@@ -172,7 +175,7 @@ fn visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3
         }
     };
     // A ray the BVH rejects (the light at the origin, a zero direction) is not occluded.
-    if bvh.occluded(origin, direction, max_t) { 0.0 } else { 1.0 }
+    bvh.transmittance(origin, direction, max_t)
 }
 
 #[cfg(test)]
