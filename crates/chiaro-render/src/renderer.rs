@@ -66,7 +66,7 @@ impl Renderer {
             })
         };
         let passes: Vec<Box<dyn FramePass>> = vec![
-            Box::new(ShadowPass::new(&ctx)),
+            Box::new(ShadowPass::new(&ctx, &material_layout)),
             Box::new(ForwardPass::new(device, scene_layout(), ctx.depth_format)),
             Box::new(AovPass::new(device, scene_layout(), ctx.depth_format)),
             Box::new(TonemapPass::new(device)),

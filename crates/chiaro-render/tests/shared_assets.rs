@@ -1,5 +1,6 @@
 //! Every scene in ../shared/assets loads and renders on the GPU: finite radiance, its
-//! lights reach some of what the camera sees, and the AOVs cover the same pixels.
+//! lights (unshadowed) reach some of what the camera sees, and the AOVs cover the same
+//! pixels.
 
 mod common;
 
@@ -33,7 +34,13 @@ fn every_shared_scene_renders() {
     let mut renderer = renderer();
     let settings = unlit_settings();
     for path in asset_scenes() {
-        let scene = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+        let mut scene = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+        // This checks that lights reach surfaces; shadows have tests of their own. (In
+        // ShadowsSpot an opaque BLEND cone encloses the spot and, dithered at alpha 1,
+        // shadows everything, as the reference agrees.)
+        for light in &mut scene.lights {
+            light.shadow.mode = chiaro_scene::ShadowMode::None;
+        }
         let view = if scene.cameras.is_empty() {
             View::framing(&scene, 45f32.to_radians(), 128, 128)
         } else {

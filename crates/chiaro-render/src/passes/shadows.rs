@@ -1,6 +1,7 @@
 //! The shadow pass: casters drawn into their tiles of both atlases, depth only, from the
-//! tiles and caster lists the plan made. Pipelines vary by slope bias, cull mode, winding
-//! and depth clamping, since those are pipeline state in wgpu.
+//! tiles and caster lists the plan made. Pipelines vary by slope bias, cull mode, winding,
+//! depth clamping and how the material casts (solid, alpha-tested or dithered: the last
+//! two sample the material's base colour alpha), since those are pipeline state in wgpu.
 
 use crate::context::GpuContext;
 use crate::gpu::{GpuCasterView, GpuVertex};
@@ -9,7 +10,7 @@ use crate::plan::shadows::{CasterTile, ShadowAtlas};
 use crate::plan::{FramePlan, PassId};
 use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES};
 use crate::shaders;
-use chiaro_scene::CastShadows;
+use chiaro_scene::{CastShadows, ShadowCasting};
 use std::collections::HashMap;
 
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -23,11 +24,15 @@ struct CasterKey {
     /// Clamp depth (directional cascades); perspective tiles must not flatten casters
     /// behind the light.
     clamp_depth: bool,
+    /// On (no fragment stage), Clip or Dither.
+    casting: ShadowCasting,
 }
 
 pub struct ShadowPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
+    /// With the material as group 1, for casters that test their alpha.
+    alpha_pipeline_layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
     pipelines: HashMap<CasterKey, wgpu::RenderPipeline>,
     /// One `GpuCasterView` per tile of the frame, at multiples of `stride`.
@@ -44,11 +49,12 @@ fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
         cull_back: draw.cast_shadows != CastShadows::TwoSided && !draw.double_sided,
         front_cw: draw.mirrored,
         clamp_depth: tile.atlas == ShadowAtlas::Directional,
+        casting: draw.shadow_casting,
     }
 }
 
 impl ShadowPass {
-    pub fn new(ctx: &GpuContext) -> ShadowPass {
+    pub fn new(ctx: &GpuContext, material_layout: &wgpu::BindGroupLayout) -> ShadowPass {
         let device = &ctx.device;
         let alignment = device.limits().min_uniform_buffer_offset_alignment as u64;
         let stride = (size_of::<GpuCasterView>() as u64).div_ceil(alignment) * alignment;
@@ -82,6 +88,11 @@ impl ShadowPass {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
+        let alpha_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("alpha caster pipeline layout"),
+            bind_group_layouts: &[Some(&layout), Some(material_layout)],
+            immediate_size: 0,
+        });
         ShadowPass {
             module: shaders::module(device, "shadow caster", shaders::SHADOW_CASTER),
             views: device.create_buffer(&wgpu::BufferDescriptor {
@@ -95,17 +106,23 @@ impl ShadowPass {
             unclipped_depth: device.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             layout,
             pipeline_layout,
+            alpha_pipeline_layout,
             pipelines: HashMap::new(),
         }
     }
 
     fn create(&self, device: &wgpu::Device, key: CasterKey) -> wgpu::RenderPipeline {
+        let (layout, vertex_entry, fragment_entry) = match key.casting {
+            ShadowCasting::Clip => (&self.alpha_pipeline_layout, "vs_caster_alpha", Some("fs_caster_clip")),
+            ShadowCasting::Dither => (&self.alpha_pipeline_layout, "vs_caster_alpha", Some("fs_caster_dither")),
+            _ => (&self.pipeline_layout, "vs_caster", None),
+        };
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("caster pipeline {key:?}")),
-            layout: Some(&self.pipeline_layout),
+            layout: Some(layout),
             vertex: wgpu::VertexState {
                 module: &self.module,
-                entry_point: Some("vs_caster"),
+                entry_point: Some(vertex_entry),
                 compilation_options: Default::default(),
                 buffers: &[Some(GpuVertex::layout())],
             },
@@ -127,7 +144,12 @@ impl ShadowPass {
                 },
             }),
             multisample: Default::default(),
-            fragment: None,
+            fragment: fragment_entry.map(|entry| wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                targets: &[],
+            }),
             multiview_mask: None,
             cache: None,
         })
@@ -222,12 +244,18 @@ impl FramePass for ShadowPass {
                 pass.set_scissor_rect(x, y, size, size);
                 pass.set_bind_group(0, bind_group, &[(i as u64 * self.stride) as u32]);
                 let mut bound = None;
+                let mut bound_material = usize::MAX;
                 for &d in &tile.casters {
                     let draw = &cx.scene.draws[d as usize];
                     let key = caster_key(tile, draw);
                     if bound != Some(key) {
                         pass.set_pipeline(&self.pipelines[&key]);
                         bound = Some(key);
+                    }
+                    // Alpha-tested and dithered casters read their material.
+                    if key.casting != ShadowCasting::On && bound_material != draw.material {
+                        pass.set_bind_group(1, &cx.scene.materials[draw.material], &[]);
+                        bound_material = draw.material;
                     }
                     pass.draw_indexed(
                         draw.first_index..draw.first_index + draw.index_count,

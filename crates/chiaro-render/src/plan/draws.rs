@@ -4,7 +4,7 @@
 //! draws by their index in `scene_draws`.
 
 use chiaro_math::Aabb;
-use chiaro_scene::{AlphaMode, CastShadows, Scene};
+use chiaro_scene::{AlphaMode, CastShadows, Scene, ShadowCasting};
 use glam::Vec3;
 
 /// Where one primitive's indices and vertices start in the shared buffers.
@@ -64,6 +64,8 @@ pub struct Draw {
     /// World-space bounds, for culling casters per shadow tile.
     pub bounds_ws: Aabb,
     pub cast_shadows: CastShadows,
+    /// How its material casts: solid, alpha-tested, dithered or not at all.
+    pub shadow_casting: ShadowCasting,
 }
 
 impl Draw {
@@ -72,9 +74,9 @@ impl Draw {
         self.cast_shadows != CastShadows::ShadowsOnly
     }
 
-    /// Alpha-blended surfaces cast no shadows (the reference skips them too).
+    /// The instance and its material both cast (the reference treats them alike).
     pub fn casts_shadows(&self) -> bool {
-        self.cast_shadows != CastShadows::Off && self.alpha_mode != AlphaMode::Blend
+        self.cast_shadows != CastShadows::Off && self.shadow_casting != ShadowCasting::Off
     }
 }
 
@@ -101,6 +103,7 @@ pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
                 center_ws: inst.world_from_local.transform_point3(p.bounds.center()),
                 bounds_ws: p.bounds.transformed(&inst.world_from_local),
                 cast_shadows: inst.cast_shadows,
+                shadow_casting: m.shadow_casting,
             });
         }
     }
