@@ -104,6 +104,12 @@ fn assert_checker_shadow(label: &str, light: Light, under: impl Fn(Vec3) -> bool
     );
     // A checkerboard, not a solid rectangle: about half of the footprint is lit.
     let (lit, shadowed) = checker_counts(&result, under);
+    println!(
+        "{label}: {:.3}% of {} compared pixels disagree; {shadowed} of {} pixels under the quad shadowed",
+        100.0 * c.disagreement(),
+        c.compared,
+        lit + shadowed
+    );
     let share = shadowed as f32 / (lit + shadowed) as f32;
     assert!((0.3..0.7).contains(&share), "{label}: {shadowed} shadowed of {} under the quad", lit + shadowed);
 }
