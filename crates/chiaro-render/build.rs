@@ -20,6 +20,10 @@ fn main() {
         ("package::shadow_aov", "shadow_aov"),
         ("package::tonemap", "tonemap"),
         ("package::shadow_caster", "shadow_caster"),
+        ("package::gbuffer", "gbuffer"),
+        ("package::deferred_light", "deferred_light"),
+        ("package::debug_view", "debug_view"),
+        ("package::ldr_decode", "ldr_decode"),
     ] {
         compiler.build_artifact(&root.parse().expect("module path"), artifact);
     }

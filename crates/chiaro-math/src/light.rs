@@ -11,8 +11,10 @@ use glam::Vec3;
 
 /// Most directional lights shaded per frame.
 pub const MAX_DIRECTIONAL_LIGHTS: usize = 4;
-/// Most point and spot lights shaded per frame.
+/// Most point and spot lights the forward path shades per frame.
 pub const MAX_OTHER_LIGHTS: usize = 64;
+/// Most point and spot lights the deferred path shades per frame, one volume each.
+pub const MAX_DEFERRED_OTHER_LIGHTS: usize = 4096;
 
 /// Brightest light Chiaro shades, candela (point, spot) or lux (directional): ten billion
 /// suns. Brighter lights make radiance overflow `f32` before any exposure applies.

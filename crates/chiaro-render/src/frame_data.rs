@@ -1,11 +1,13 @@
 //! Group 0 of every scene pass: the frame uniform, the light buffer and its light lists,
-//! the objects, the shadow uniform and the two atlases with their comparison sampler.
+//! the objects, the shadow uniform, the two atlases with their comparison sampler, and
+//! the cookie arrays with their samplers.
 //! A frame plan flows in and is uploaded; a bind group over this frame's buffers and
 //! atlases flows out.
 
 use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuShadows};
 use crate::graph::{Resource, Targets};
 use crate::plan::FramePlan;
+use crate::scene::GpuScene;
 use crate::shader_constants::MAX_FRAME_LIGHTS;
 use chiaro_scene::{Scene, Settings};
 
@@ -17,6 +19,9 @@ pub struct FrameData {
     light_list: wgpu::Buffer,
     shadows: wgpu::Buffer,
     shadow_sampler: wgpu::Sampler,
+    /// Directional cookies tile; spot cookies stop at the cone's edge.
+    cookie_repeat: wgpu::Sampler,
+    cookie_clamp: wgpu::Sampler,
 }
 
 fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
@@ -32,6 +37,28 @@ const DEPTH_TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
     view_dimension: wgpu::TextureViewDimension::D2,
     multisampled: false,
 };
+
+fn cookie_texture(view_dimension: wgpu::TextureViewDimension) -> wgpu::BindingType {
+    wgpu::BindingType::Texture {
+        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+        view_dimension,
+        multisampled: false,
+    }
+}
+
+/// Trilinear: the mip comes from the explicit gradients the shaders pass.
+fn cookie_sampler(device: &wgpu::Device, address_mode: wgpu::AddressMode) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("cookie sampler"),
+        address_mode_u: address_mode,
+        address_mode_v: address_mode,
+        address_mode_w: address_mode,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
+        ..Default::default()
+    })
+}
 
 impl FrameData {
     pub fn new(device: &wgpu::Device) -> FrameData {
@@ -49,6 +76,10 @@ impl FrameData {
                 entry(5, S::FRAGMENT, DEPTH_TEXTURE),
                 entry(6, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
                 entry(7, S::FRAGMENT, DEPTH_TEXTURE),
+                entry(8, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
+                entry(9, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::CubeArray)),
+                entry(10, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
+                entry(11, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
             ],
         });
         let uniform_buffer = |label, size| {
@@ -75,6 +106,8 @@ impl FrameData {
                 compare: Some(wgpu::CompareFunction::LessEqual),
                 ..Default::default()
             }),
+            cookie_repeat: cookie_sampler(device, wgpu::AddressMode::Repeat),
+            cookie_clamp: cookie_sampler(device, wgpu::AddressMode::ClampToEdge),
         }
     }
 
@@ -91,7 +124,7 @@ impl FrameData {
         queue.write_buffer(&self.shadows, 0, bytemuck::bytes_of(&plan.shadows.gpu));
     }
 
-    pub fn bind_group(&self, device: &wgpu::Device, objects: &wgpu::Buffer, targets: &Targets) -> wgpu::BindGroup {
+    pub fn bind_group(&self, device: &wgpu::Device, scene: &GpuScene, targets: &Targets) -> wgpu::BindGroup {
         let view = |r| wgpu::BindingResource::TextureView(targets.view(r));
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame bind group"),
@@ -100,11 +133,15 @@ impl FrameData {
                 wgpu::BindGroupEntry { binding: 0, resource: self.frame.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: self.lights.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 2, resource: self.light_list.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: objects.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: scene.objects.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 4, resource: self.shadows.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 5, resource: view(Resource::DirectionalShadowAtlas) },
                 wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
                 wgpu::BindGroupEntry { binding: 7, resource: view(Resource::OtherShadowAtlas) },
+                wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&scene.cookies.flat) },
+                wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&scene.cookies.cube) },
+                wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::Sampler(&self.cookie_repeat) },
+                wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::Sampler(&self.cookie_clamp) },
             ],
         })
     }

@@ -25,6 +25,6 @@ pub mod view;
 pub use context::GpuContext;
 pub use error::RenderError;
 pub use output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, ShadowStatus};
-pub use plan::FramePlan;
+pub use plan::{DebugView, FramePlan};
 pub use renderer::{PreparedScene, Renderer};
 pub use view::View;

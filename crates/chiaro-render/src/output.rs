@@ -1,9 +1,9 @@
 //! What a caller asks of a frame and what it gets back: the images read back, the AOVs,
 //! each light's shadow status, and the frame's timings.
 
-use crate::plan::FramePlan;
 use crate::plan::lights::LightId;
 use crate::plan::shadows::ShadowSlot;
+use crate::plan::{DebugView, FramePlan};
 use chiaro_scene::Scene;
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -19,6 +19,8 @@ pub struct FrameOptions {
     pub debug_cascades: bool,
     /// Copy the shadow atlases back to the CPU.
     pub read_shadow_atlas: bool,
+    /// Show a view of the deferred path's inner workings instead of the image.
+    pub debug_view: Option<DebugView>,
 }
 
 impl FrameOptions {
@@ -104,7 +106,7 @@ pub struct FrameOutput {
 impl FrameOutput {
     /// Point and spot lights shaded.
     pub fn other_lights_shaded(&self) -> usize {
-        self.plan.other_light_count()
+        self.plan.shaded_other_lights()
     }
 
     /// Visible point and spot lights left out by `max_other_lights`.

@@ -10,7 +10,13 @@ use crate::graph::{
 };
 use crate::output::{Aovs, AtlasImage, FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, f16_to_f32};
 use crate::passes::aov::{AOV_FORMAT, AovPass};
+use crate::passes::debug_view::DebugViewPass;
+use crate::passes::deferred_lights::DeferredLightsPass;
 use crate::passes::forward::{ForwardPass, HDR_FORMAT};
+use crate::passes::gbuffer::{
+    GBUFFER_ALBEDO_METALLIC_FORMAT, GBUFFER_PACKED_FORMAT, GBufferPass, LIGHT_BUFFER_LDR_FORMAT,
+};
+use crate::passes::ldr_decode::LdrDecodePass;
 use crate::passes::shadow_aov::{SHADOW_AOV_FORMAT, ShadowAovPass};
 use crate::passes::shadows::{SHADOW_FORMAT, ShadowPass};
 use crate::passes::tonemap::TonemapPass;
@@ -70,6 +76,10 @@ impl Renderer {
             Box::new(ForwardPass::new(device, scene_layout(), ctx.depth_format)),
             Box::new(AovPass::new(device, scene_layout(), ctx.depth_format)),
             Box::new(TonemapPass::new(device)),
+            Box::new(GBufferPass::new(device, &scene_layout(), ctx.depth_format)),
+            Box::new(DeferredLightsPass::new(device, &frame_data.layout, ctx.depth_format)),
+            Box::new(LdrDecodePass::new(device)),
+            Box::new(DebugViewPass::new(device)),
         ];
         let shadow_aov = ShadowAovPass::new(device, &frame_data.layout, &material_layout, ctx.depth_format);
         let timer = ctx.has_timestamps.then(|| GpuTimer::new(device, &ctx.queue));
@@ -106,7 +116,8 @@ impl Renderer {
         settings: &Settings,
         options: FrameOptions,
     ) -> FramePlan {
-        let request = PlanRequest { aovs: options.aovs, debug_cascades: options.debug_cascades };
+        let request =
+            PlanRequest { aovs: options.aovs, debug_cascades: options.debug_cascades, debug_view: options.debug_view };
         FramePlan::new(scene, &prepared.gpu.draws, view, settings, &mut self.atlas_tiles, request)
     }
 
@@ -200,6 +211,9 @@ impl Renderer {
             let (format, usage) = match resource {
                 Resource::Depth => (self.ctx.depth_format, wgpu::TextureUsages::RENDER_ATTACHMENT),
                 Resource::Hdr => (HDR_FORMAT, attach | sampled),
+                Resource::GBufferAlbedoMetallic => (GBUFFER_ALBEDO_METALLIC_FORMAT, attach | sampled),
+                Resource::GBufferPacked => (GBUFFER_PACKED_FORMAT, attach | sampled),
+                Resource::LightBufferLdr => (LIGHT_BUFFER_LDR_FORMAT, attach | sampled),
                 Resource::AovPosition | Resource::AovNormalDepth => (AOV_FORMAT, attach),
                 Resource::AovShadow => (SHADOW_AOV_FORMAT, attach),
                 Resource::Output if !external_output => (OUTPUT_FORMAT, attach),
@@ -247,8 +261,8 @@ impl Renderer {
 
         let (device, queue) = (&self.ctx.device, &self.ctx.queue);
         self.frame_data.upload(queue, &plan, scene, settings);
-        let frame_bind_group = self.frame_data.bind_group(device, &prepared.gpu.objects, &self.targets);
-        let prepare = PrepareContext { device, queue, plan: &plan, scene: &prepared.gpu, output_format };
+        let frame_bind_group = self.frame_data.bind_group(device, &prepared.gpu, &self.targets);
+        let prepare = PrepareContext { device, queue, plan: &plan, scene: &prepared.gpu, source: scene, output_format };
         for &id in &plan.passes {
             Self::pass_mut(&mut self.passes, id).prepare(&prepare);
         }

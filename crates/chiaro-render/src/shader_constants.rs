@@ -54,6 +54,9 @@ pub const DEBUG_VIEW_CASCADES: u32 = 1;
 /// that cannot leave depth unclipped.
 pub const CASTER_CLAMP_DEPTH: u32 = 1;
 
+/// `GpuLight::cookie_layer` of a light without a cookie.
+pub const NO_COOKIE: u32 = u32::MAX;
+
 /// `GpuAovLight::list_index` of a light the frame does not shade.
 pub const NO_LIGHT: u32 = u32::MAX;
 
@@ -85,6 +88,7 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("DEBUG_VIEW_CASCADES", DEBUG_VIEW_CASCADES),
     ("CASTER_CLAMP_DEPTH", CASTER_CLAMP_DEPTH),
     ("NO_LIGHT", NO_LIGHT),
+    ("NO_COOKIE", NO_COOKIE),
 ];
 
 /// Every `f32` constant the shaders share with chiaro_math.

@@ -113,6 +113,7 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
         range: None,
         world_from_light: looking_along(Vec3::ZERO, sun_direction),
         shadow: LightShadow::default(),
+        cookie: None,
     });
     for i in 0..other_lights {
         // A golden-angle spiral keeps any count evenly spread.
@@ -149,6 +150,7 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
             } else {
                 LightShadow { mode: ShadowMode::None, ..LightShadow::default() }
             },
+            cookie: None,
         });
     }
 

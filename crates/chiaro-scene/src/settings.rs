@@ -36,6 +36,33 @@ pub struct RenderSettings {
     pub ambient: [f32; 3],
     /// Linear RGB radiance behind the scene.
     pub background: [f32; 3],
+    /// "forward" (every light in one pass per draw) or "deferred" (a G-buffer, then one
+    /// light volume per light). Forward is the default: on the software device it is
+    /// faster on the benchmark scene (see the README).
+    pub path: RenderPath,
+    /// The deferred path's light accumulation: "hdr" (half floats, the default) or
+    /// "ldr-exp2" (the seeds' legacy 8-bit buffer storing exp2(-light)), which bands dark
+    /// tones and clips bright ones.
+    pub light_buffer: LightBuffer,
+}
+
+/// How a frame is shaded.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, Hash)]
+#[serde(rename_all = "lowercase")]
+pub enum RenderPath {
+    #[default]
+    Forward,
+    Deferred,
+}
+
+/// Where the deferred path accumulates light.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, Hash)]
+pub enum LightBuffer {
+    #[default]
+    #[serde(rename = "hdr")]
+    Hdr,
+    #[serde(rename = "ldr-exp2")]
+    LdrExp2,
 }
 
 impl Default for RenderSettings {
@@ -46,6 +73,8 @@ impl Default for RenderSettings {
             exposure_ev100: 0.0,
             ambient: [0.02, 0.02, 0.025],
             background: [0.0, 0.0, 0.0],
+            path: RenderPath::Forward,
+            light_buffer: LightBuffer::Hdr,
         }
     }
 }
@@ -53,9 +82,11 @@ impl Default for RenderSettings {
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct LightSettings {
-    /// Most point and spot lights shaded per frame (1 to 64). The most important visible
-    /// ones are kept; a lower cap is faster but drops distant lights.
-    pub max_other_lights: u32,
+    /// Most point and spot lights shaded per frame: 1 to 64 on the forward path, to 4096
+    /// on the deferred path (where transparent surfaces see the 64 most important); unset,
+    /// the path's most. The most important visible ones are kept; a lower cap is faster
+    /// but drops distant lights.
+    pub max_other_lights: Option<u32>,
     /// Illuminance (lux, 1e-6 to 1e6) at which a light with no range in its file is cut
     /// off: `range = sqrt(intensity / threshold)`. Too high cuts lights off visibly early;
     /// too low gives huge volumes that touch everything and cost shading time.
@@ -64,7 +95,7 @@ pub struct LightSettings {
 
 impl Default for LightSettings {
     fn default() -> Self {
-        LightSettings { max_other_lights: chiaro_math::light::MAX_OTHER_LIGHTS as u32, range_threshold_lux: 0.01 }
+        LightSettings { max_other_lights: None, range_threshold_lux: 0.01 }
     }
 }
 
@@ -236,6 +267,20 @@ impl Settings {
         Ok(settings)
     }
 
+    /// The most point and spot lights the render path can shade in a frame.
+    pub fn most_other_lights(&self) -> u32 {
+        (match self.render.path {
+            RenderPath::Forward => chiaro_math::light::MAX_OTHER_LIGHTS,
+            RenderPath::Deferred => chiaro_math::light::MAX_DEFERRED_OTHER_LIGHTS,
+        }) as u32
+    }
+
+    /// Point and spot lights shaded per frame: `lights.max_other_lights`, or the path's
+    /// most.
+    pub fn max_other_lights(&self) -> u32 {
+        self.lights.max_other_lights.unwrap_or_else(|| self.most_other_lights())
+    }
+
     /// Checks every range; the message starts with the dotted key.
     pub fn validate(&self) -> Result<(), String> {
         let r = &self.render;
@@ -248,12 +293,9 @@ impl Settings {
             }
         }
         let l = &self.lights;
-        check_range(
-            "lights.max_other_lights",
-            l.max_other_lights as f32,
-            1.0,
-            chiaro_math::light::MAX_OTHER_LIGHTS as f32,
-        )?;
+        if let Some(most) = l.max_other_lights {
+            check_range("lights.max_other_lights", most as f32, 1.0, self.most_other_lights() as f32)?;
+        }
         check_range("lights.range_threshold_lux", l.range_threshold_lux, MIN_RANGE_THRESHOLD_LUX, 1.0e6)?;
         check_range("camera.auto_yfov_deg", self.camera.auto_yfov_deg, 1.0, 179.0)?;
         let sh = &self.shadows;

@@ -272,6 +272,17 @@ impl LightShadow {
     }
 }
 
+/// A light cookie (light `extras.cookie`): an image, read as linear values, that
+/// multiplies the light's colour channel by channel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cookie {
+    /// Index into `Scene::images`.
+    pub image: usize,
+    /// Directional cookies: metres one repeat of the image spans along the light's local
+    /// X and Y (unused by spot and point cookies).
+    pub size_m: Vec2,
+}
+
 /// A KHR_lights_punctual light placed in the world.
 #[derive(Clone, Debug)]
 pub struct Light {
@@ -289,6 +300,7 @@ pub struct Light {
     /// roll (which orients cookies and shadow tiles), the translation its position.
     pub world_from_light: Mat4,
     pub shadow: LightShadow,
+    pub cookie: Option<Cookie>,
 }
 
 impl Light {
@@ -305,6 +317,7 @@ impl Light {
             range: None,
             world_from_light: looking_along(position, direction),
             shadow: LightShadow::default(),
+            cookie: None,
         }
     }
 

@@ -2,6 +2,7 @@
 //! and by GPU timestamp queries where the device has them, with the CPU time spent
 //! preparing each frame.
 
+use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::Result;
@@ -32,6 +33,8 @@ pub struct BenchArgs {
     pub demo: DemoArgs,
     #[command(flatten)]
     pub shadow: ShadowArgs,
+    #[command(flatten)]
+    pub path: PathArgs,
 }
 
 struct Stats {
@@ -50,6 +53,7 @@ fn stats(mut v: Vec<f64>) -> Stats {
 pub fn run(args: BenchArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
+    args.path.apply(&mut settings)?;
     let scene = load_scene(args.scene.as_deref(), &args.demo)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
@@ -78,7 +82,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         .as_ref()
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| format!("demo ({} other lights)", args.demo.demo_lights));
-    println!("scene: {name}");
+    println!("scene: {name}; {:?} path", settings.render.path);
     println!(
         "device: {} ({:?}, {:?}); {}x{}; {} frames after {} warm-up; {} triangles; {} point/spot lights shaded",
         info.name,

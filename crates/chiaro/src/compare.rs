@@ -2,6 +2,7 @@
 //! share of compared pixels where they disagree, split into false and missed shadow.
 
 use crate::output::{Encoded, Inputs, check_outputs, sibling_path, write_group};
+use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::{Result, bail};
@@ -34,6 +35,8 @@ pub struct CompareArgs {
     pub fail_above: Option<f64>,
     #[command(flatten)]
     pub shadow: ShadowArgs,
+    #[command(flatten)]
+    pub path: PathArgs,
 }
 
 /// A percentage from 0 to 100 (NaN and infinities are not).
@@ -45,6 +48,7 @@ fn percentage(text: &str) -> Result<f64, String> {
 pub fn run(args: CompareArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
+    args.path.apply(&mut settings)?;
     let scene = load_scene(args.scene.as_deref(), &args.demo)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let diff_path = |node: usize| args.diff.as_ref().map(|diff| sibling_path(diff, &format!("{node}.png")));

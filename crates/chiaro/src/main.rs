@@ -5,6 +5,7 @@ mod bench;
 mod compare;
 mod info;
 mod output;
+mod path_arg;
 mod render;
 mod scene_source;
 mod shadow_args;

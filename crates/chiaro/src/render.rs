@@ -1,10 +1,13 @@
 //! `chiaro render`: one frame to an image, with optional AOVs beside it.
 
 use crate::output::{Encoded, Inputs, OutputFormat, aov_path, check_outputs, output_format, sibling_path, write_group};
+use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::Result;
-use chiaro_render::{FrameOptions, GpuContext, Renderer};
+use anyhow::bail;
+use chiaro_render::{DebugView, FrameOptions, GpuContext, Renderer};
+use chiaro_scene::RenderPath;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -27,6 +30,34 @@ pub enum Debug {
     /// Also write the shadow atlases as `<stem>.shadow-atlas.png` (directional) and
     /// `<stem>.other-shadow-atlas.png` (point and spot).
     ShadowAtlas,
+    /// The deferred path's G-buffer base colour, instead of the image.
+    GbufferAlbedo,
+    /// The deferred path's G-buffer shading normal as n * 0.5 + 0.5, instead of the image.
+    GbufferNormal,
+    /// How many light volumes shaded each pixel, as a heat map (blue 1, green 2, yellow
+    /// 4, red 8 or more), instead of the image.
+    LightOverdraw,
+}
+
+/// The deferred debug view asked for, if any (at most one).
+fn debug_view(debug: &[Debug]) -> Result<Option<DebugView>> {
+    let views: Vec<DebugView> = debug
+        .iter()
+        .filter_map(|d| match d {
+            Debug::GbufferAlbedo => Some(DebugView::GbufferAlbedo),
+            Debug::GbufferNormal => Some(DebugView::GbufferNormal),
+            Debug::LightOverdraw => Some(DebugView::LightOverdraw),
+            Debug::Cascades | Debug::ShadowAtlas => None,
+        })
+        .collect();
+    match views[..] {
+        [] => Ok(None),
+        [view] if !debug.contains(&Debug::Cascades) => Ok(Some(view)),
+        _ => bail!(
+            "--debug: gbuffer-albedo, gbuffer-normal, light-overdraw and cascades each replace the image; \
+             choose one"
+        ),
+    }
 }
 
 #[derive(Args)]
@@ -61,6 +92,8 @@ pub struct RenderArgs {
     pub debug: Vec<Debug>,
     #[command(flatten)]
     pub shadow: ShadowArgs,
+    #[command(flatten)]
+    pub path: PathArgs,
 }
 
 /// Every file the render will write, known before it runs.
@@ -90,6 +123,13 @@ pub fn run(args: RenderArgs) -> Result<()> {
         settings.validate().map_err(|e| anyhow::anyhow!("--exposure: {e}"))?;
     }
     args.shadow.apply(&mut settings)?;
+    args.path.apply(&mut settings)?;
+    let debug_view = debug_view(&args.debug)?;
+    if args.debug.contains(&Debug::Cascades) && settings.render.path == RenderPath::Deferred {
+        tracing::info!("--debug cascades tints the forward path's image: rendering forward");
+        settings.render.path = RenderPath::Forward;
+        settings.lights.max_other_lights = None;
+    }
     let width = args.width.unwrap_or(settings.render.width);
     let height = args.height.unwrap_or(settings.render.height);
     let scene = load_scene(args.scene.as_deref(), &args.demo)?;
@@ -104,6 +144,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         readback: true,
         debug_cascades: args.debug.contains(&Debug::Cascades),
         read_shadow_atlas: args.debug.contains(&Debug::ShadowAtlas),
+        debug_view,
     };
     let frame = renderer.render(&scene, &prepared, &view, &settings, options)?;
     warn_if_clipped(&frame.hdr, settings.render.exposure_ev100);

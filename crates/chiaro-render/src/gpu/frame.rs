@@ -9,6 +9,9 @@ use glam::{Mat4, Vec3};
 pub struct GpuFrame {
     pub clip_from_world: Mat4,
     pub view_from_world: Mat4,
+    /// For rebuilding positions from the G-buffer's view depth.
+    pub world_from_view: Mat4,
+    pub view_from_clip: Mat4,
     pub camera_position_ws: Vec3,
     /// Linear scale applied to radiance before it is stored (pre-exposure).
     pub exposure_scale: f32,
@@ -20,7 +23,10 @@ pub struct GpuFrame {
     pub directional_light_count: u32,
     pub shadowed_other_light_count: u32,
     pub other_light_count: u32,
-    pub _pad: u32,
+    /// The output size in pixels.
+    pub width: u32,
+    pub height: u32,
+    pub _pad: [u32; 3],
 }
 
 #[repr(C)]

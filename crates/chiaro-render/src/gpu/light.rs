@@ -2,7 +2,7 @@
 //! (`shaders/lighting/light.wesl`), and the light the shadow AOV pass reports.
 
 use bytemuck::{Pod, Zeroable};
-use glam::Vec3;
+use glam::{Mat4, Vec2, Vec3};
 
 /// Directional, point or spot light, as the shading reads it.
 #[repr(C)]
@@ -29,7 +29,25 @@ pub struct GpuLight {
     pub shadow_first_tile: u32,
     /// `SHADOW_FILTER_*`.
     pub shadow_filter: u32,
-    pub _pad: [u32; 3],
+    /// Its cookie's layer (2D array for directional and spot lights, cube array for
+    /// points), or `NO_COOKIE`.
+    pub cookie_layer: u32,
+    /// Directional: (1 / width, 1 / height), metres; spot: (1 / tan(outer), 0).
+    pub cookie_scale: Vec2,
+    /// The light's local +X and +Y, which orient its cookie.
+    pub axis_x_ws: Vec3,
+    pub _pad0: f32,
+    pub axis_y_ws: Vec3,
+    pub _pad1: f32,
+}
+
+/// One light volume of the deferred path, at a dynamic offset.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuVolumeLight {
+    /// The volume mesh (unit sphere or pyramid) to world space.
+    pub world_from_volume: Mat4,
+    pub light: GpuLight,
 }
 
 /// One entry of the frame's light lists: an index into the light buffer.

@@ -10,7 +10,7 @@ mod shadow;
 mod vertex;
 
 pub use frame::{GpuFrame, GpuObject};
-pub use light::{GpuAovLight, GpuLight, GpuLightListEntry};
+pub use light::{GpuAovLight, GpuLight, GpuLightListEntry, GpuVolumeLight};
 pub use material::{GpuMaterial, GpuTextureTransform};
 pub use shadow::{GpuAtlas, GpuCascade, GpuCasterView, GpuShadowFade, GpuShadowTile, GpuShadows};
 pub use vertex::GpuVertex;
@@ -39,14 +39,15 @@ macro_rules! layouts {
 
 layouts! {
     GpuFrame {
-        clip_from_world, view_from_world, camera_position_ws, exposure_scale, ambient, debug_view,
-        directional_light_count, shadowed_other_light_count, other_light_count,
+        clip_from_world, view_from_world, world_from_view, view_from_clip, camera_position_ws, exposure_scale,
+        ambient, debug_view, directional_light_count, shadowed_other_light_count, other_light_count, width, height,
     }
     GpuObject { world_from_local, normal_from_local, flags }
     GpuLight {
         color, kind, position_ws, range, direction_ws, shadow_slot, spot_scale, spot_offset,
-        shadow_strength, shadow_first_tile, shadow_filter,
+        shadow_strength, shadow_first_tile, shadow_filter, cookie_layer, cookie_scale, axis_x_ws, axis_y_ws,
     }
+    GpuVolumeLight { world_from_volume, light }
     GpuLightListEntry { light }
     GpuAovLight { list_index }
     GpuShadowTile { atlas_from_world, uv_min, uv_max, normal_bias }

@@ -10,7 +10,7 @@ pub mod timer;
 use crate::error::RenderError;
 use crate::plan::{FramePlan, PassId};
 use crate::scene::GpuScene;
-use chiaro_scene::Settings;
+use chiaro_scene::{Scene, Settings};
 use std::collections::HashSet;
 pub use targets::{Resource, TargetDesc, Targets};
 pub use timer::{GpuTimer, PassTimestamps};
@@ -56,6 +56,8 @@ pub struct PrepareContext<'a> {
     pub queue: &'a wgpu::Queue,
     pub plan: &'a FramePlan,
     pub scene: &'a GpuScene,
+    /// The scene the GPU scene mirrors (its lights, for per-light data).
+    pub source: &'a Scene,
     /// The format of `Resource::Output` this frame.
     pub output_format: wgpu::TextureFormat,
 }

@@ -15,6 +15,12 @@ pub enum Resource {
     Depth,
     /// Pre-exposed linear radiance.
     Hdr,
+    /// The deferred path's base colour and metallic.
+    GBufferAlbedoMetallic,
+    /// The deferred path's normals, view depth, roughness and flags.
+    GBufferPacked,
+    /// The deferred path's legacy LDR light buffer, exp2(-light).
+    LightBufferLdr,
     /// World position, alpha 1 where a surface is.
     AovPosition,
     /// World normal and linear view depth.

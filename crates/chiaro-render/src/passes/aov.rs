@@ -24,6 +24,8 @@ impl AovPass {
                 blends: false,
                 depth_test: DepthTest::SameSurface,
                 depth_format,
+                marks_stencil: false,
+                constants: Vec::new(),
             }),
         }
     }

@@ -37,6 +37,8 @@ pub struct MeshPipelines {
     blends: bool,
     depth_test: DepthTest,
     depth_format: wgpu::TextureFormat,
+    marks_stencil: bool,
+    constants: Vec<(&'static str, f64)>,
     pipelines: HashMap<MeshPipelineKey, wgpu::RenderPipeline>,
 }
 
@@ -49,6 +51,25 @@ pub struct MeshPipelinesDesc {
     pub blends: bool,
     pub depth_test: DepthTest,
     pub depth_format: wgpu::TextureFormat,
+    /// Sets stencil bit `STENCIL_SURFACE` wherever a surface is drawn (the deferred
+    /// path's light volumes shade only those pixels).
+    pub marks_stencil: bool,
+    /// Pipeline-overridable constants of the module.
+    pub constants: Vec<(&'static str, f64)>,
+}
+
+/// Stencil bit of pixels that hold a surface (set by the G-buffer pass).
+pub const STENCIL_SURFACE: u32 = 1;
+
+/// Replaces the `STENCIL_SURFACE` bit wherever a fragment passes the depth test.
+fn stencil_marking() -> wgpu::StencilState {
+    let face = wgpu::StencilFaceState {
+        compare: wgpu::CompareFunction::Always,
+        fail_op: wgpu::StencilOperation::Keep,
+        depth_fail_op: wgpu::StencilOperation::Keep,
+        pass_op: wgpu::StencilOperation::Replace,
+    };
+    wgpu::StencilState { front: face, back: face, read_mask: 0, write_mask: STENCIL_SURFACE }
 }
 
 impl MeshPipelines {
@@ -62,6 +83,8 @@ impl MeshPipelines {
             blends: desc.blends,
             depth_test: desc.depth_test,
             depth_format: desc.depth_format,
+            marks_stencil: desc.marks_stencil,
+            constants: desc.constants,
             pipelines: HashMap::new(),
         }
     }
@@ -120,14 +143,17 @@ impl MeshPipelines {
                 format: self.depth_format,
                 depth_write_enabled: Some(depth_write),
                 depth_compare: Some(depth_compare),
-                stencil: Default::default(),
+                stencil: if self.marks_stencil { stencil_marking() } else { Default::default() },
                 bias: Default::default(),
             }),
             multisample: wgpu::MultisampleState::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &self.module,
                 entry_point: Some(self.fragment_entry),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &self.constants,
+                    ..Default::default()
+                },
                 targets: &targets,
             }),
             multiview_mask: None,

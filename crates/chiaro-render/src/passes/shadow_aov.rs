@@ -57,6 +57,8 @@ impl ShadowAovPass {
                 blends: false,
                 depth_test: DepthTest::SameSurface,
                 depth_format,
+                marks_stencil: false,
+                constants: Vec::new(),
             }),
             light_layout,
             lights: None,

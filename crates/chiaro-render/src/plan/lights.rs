@@ -5,7 +5,7 @@
 use super::shadows::ShadowSlot;
 use crate::gpu::GpuLight;
 use crate::shader_constants::{
-    LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE,
+    LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, NO_COOKIE, SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE,
     SHADOW_SLOT_REALTIME,
 };
 use crate::view::View;
@@ -15,6 +15,7 @@ use chiaro_math::light::{
     spot_angle_params,
 };
 use chiaro_scene::{Light, LightKind, Scene, Settings};
+use glam::Vec2;
 
 /// A light's index in `Scene::lights`: the same light has the same id in every frame of
 /// the same scene, so atlas tiles (and later caches and cluster lists) can be keyed by it.
@@ -91,21 +92,21 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
         &bounds,
         &Frustum::from_clip_from_world(&view.clip_from_world()),
         view.eye(),
-        settings.lights.max_other_lights as usize,
+        settings.max_other_lights() as usize,
     );
     if selection.dropped > 0 {
         tracing::warn!(
             "{} visible point/spot lights over the limit of {} are not shaded",
             selection.dropped,
-            settings.lights.max_other_lights
+            settings.max_other_lights()
         );
     }
     let other = selection.visible.iter().map(|&k| (id(others[k]), bounds[k].range)).collect();
     LightChoice { directional, other, dropped_directional, selection }
 }
 
-/// The light as the shaders read it.
-pub fn gpu_light(light: &Light, frame_light: &FrameLight) -> GpuLight {
+/// The light as the shaders read it; `cookie_layer` from `cookies::cookie_slots`.
+pub fn gpu_light(light: &Light, frame_light: &FrameLight, cookie_layer: Option<u32>) -> GpuLight {
     let (kind, (spot_scale, spot_offset)) = match light.kind {
         LightKind::Directional => (LIGHT_KIND_DIRECTIONAL, (0.0, 1.0)),
         // saturate(x * 0 + 1)^2 = 1: a point light is a spot that never fades.
@@ -131,6 +132,15 @@ pub fn gpu_light(light: &Light, frame_light: &FrameLight) -> GpuLight {
         shadow_strength: light.shadow.strength,
         shadow_first_tile,
         shadow_filter,
-        _pad: [0; 3],
+        cookie_layer: cookie_layer.unwrap_or(NO_COOKIE),
+        cookie_scale: match (light.kind, light.cookie) {
+            (LightKind::Directional, Some(c)) => Vec2::ONE / c.size_m,
+            (LightKind::Spot { outer_cone_rad, .. }, Some(_)) => Vec2::new(1.0 / outer_cone_rad.tan(), 0.0),
+            _ => Vec2::ZERO,
+        },
+        axis_x_ws: light.world_from_light.x_axis.truncate(),
+        _pad0: 0.0,
+        axis_y_ws: light.world_from_light.y_axis.truncate(),
+        _pad1: 0.0,
     }
 }

@@ -4,20 +4,25 @@
 //! their casters, the camera's draw order and the passes to run flow out. Passes only
 //! record what the plan says, and tests inspect plans without a GPU.
 
+pub mod cookies;
 pub mod draws;
 pub mod lights;
 pub mod shadows;
+pub mod volumes;
 
-use crate::gpu::{GpuFrame, GpuLight};
-use crate::shader_constants::{DEBUG_VIEW_CASCADES, DEBUG_VIEW_NONE};
+use crate::gpu::{GpuFrame, GpuLight, GpuVolumeLight};
+use crate::shader_constants::{DEBUG_VIEW_CASCADES, DEBUG_VIEW_NONE, MAX_FRAME_LIGHTS};
 use crate::view::View;
+use chiaro_math::light::MAX_OTHER_LIGHTS;
 use chiaro_math::tonemap::exposure_scale;
-use chiaro_scene::{Scene, Settings};
+use chiaro_scene::{AlphaMode, LightBuffer, RenderPath, Scene, Settings};
+use cookies::cookie_slots;
 use draws::{Draw, camera_draw_order};
 use glam::Vec3;
 use lights::{FrameLight, LightId, choose_lights, gpu_light};
 use shadows::{ShadowAtlasTiles, ShadowPlan, ShadowSlot, plan_shadows};
 use std::fmt;
+use volumes::{VolumeDraw, light_volume};
 
 /// The passes a frame can run, in the order they run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -32,6 +37,14 @@ pub enum PassId {
     Tonemap,
     /// One light's shadow term (run once per light, after the frame).
     ShadowAov,
+    /// The deferred path's surfaces, emissive and ambient light.
+    GBuffer,
+    /// The deferred path's light volumes.
+    DeferredLights,
+    /// The LDR light buffer back to radiance.
+    LdrDecode,
+    /// A G-buffer or overdraw view straight to the output.
+    DebugView,
 }
 
 impl PassId {
@@ -42,8 +55,23 @@ impl PassId {
             PassId::Aov => "aov",
             PassId::Tonemap => "tonemap",
             PassId::ShadowAov => "shadow aov",
+            PassId::GBuffer => "gbuffer",
+            PassId::DeferredLights => "deferred lights",
+            PassId::LdrDecode => "ldr decode",
+            PassId::DebugView => "debug view",
         }
     }
+}
+
+/// Views of the deferred path's inner workings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DebugView {
+    /// The G-buffer's base colour.
+    GbufferAlbedo,
+    /// The G-buffer's shading normal as `n * 0.5 + 0.5`.
+    GbufferNormal,
+    /// How many light volumes shaded each pixel, as a heat map.
+    LightOverdraw,
 }
 
 /// What the caller wants from the frame besides the image.
@@ -51,8 +79,10 @@ impl PassId {
 pub struct PlanRequest {
     /// World position, normal and depth AOVs.
     pub aovs: bool,
-    /// Tint by cascade.
+    /// Tint by cascade (forward path).
     pub debug_cascades: bool,
+    /// A debug view of the deferred path (which it implies).
+    pub debug_view: Option<DebugView>,
 }
 
 /// The frame's lights as index lists into `FramePlan::lights`; the shaders loop over
@@ -75,13 +105,23 @@ impl LightLists {
 pub struct FramePlan {
     pub view: View,
     pub request: PlanRequest,
+    /// Forward or deferred (a debug view of the G-buffer implies deferred).
+    pub path: RenderPath,
+    pub light_buffer: LightBuffer,
     /// Every light the frame shades: the directional ones in scene order, then the point
     /// and spot lights most important first.
     pub lights: Vec<FrameLight>,
     pub lists: LightLists,
     pub shadows: ShadowPlan,
-    /// Indices into the scene's draws, in the order the camera passes draw them.
+    /// Indices into the scene's draws, in the order the camera passes draw them: opaque
+    /// and masked ones, then from `transparent_from` the alpha-blended ones.
     pub camera_draws: Vec<u32>,
+    pub transparent_from: usize,
+    /// The deferred path's light volumes: one full-screen draw for every directional
+    /// light, then one volume per point and spot light.
+    pub volumes: Vec<VolumeDraw>,
+    /// Per scene light, its cookie's layer.
+    cookie_layers: Vec<Option<u32>>,
     pub passes: Vec<PassId>,
     /// Per scene light (by `LightId`), its index in `lights`, if the frame shades it.
     frame_index: Vec<Option<u32>>,
@@ -110,34 +150,79 @@ impl FramePlan {
             lists.directional.push(lights.len() as u32);
             lights.push(FrameLight { id, range: f32::INFINITY, shadow });
         }
-        for (&(id, range), &shadow) in choice.other.iter().zip(&slots.other) {
-            let list = match shadow {
-                ShadowSlot::Realtime { .. } => &mut lists.shadowed_other,
-                _ => &mut lists.unshadowed_other,
-            };
-            list.push(lights.len() as u32);
+        // The forward lists (all of the forward path's lights; the deferred path's
+        // transparent surfaces) take the most important point and spot lights.
+        for (k, (&(id, range), &shadow)) in choice.other.iter().zip(&slots.other).enumerate() {
+            if k < MAX_OTHER_LIGHTS {
+                let list = match shadow {
+                    ShadowSlot::Realtime { .. } => &mut lists.shadowed_other,
+                    _ => &mut lists.unshadowed_other,
+                };
+                list.push(lights.len() as u32);
+            }
             lights.push(FrameLight { id, range, shadow });
         }
+        let path = if request.debug_view.is_some() { RenderPath::Deferred } else { settings.render.path };
+        let light_buffer = settings.render.light_buffer;
         let mut frame_index = vec![None; scene.lights.len()];
         for (k, light) in lights.iter().enumerate() {
             frame_index[light.id.index()] = Some(k as u32);
         }
+        let camera_draws = camera_draw_order(draws, view.eye());
+        let transparent_from =
+            camera_draws.iter().take_while(|&&d| draws[d as usize].alpha_mode != AlphaMode::Blend).count();
+        // The directional lights share one full-screen draw; each point and spot light
+        // has its volume.
+        let volumes = match path {
+            RenderPath::Forward => Vec::new(),
+            RenderPath::Deferred => {
+                let directional = lists.directional.first().map(|&k| VolumeDraw::screen(k));
+                let others = lights
+                    .iter()
+                    .enumerate()
+                    .skip(lists.directional.len())
+                    .map(|(k, l)| light_volume(&scene.lights[l.id.index()], l.range, view, k as u32));
+                directional.into_iter().chain(others).collect()
+            }
+        };
         let mut passes = Vec::new();
-        if !shadows.tiles.is_empty() {
+        if !shadows.tiles.is_empty() && request.debug_view.is_none_or(|v| v == DebugView::LightOverdraw) {
             passes.push(PassId::Shadows);
         }
-        passes.push(PassId::Forward);
+        match (path, request.debug_view) {
+            (RenderPath::Forward, _) => passes.push(PassId::Forward),
+            (RenderPath::Deferred, Some(DebugView::GbufferAlbedo | DebugView::GbufferNormal)) => {
+                passes.push(PassId::GBuffer)
+            }
+            (RenderPath::Deferred, Some(DebugView::LightOverdraw)) => {
+                passes.extend([PassId::GBuffer, PassId::DeferredLights])
+            }
+            (RenderPath::Deferred, None) => {
+                passes.extend([PassId::GBuffer, PassId::DeferredLights]);
+                if light_buffer == LightBuffer::LdrExp2 {
+                    passes.push(PassId::LdrDecode);
+                }
+                if transparent_from < camera_draws.len() {
+                    passes.push(PassId::Forward);
+                }
+            }
+        }
         if request.aovs {
             passes.push(PassId::Aov);
         }
-        passes.push(PassId::Tonemap);
+        passes.push(if request.debug_view.is_some() { PassId::DebugView } else { PassId::Tonemap });
         FramePlan {
             view: *view,
             request,
+            path,
+            light_buffer,
             lights,
             lists,
             shadows,
-            camera_draws: camera_draw_order(draws, view.eye()),
+            camera_draws,
+            transparent_from,
+            volumes,
+            cookie_layers: cookie_slots(scene).into_iter().map(|slot| slot.map(|(_, layer)| layer)).collect(),
             passes,
             frame_index,
             dropped_directional: choice.dropped_directional,
@@ -159,14 +244,38 @@ impl FramePlan {
         positions
     }
 
-    /// The point and spot lights the frame shades.
+    /// The point and spot lights the forward lists shade (all the frame shades on the
+    /// forward path; the deferred path's volumes shade every light in `lights`).
     pub fn other_light_count(&self) -> usize {
         self.lists.shadowed_other.len() + self.lists.unshadowed_other.len()
     }
 
-    /// The light buffer, in the order of `lights`.
+    /// Every point and spot light the frame shades.
+    pub fn shaded_other_lights(&self) -> usize {
+        self.lights.len() - self.lists.directional.len()
+    }
+
+    /// The `k`th light as the shaders read it.
+    pub fn gpu_light(&self, scene: &Scene, k: usize) -> GpuLight {
+        let l = &self.lights[k];
+        gpu_light(&scene.lights[l.id.index()], l, self.cookie_layers.get(l.id.index()).copied().flatten())
+    }
+
+    /// The forward light buffer: the lights the lists index, in the order of `lights`
+    /// (the directional ones and the most important point and spot lights come first).
     pub fn gpu_lights(&self, scene: &Scene) -> Vec<GpuLight> {
-        self.lights.iter().map(|l| gpu_light(&scene.lights[l.id.index()], l)).collect()
+        (0..self.lights.len().min(MAX_FRAME_LIGHTS as usize)).map(|k| self.gpu_light(scene, k)).collect()
+    }
+
+    /// The light volumes as the deferred light pass reads them.
+    pub fn gpu_volumes(&self, scene: &Scene) -> Vec<GpuVolumeLight> {
+        self.volumes
+            .iter()
+            .map(|v| GpuVolumeLight {
+                world_from_volume: v.world_from_volume,
+                light: self.gpu_light(scene, v.light as usize),
+            })
+            .collect()
     }
 
     pub fn gpu_frame(&self, settings: &Settings) -> GpuFrame {
@@ -174,6 +283,8 @@ impl FramePlan {
         GpuFrame {
             clip_from_world: view.clip_from_world(),
             view_from_world: view.view_from_world(),
+            world_from_view: view.world_from_view,
+            view_from_clip: view.clip_from_view.inverse(),
             camera_position_ws: view.eye(),
             exposure_scale: exposure_scale(settings.render.exposure_ev100),
             ambient: Vec3::from(settings.render.ambient),
@@ -181,7 +292,9 @@ impl FramePlan {
             directional_light_count: self.lists.directional.len() as u32,
             shadowed_other_light_count: self.lists.shadowed_other.len() as u32,
             other_light_count: self.other_light_count() as u32,
-            _pad: 0,
+            width: view.width,
+            height: view.height,
+            _pad: [0; 3],
         }
     }
 }
@@ -191,7 +304,8 @@ impl fmt::Display for FramePlan {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "frame plan: {}x{}, {} lights ({} directional, {} shadowed point/spot, {} other), {} draws",
+            "frame plan: {:?} path, {}x{}, {} lights ({} directional, {} shadowed point/spot, {} other), {} draws",
+            self.path,
             self.view.width,
             self.view.height,
             self.lights.len(),

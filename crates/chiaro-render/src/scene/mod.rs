@@ -2,6 +2,7 @@
 //! out by `plan::draws::GeometryLayout`), an object buffer of transforms, a bind group per
 //! material, and the draw list the frame plans index.
 
+pub mod cookies;
 mod textures;
 
 use crate::gpu::{GpuMaterial, GpuObject, GpuTextureTransform, GpuVertex};
@@ -11,6 +12,7 @@ use crate::shader_constants::{
 };
 use bytemuck::Zeroable;
 use chiaro_scene::{AlphaMode, Material, Scene, TextureRef};
+use cookies::CookieTextures;
 use glam::{Vec2, Vec3, Vec4};
 use textures::{SamplerCache, solid, upload_image};
 use wgpu::util::DeviceExt;
@@ -21,6 +23,8 @@ pub struct GpuScene {
     pub objects: wgpu::Buffer,
     pub materials: Vec<wgpu::BindGroup>,
     pub draws: Vec<Draw>,
+    /// The lights' cookies, bound in group 0.
+    pub cookies: CookieTextures,
 }
 
 pub fn material_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
@@ -194,6 +198,7 @@ impl GpuScene {
                 device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&m.name), layout, entries: &entries })
             })
             .collect();
-        GpuScene { vertices, indices, objects, materials, draws }
+        let cookies = CookieTextures::upload(device, queue, scene);
+        GpuScene { vertices, indices, objects, materials, draws, cookies }
     }
 }

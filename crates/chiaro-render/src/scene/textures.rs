@@ -23,7 +23,7 @@ fn box_weights(from: u32, to: u32) -> Vec<(u32, Vec<f32>)> {
 
 /// Halves an RGBA8 image (each side to at least 1) with a box filter over every source
 /// texel; even sizes average 2x2 blocks.
-fn downsample(rgba: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
+pub(super) fn downsample(rgba: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
     let (w, h) = ((width / 2).max(1), (height / 2).max(1));
     let (across, down) = (box_weights(width, w), box_weights(height, h));
     // Rows first, into floats, then columns.

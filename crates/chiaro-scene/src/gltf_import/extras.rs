@@ -1,6 +1,6 @@
-//! glTF `extras` Chiaro reads, since glTF has no place for shadow settings: a light's
-//! `{"shadows": "none"|"hard"|"soft", "shadowStrength", "shadowDepthBias",
-//! "shadowNormalBias", "shadowNearPlane"}` and a mesh node's `{"castShadows":
+//! glTF `extras` Chiaro reads, since glTF has no place for shadow settings or cookies: a
+//! light's `{"shadows": "none"|"hard"|"soft", "shadowStrength", "shadowDepthBias",
+//! "shadowNormalBias", "shadowNearPlane", "cookie": {"image": N, "size": [W, H]}}` and a mesh node's `{"castShadows":
 //! "on"|"off"|"two-sided"|"shadows-only", "receiveShadows": bool}`, and a material's
 //! `{"shadowCasting": "on"|"clip"|"dither"|"off"}`. Other keys are left alone; a known key
 //! with a wrong value is an error naming it.
@@ -10,9 +10,19 @@ use gltf::json;
 use serde::Deserialize;
 use serde_json::value::RawValue;
 
+/// A light's `extras.cookie`: a glTF image index and, for directional lights, the size in
+/// metres one repeat spans.
+#[derive(Deserialize, Clone, Copy, Debug, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CookieExtras {
+    pub(super) image: usize,
+    pub(super) size: Option<[f32; 2]>,
+}
+
 #[derive(Deserialize, Default)]
 #[serde(rename_all = "camelCase")]
 struct LightExtras {
+    cookie: Option<CookieExtras>,
     shadows: Option<String>,
     shadow_strength: Option<f32>,
     shadow_depth_bias: Option<f32>,
@@ -75,6 +85,12 @@ pub(super) fn light_shadow(extras: Option<&RawValue>) -> Result<LightShadow, Str
         normal_bias: non_negative("shadowNormalBias", e.shadow_normal_bias, d.normal_bias)?,
         near_plane: non_negative("shadowNearPlane", e.shadow_near_plane, d.near_plane)?,
     })
+}
+
+/// A light's cookie, if its extras name one.
+pub(super) fn light_cookie(extras: Option<&RawValue>) -> Result<Option<CookieExtras>, String> {
+    let e: LightExtras = parse(extras)?;
+    Ok(e.cookie)
 }
 
 /// A mesh node's (cast, receive) shadow flags.

@@ -5,23 +5,54 @@
 
 use super::{Loader, object_label, uri};
 use crate::error::SceneError;
-use crate::types::{ColorSpace, Image, Material};
+use crate::types::{ColorSpace, Image, Light, LightKind, Material};
 use std::borrow::Cow;
 
 impl Loader<'_> {
-    /// Decodes each image a material uses, once, and points the materials' texture
-    /// references at `Scene::images`. An image used as colour anywhere is sRGB.
+    /// Decodes each image a material or a light's cookie uses, once, and points the
+    /// materials' texture references and the cookies at `Scene::images`. An image used as
+    /// colour anywhere is sRGB (cookies read the stored values whatever it is marked).
+    /// A cookie image that fails to decode, or a point light's cookie that is not six
+    /// square faces side by side, is an error naming the light.
     pub(super) fn decode_images(
         &self,
-        uses: &[Option<ColorSpace>],
+        material_uses: &[Option<ColorSpace>],
         materials: &mut [Material],
+        lights: &mut [Light],
     ) -> Result<Vec<Image>, SceneError> {
+        let mut uses = material_uses.to_vec();
+        let mut cookie_user: Vec<Option<String>> = vec![None; uses.len()];
+        for light in lights.iter() {
+            if let Some(cookie) = light.cookie {
+                uses[cookie.image].get_or_insert(ColorSpace::Linear);
+                cookie_user[cookie.image].get_or_insert_with(|| format!("light '{}'", light.name));
+            }
+        }
         let mut images = Vec::new();
         let mut scene_index = vec![usize::MAX; uses.len()];
         for (index, color_space) in uses.iter().enumerate() {
             if let Some(color_space) = color_space {
                 scene_index[index] = images.len();
-                images.push(self.decode_image(index, *color_space)?);
+                let decoded = self.decode_image(index, *color_space).map_err(|e| match (&cookie_user[index], e) {
+                    (Some(light), SceneError::Invalid { path, message }) if material_uses[index].is_none() => {
+                        SceneError::Invalid { path, message: format!("{light}: extras.cookie: {message}") }
+                    }
+                    (_, e) => e,
+                })?;
+                images.push(decoded);
+            }
+        }
+        for light in lights.iter_mut() {
+            if let Some(cookie) = &mut light.cookie {
+                cookie.image = scene_index[cookie.image];
+                let image = &images[cookie.image];
+                if light.kind == LightKind::Point && image.width != 6 * image.height {
+                    return Err(self.invalid(format!(
+                        "light '{}': extras.cookie: a point light's cookie must be six square faces side by side \
+                         (6:1), but its image is {}x{}",
+                        light.name, image.width, image.height
+                    )));
+                }
             }
         }
         for material in materials {

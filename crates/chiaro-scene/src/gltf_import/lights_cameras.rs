@@ -6,10 +6,10 @@ use super::Loader;
 use super::nodes::Placement;
 use super::object_label;
 use crate::error::SceneError;
-use crate::types::{Camera, Light, LightKind};
+use crate::types::{Camera, Cookie, Light, LightKind};
 use chiaro_math::light::MAX_LIGHT_INTENSITY;
 use chiaro_math::rigid::{looking_along, rigid_part};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use gltf::json;
 use json::validation::Checked;
 
@@ -70,6 +70,34 @@ impl Loader<'_> {
         };
         let shadow =
             super::extras::light_shadow(light.extras.as_deref()).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+        let cookie = match super::extras::light_cookie(light.extras.as_deref())
+            .map_err(|e| self.invalid(format!("{label}: {e}")))?
+        {
+            Some(c) => {
+                if c.image >= self.root.images.len() {
+                    return Err(self.invalid(format!(
+                        "{label}: extras.cookie.image: {} is not an image of the file (it has {})",
+                        c.image,
+                        self.root.images.len()
+                    )));
+                }
+                let size_m = match (kind, c.size) {
+                    (LightKind::Directional, Some([w, h])) if w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0 => {
+                        Vec2::new(w, h)
+                    }
+                    (LightKind::Directional, _) => {
+                        return Err(self.invalid(format!(
+                            "{label}: extras.cookie.size: a directional light's cookie needs [width, height] in \
+                             metres, both positive"
+                        )));
+                    }
+                    _ => Vec2::ONE,
+                };
+                // The glTF image index for now; `decode_images` maps it to `Scene::images`.
+                Some(Cookie { image: c.image, size_m })
+            }
+            None => None,
+        };
         // A zero scale collapses the node's axes; the light keeps its position and what is
         // left of its direction.
         let world = placement.world_from_local;
@@ -84,6 +112,7 @@ impl Loader<'_> {
             range: light.range,
             world_from_light,
             shadow,
+            cookie,
         }))
     }
 

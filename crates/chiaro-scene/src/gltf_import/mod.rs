@@ -155,7 +155,7 @@ impl<'a> Loader<'a> {
             }
         }
 
-        let images = self.decode_images(&image_uses, &mut materials)?;
+        let images = self.decode_images(&image_uses, &mut materials, &mut lights)?;
         self.note_tally();
         Ok(Scene {
             source: None,

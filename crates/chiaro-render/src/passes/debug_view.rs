@@ -1,0 +1,105 @@
+//! Debug views of the deferred path, straight to the output: the G-buffer's base colour
+//! or shading normal, or the light overdraw count (the light pass's target in its
+//! counting variant) as a heat map.
+
+use super::fullscreen::{self, FullscreenDesc, texture_bind_group, texture_layout};
+use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
+use crate::plan::{DebugView, FramePlan, PassId};
+use crate::shaders;
+use std::collections::HashMap;
+
+pub struct DebugViewPass {
+    module: wgpu::ShaderModule,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<(DebugView, wgpu::TextureFormat), wgpu::RenderPipeline>,
+    key: Option<(DebugView, wgpu::TextureFormat)>,
+}
+
+/// The shader's `view` override.
+fn view_index(view: DebugView) -> f64 {
+    match view {
+        DebugView::GbufferAlbedo => 0.0,
+        DebugView::GbufferNormal => 1.0,
+        DebugView::LightOverdraw => 2.0,
+    }
+}
+
+impl DebugViewPass {
+    pub fn new(device: &wgpu::Device) -> DebugViewPass {
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let layout =
+            texture_layout(device, "debug view layout", &[unfilterable, wgpu::TextureSampleType::Uint, unfilterable]);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("debug view pipeline layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        DebugViewPass {
+            module: shaders::module(device, "debug view", shaders::DEBUG_VIEW),
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            key: None,
+        }
+    }
+}
+
+impl FramePass for DebugViewPass {
+    fn id(&self) -> PassId {
+        PassId::DebugView
+    }
+
+    fn io(&self, plan: &FramePlan) -> PassIo {
+        let mut reads = vec![Resource::GBufferAlbedoMetallic, Resource::GBufferPacked];
+        if plan.request.debug_view == Some(DebugView::LightOverdraw) {
+            reads.push(Resource::Hdr);
+        }
+        PassIo { reads, writes: vec![Resource::Output] }
+    }
+
+    fn prepare(&mut self, cx: &PrepareContext<'_>) {
+        let view = cx.plan.request.debug_view.expect("planned for a debug view");
+        let key = (view, cx.output_format);
+        if !self.pipelines.contains_key(&key) {
+            let constants = [("5", view_index(view))];
+            let pipeline = fullscreen::pipeline(
+                cx.device,
+                FullscreenDesc {
+                    label: "debug view",
+                    module: &self.module,
+                    layout: &self.pipeline_layout,
+                    fragment_entry: "fs_debug",
+                    constants: &constants,
+                    format: cx.output_format,
+                },
+            );
+            self.pipelines.insert(key, pipeline);
+        }
+        self.key = Some(key);
+    }
+
+    fn record(&self, cx: &mut PassContext<'_>) {
+        let key = self.key.expect("prepared");
+        // The albedo target (same format) stands in for the count the view does not read.
+        let count = if key.0 == DebugView::LightOverdraw { Resource::Hdr } else { Resource::GBufferAlbedoMetallic };
+        let bind_group = texture_bind_group(
+            cx.device,
+            &self.layout,
+            &[
+                cx.targets.view(Resource::GBufferAlbedoMetallic),
+                cx.targets.view(Resource::GBufferPacked),
+                cx.targets.view(count),
+            ],
+        );
+        let timestamp_writes = cx.timestamp_writes();
+        fullscreen::draw(
+            cx.encoder,
+            "debug view pass",
+            cx.targets.view(Resource::Output),
+            &self.pipelines[&key],
+            &bind_group,
+            timestamp_writes,
+        );
+    }
+}

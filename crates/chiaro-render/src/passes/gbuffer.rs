@@ -1,0 +1,118 @@
+//! The deferred path's G-buffer pass: every opaque and masked draw's surface into the
+//! G-buffer (layout in shaders/common/gbuffer.wesl), its emissive and ambient light into
+//! the light accumulation target, and stencil bit `STENCIL_SURFACE` where a surface is,
+//! so that the light volumes never shade the sky.
+
+use super::forward::HDR_FORMAT;
+use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, STENCIL_SURFACE, cleared, scene_depth};
+use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
+use crate::plan::{FramePlan, PassId};
+use crate::shaders;
+use chiaro_math::tonemap::exposure_scale;
+use chiaro_scene::LightBuffer;
+
+/// Base colour (linear) and metallic.
+pub const GBUFFER_ALBEDO_METALLIC_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Normals, view depth, roughness and flags, bit-packed.
+pub const GBUFFER_PACKED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// The legacy LDR light buffer: exp2(-light) in 8 bits.
+pub const LIGHT_BUFFER_LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// Where the deferred path accumulates light.
+pub fn light_target(light_buffer: LightBuffer) -> Resource {
+    match light_buffer {
+        LightBuffer::Hdr => Resource::Hdr,
+        LightBuffer::LdrExp2 => Resource::LightBufferLdr,
+    }
+}
+
+pub struct GBufferPass {
+    hdr: MeshPipelines,
+    ldr: MeshPipelines,
+}
+
+impl GBufferPass {
+    pub fn new(device: &wgpu::Device, layout: &wgpu::PipelineLayout, depth_format: wgpu::TextureFormat) -> GBufferPass {
+        let pipelines = |light_format, ldr_exp2: bool| {
+            MeshPipelines::new(MeshPipelinesDesc {
+                label: "gbuffer",
+                module: shaders::module(device, "gbuffer", shaders::GBUFFER),
+                fragment_entry: "fs_gbuffer",
+                layout: layout.clone(),
+                color_formats: vec![light_format, GBUFFER_ALBEDO_METALLIC_FORMAT, GBUFFER_PACKED_FORMAT],
+                blends: false,
+                depth_test: DepthTest::Nearest,
+                depth_format,
+                marks_stencil: true,
+                constants: vec![("2", if ldr_exp2 { 1.0 } else { 0.0 })],
+            })
+        };
+        GBufferPass { hdr: pipelines(HDR_FORMAT, false), ldr: pipelines(LIGHT_BUFFER_LDR_FORMAT, true) }
+    }
+
+    fn pipelines(&self, light_buffer: LightBuffer) -> &MeshPipelines {
+        match light_buffer {
+            LightBuffer::Hdr => &self.hdr,
+            LightBuffer::LdrExp2 => &self.ldr,
+        }
+    }
+}
+
+/// The opaque and masked draws, which the G-buffer takes.
+fn opaque_draws(plan: &FramePlan) -> &[u32] {
+    &plan.camera_draws[..plan.transparent_from]
+}
+
+impl FramePass for GBufferPass {
+    fn id(&self) -> PassId {
+        PassId::GBuffer
+    }
+
+    fn io(&self, plan: &FramePlan) -> PassIo {
+        PassIo {
+            reads: Vec::new(),
+            writes: vec![
+                light_target(plan.light_buffer),
+                Resource::GBufferAlbedoMetallic,
+                Resource::GBufferPacked,
+                Resource::Depth,
+            ],
+        }
+    }
+
+    fn prepare(&mut self, cx: &PrepareContext<'_>) {
+        let pipelines = match cx.plan.light_buffer {
+            LightBuffer::Hdr => &mut self.hdr,
+            LightBuffer::LdrExp2 => &mut self.ldr,
+        };
+        pipelines.prepare(cx.device, &cx.scene.draws, opaque_draws(cx.plan));
+    }
+
+    fn record(&self, cx: &mut PassContext<'_>) {
+        let background =
+            glam::Vec3::from(cx.settings.render.background) * exposure_scale(cx.settings.render.exposure_ev100);
+        let light_clear = match cx.plan.light_buffer {
+            LightBuffer::Hdr => background,
+            LightBuffer::LdrExp2 => (-background).exp2(),
+        };
+        let light_clear =
+            wgpu::Color { r: light_clear.x as f64, g: light_clear.y as f64, b: light_clear.z as f64, a: 0.0 };
+        let timestamp_writes = cx.timestamp_writes();
+        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("gbuffer pass"),
+            color_attachments: &[
+                cleared(cx.targets.view(light_target(cx.plan.light_buffer)), light_clear),
+                cleared(cx.targets.view(Resource::GBufferAlbedoMetallic), wgpu::Color::TRANSPARENT),
+                // View depth 0 marks "no surface".
+                cleared(cx.targets.view(Resource::GBufferPacked), wgpu::Color::TRANSPARENT),
+            ],
+            depth_stencil_attachment: Some(scene_depth(cx.targets.view(Resource::Depth), false)),
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_stencil_reference(STENCIL_SURFACE);
+        pass.set_bind_group(0, cx.frame_bind_group, &[]);
+        self.pipelines(cx.plan.light_buffer).draw(&mut pass, cx.scene, opaque_draws(cx.plan));
+    }
+}
