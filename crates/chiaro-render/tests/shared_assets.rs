@@ -7,27 +7,6 @@ mod common;
 use chiaro_render::{FrameOptions, View};
 use chiaro_scene::load_gltf;
 use common::*;
-use std::path::PathBuf;
-
-fn asset_scenes() -> Vec<PathBuf> {
-    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets"));
-    let mut scenes = Vec::new();
-    let mut stack = vec![root.clone()];
-    while let Some(dir) = stack.pop() {
-        let entries = std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
-        for entry in entries {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "gltf" || e == "glb") {
-                scenes.push(path);
-            }
-        }
-    }
-    scenes.sort();
-    assert!(scenes.len() >= 6, "expected the six shared scenes under {}, found {scenes:?}", root.display());
-    scenes
-}
 
 #[test]
 fn every_shared_scene_renders() {

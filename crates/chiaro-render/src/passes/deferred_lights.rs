@@ -120,8 +120,15 @@ fn volume_bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, buff
     })
 }
 
-fn stencil(compare: wgpu::CompareFunction, op: wgpu::StencilOperation, read: u32, write: u32) -> wgpu::StencilState {
-    let face = wgpu::StencilFaceState { compare, fail_op: op, depth_fail_op: op, pass_op: op };
+/// A stencil test: `pass_op` where stencil and depth pass, `fail_op` where either fails.
+fn stencil(
+    compare: wgpu::CompareFunction,
+    pass_op: wgpu::StencilOperation,
+    fail_op: wgpu::StencilOperation,
+    read: u32,
+    write: u32,
+) -> wgpu::StencilState {
+    let face = wgpu::StencilFaceState { compare, fail_op, depth_fail_op: fail_op, pass_op };
     wgpu::StencilState { front: face, back: face, read_mask: read, write_mask: write }
 }
 
@@ -281,7 +288,7 @@ impl DeferredLightsPass {
                 false,
                 Some(wgpu::Face::Back),
                 C::Greater,
-                stencil(C::Equal, Op::Replace, STENCIL_SURFACE, STENCIL_INSIDE),
+                stencil(C::Equal, Op::Replace, Op::Keep, STENCIL_SURFACE, STENCIL_INSIDE),
                 false,
             ),
             // Back faces farther than the surface shade it; every outcome clears the mark.
@@ -291,7 +298,7 @@ impl DeferredLightsPass {
                 false,
                 Some(wgpu::Face::Front),
                 C::Less,
-                stencil(C::Equal, Op::Zero, both, STENCIL_INSIDE),
+                stencil(C::Equal, Op::Zero, Op::Zero, both, STENCIL_INSIDE),
                 true,
             ),
             inside: pipeline(
@@ -300,7 +307,7 @@ impl DeferredLightsPass {
                 false,
                 Some(wgpu::Face::Front),
                 C::Less,
-                stencil(C::Equal, Op::Keep, STENCIL_SURFACE, 0),
+                stencil(C::Equal, Op::Keep, Op::Keep, STENCIL_SURFACE, 0),
                 true,
             ),
             directional: pipeline(
@@ -309,7 +316,7 @@ impl DeferredLightsPass {
                 true,
                 None,
                 C::Always,
-                stencil(C::Equal, Op::Keep, STENCIL_SURFACE, 0),
+                stencil(C::Equal, Op::Keep, Op::Keep, STENCIL_SURFACE, 0),
                 true,
             ),
         }

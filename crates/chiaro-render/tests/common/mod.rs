@@ -9,6 +9,7 @@ pub use chiaro_scene::test_scenes::*;
 use chiaro_render::{FrameOptions, FrameOutput, GpuContext, Renderer, View};
 use chiaro_scene::{Scene, Settings};
 use glam::Vec3;
+use std::path::PathBuf;
 
 pub fn renderer() -> Renderer {
     let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
@@ -33,4 +34,25 @@ pub fn surface_pixels(frame: &FrameOutput) -> Vec<(usize, Vec3, Vec3, Vec3)> {
             (i, Vec3::from(aovs.position_ws[i]), Vec3::from(aovs.normal_ws[i]), Vec3::new(h[0], h[1], h[2]))
         })
         .collect()
+}
+
+/// Every glTF scene under ../shared/assets.
+pub fn asset_scenes() -> Vec<PathBuf> {
+    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets"));
+    let mut scenes = Vec::new();
+    let mut stack = vec![root.clone()];
+    while let Some(dir) = stack.pop() {
+        let entries = std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+        for entry in entries {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "gltf" || e == "glb") {
+                scenes.push(path);
+            }
+        }
+    }
+    scenes.sort();
+    assert!(scenes.len() >= 6, "expected the six shared scenes under {}, found {scenes:?}", root.display());
+    scenes
 }

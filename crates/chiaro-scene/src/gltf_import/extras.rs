@@ -1,9 +1,9 @@
 //! glTF `extras` Chiaro reads, since glTF has no place for shadow settings or cookies: a
 //! light's `{"shadows": "none"|"hard"|"soft", "shadowStrength", "shadowDepthBias",
-//! "shadowNormalBias", "shadowNearPlane", "cookie": {"image": N, "size": [W, H]}}` and a mesh node's `{"castShadows":
-//! "on"|"off"|"two-sided"|"shadows-only", "receiveShadows": bool}`, and a material's
-//! `{"shadowCasting": "on"|"clip"|"dither"|"off"}`. Other keys are left alone; a known key
-//! with a wrong value is an error naming it.
+//! "shadowNormalBias", "shadowNearPlane", "cookie": {"image": N, "size": [W, H]}}`, a
+//! mesh node's `{"castShadows": "on"|"off"|"two-sided"|"shadows-only", "receiveShadows":
+//! bool}`, and a material's `{"shadowCasting": "on"|"clip"|"dither"|"off"}`. Other keys
+//! are left alone; a known key with a wrong value is an error naming it.
 
 use crate::types::{AlphaMode, CastShadows, LightShadow, ShadowCasting, ShadowMode};
 use gltf::json;
@@ -22,7 +22,8 @@ pub(super) struct CookieExtras {
 #[derive(Deserialize, Default)]
 #[serde(rename_all = "camelCase")]
 struct LightExtras {
-    cookie: Option<CookieExtras>,
+    /// Parsed on its own, so that its errors name it.
+    cookie: Option<serde_json::Value>,
     shadows: Option<String>,
     shadow_strength: Option<f32>,
     shadow_depth_bias: Option<f32>,
@@ -90,7 +91,7 @@ pub(super) fn light_shadow(extras: Option<&RawValue>) -> Result<LightShadow, Str
 /// A light's cookie, if its extras name one.
 pub(super) fn light_cookie(extras: Option<&RawValue>) -> Result<Option<CookieExtras>, String> {
     let e: LightExtras = parse(extras)?;
-    Ok(e.cookie)
+    e.cookie.map(|c| serde_json::from_value(c).map_err(|e| format!("extras.cookie: {e}"))).transpose()
 }
 
 /// A mesh node's (cast, receive) shadow flags.

@@ -863,3 +863,90 @@ fn quantized_positions_and_whole_index_lists_load() {
     assert_eq!(scene.triangle_count(), 1);
     assert_eq!(scene.meshes[0].primitives[0].positions[1], Vec3::X);
 }
+
+/// The triangle lit by one light of `light` (JSON) on a second node, with `images`.
+fn cookie_doc(light: Value, images: Value) -> Value {
+    let mut doc = triangle_doc();
+    doc["extensions"] = json!({ "KHR_lights_punctual": { "lights": [light] } });
+    doc["nodes"].as_array_mut().unwrap().push(json!({
+        "name": "lamp",
+        "translation": [1.0, 2.0, 3.0],
+        "extensions": { "KHR_lights_punctual": { "light": 0 } }
+    }));
+    doc["scenes"][0]["nodes"] = json!([0, 1]);
+    doc["images"] = images;
+    doc
+}
+
+fn png_uri(width: u32, height: u32) -> Value {
+    let image = image::RgbaImage::from_fn(width, height, |x, y| image::Rgba([x as u8 * 10, y as u8 * 10, 7, 255]));
+    json!({ "uri": data_uri(&png_bytes(image.into())), "mimeType": "image/png" })
+}
+
+#[test]
+fn cookies_load_for_every_light_type_with_their_images_as_stored() {
+    let dir = TempDir::new("cookies");
+    let cases = [
+        (
+            json!({ "type": "directional", "extras": { "cookie": { "image": 1, "size": [2.0, 0.5] } } }),
+            Vec2::new(2.0, 0.5),
+        ),
+        (
+            json!({ "type": "spot", "spot": { "outerConeAngle": 0.5 }, "extras": { "cookie": { "image": 1 } } }),
+            Vec2::ONE,
+        ),
+        (json!({ "type": "point", "extras": { "cookie": { "image": 0 } } }), Vec2::ONE),
+    ];
+    for (light, size) in cases {
+        let image = light["extras"]["cookie"]["image"].as_u64().unwrap() as usize;
+        let scene = load_doc(&dir, &cookie_doc(light, json!([png_uri(12, 2), png_uri(4, 3)]))).unwrap();
+        let cookie = scene.lights[0].cookie.expect("a cookie");
+        assert_eq!(cookie.size_m, size);
+        // Only the image the cookie uses is decoded, linear, with its texels as stored.
+        assert_eq!(scene.images.len(), 1);
+        let decoded = &scene.images[cookie.image];
+        assert_eq!(decoded.color_space, ColorSpace::Linear);
+        let (width, height) = if image == 0 { (12, 2) } else { (4, 3) };
+        assert_eq!((decoded.width, decoded.height), (width, height));
+        let texel = 4 * (width as usize + 3);
+        assert_eq!(&decoded.rgba8[texel..texel + 4], &[30, 10, 7, 255], "texel (3, 1)");
+    }
+}
+
+#[test]
+fn bad_cookies_are_errors_naming_the_light() {
+    let dir = TempDir::new("bad-cookies");
+    dir.write("broken.png", b"not a png");
+    let images = json!([png_uri(12, 2), png_uri(4, 4), { "uri": "broken.png" }, { "uri": "missing.png" }]);
+    for (cookie_light, needle) in [
+        (
+            json!({ "type": "spot", "spot": { "outerConeAngle": 0.5 }, "extras": { "cookie": { "image": 9 } } }),
+            "extras.cookie.image: 9 is not an image",
+        ),
+        (json!({ "type": "point", "extras": { "cookie": { "image": 1 } } }), "six square faces side by side (6:1)"),
+        (json!({ "type": "directional", "extras": { "cookie": { "image": 1 } } }), "needs [width, height]"),
+        (json!({ "type": "directional", "extras": { "cookie": { "image": 1, "size": [1.0, 0.0] } } }), "both positive"),
+        (
+            json!({ "type": "spot", "spot": { "outerConeAngle": 0.5 }, "extras": { "cookie": { "image": 2 } } }),
+            "broken.png",
+        ),
+        (
+            json!({ "type": "spot", "spot": { "outerConeAngle": 0.5 }, "extras": { "cookie": { "image": 3 } } }),
+            "missing.png",
+        ),
+        (
+            json!({ "type": "spot", "spot": { "outerConeAngle": 0.5 }, "extras": { "cookie": { "image": 0, "tiles": 2 } } }),
+            "tiles",
+        ),
+        (json!({ "type": "spot", "spot": { "outerConeAngle": 0.5 }, "extras": { "cookie": 3 } }), "cookie"),
+    ] {
+        let mut light = cookie_light;
+        light["name"] = json!("gobo");
+        let message = match load_doc(&dir, &cookie_doc(light, images.clone())) {
+            Err(SceneError::Invalid { message, .. }) => message,
+            Err(SceneError::Io { .. }) => panic!("a missing cookie image is an invalid scene naming the light"),
+            other => panic!("expected an error, got {other:?}"),
+        };
+        assert!(message.contains("gobo") && message.contains(needle), "{needle}: {message}");
+    }
+}
