@@ -10,7 +10,7 @@ use serde_json::{Value, json};
 const INTERESTING_BYTES: [u8; 12] = [0, 0xff, 0x7f, 0x80, b'"', b'{', b'[', b'-', b'9', b',', b'.', b'e'];
 
 /// Keys the glTF schema knows, to add where they do not belong (or do, with bad values).
-const GLTF_KEYS: [&str; 36] = [
+const GLTF_KEYS: [&str; 39] = [
     "byteStride",
     "byteOffset",
     "byteLength",
@@ -47,6 +47,9 @@ const GLTF_KEYS: [&str; 36] = [
     "alphaMode",
     "alphaCutoff",
     "doubleSided",
+    "cookie",
+    "image",
+    "size",
 ];
 
 fn interesting_value(rng: &mut Rng) -> Value {
@@ -78,6 +81,9 @@ fn interesting_value(rng: &mut Rng) -> Value {
         json!([0, 0, 0]),
         json!([1e38, 1e38, 1e38]),
         json!([0, 0, 0, 0]),
+        json!({ "image": 0 }),
+        json!({ "image": 0, "size": [1, 0.5] }),
+        json!({ "cookie": { "image": 0 } }),
         json!([[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]),
         json!({"KHR_lights_punctual": {"light": 0}, "KHR_texture_transform": {"scale": [1e38, 0]}}),
         json!(["KHR_draco_mesh_compression"]),

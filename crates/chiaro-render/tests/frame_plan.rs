@@ -75,9 +75,12 @@ fn the_demo_plans_lists_with_shadowed_lights_apart() {
     assert_eq!((frame.directional_light_count, frame.shadowed_other_light_count, frame.other_light_count), (1, 6, 8));
     // Sixteen point/spot tiles and four cascades: every tile has a light and a viewport.
     assert_eq!(plan.shadows.tiles.len(), 4 + 16);
-    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::Forward, PassId::Tonemap]);
+    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::GBuffer, PassId::DeferredLights, PassId::Tonemap]);
     let printed = plan.to_string();
-    assert!(printed.contains("9 lights") && printed.contains("passes: shadows, forward, tonemap"), "{printed}");
+    assert!(
+        printed.contains("9 lights") && printed.contains("passes: shadows, gbuffer, deferred lights, tonemap"),
+        "{printed}"
+    );
 }
 
 #[test]
@@ -139,11 +142,60 @@ fn each_tile_draws_only_the_casters_that_reach_it() {
     for tile in &plan.shadows.tiles {
         assert_eq!(tile.casters, vec![0, 1], "tile {}", tile.tile);
     }
-    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::Forward, PassId::Aov, PassId::Tonemap]);
+    assert_eq!(
+        plan.passes,
+        vec![PassId::Shadows, PassId::GBuffer, PassId::DeferredLights, PassId::Aov, PassId::Tonemap]
+    );
     // With shadows off, no tile and no shadow pass.
     let mut unshadowed = scene.clone();
     unshadowed.lights[0].shadow.mode = ShadowMode::None;
     let plan = first_plan(&unshadowed, PlanRequest::default());
     assert!(plan.shadows.tiles.is_empty());
-    assert_eq!(plan.passes, vec![PassId::Forward, PassId::Tonemap]);
+    assert_eq!(plan.passes, vec![PassId::GBuffer, PassId::DeferredLights, PassId::Tonemap]);
+}
+
+#[test]
+fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
+    use chiaro_render::plan::DebugView;
+    use chiaro_render::plan::volumes::VolumeShape;
+    use chiaro_scene::{LightBuffer, RenderPath};
+    let scene = chiaro_scene::demo::demo_scene(100);
+    let view = View::from_camera(&scene, 0, 64, 64);
+    let plan_with = |settings: &Settings, request| {
+        FramePlan::new(&scene, &draws(&scene), &view, settings, &mut ShadowAtlasTiles::default(), request)
+    };
+    let mut settings = unlit_settings();
+    settings.render.path = RenderPath::Forward;
+    let forward = plan_with(&settings, PlanRequest::default());
+    assert_eq!(forward.passes, vec![PassId::Shadows, PassId::Forward, PassId::Tonemap]);
+    assert!(forward.volumes.is_empty());
+    assert_eq!(forward.shaded_other_lights(), 64, "the forward path's limit");
+
+    settings.render.path = RenderPath::Deferred;
+    let deferred = plan_with(&settings, PlanRequest::default());
+    assert_eq!(deferred.passes, vec![PassId::Shadows, PassId::GBuffer, PassId::DeferredLights, PassId::Tonemap]);
+    let visible = deferred.shaded_other_lights();
+    assert!(visible > 64, "the deferred path shades every visible light: {visible}");
+    // One full-screen draw for the directional lights, then a volume per point and spot.
+    assert_eq!(deferred.volumes.len(), 1 + visible);
+    assert_eq!(deferred.volumes[0].shape, VolumeShape::Screen);
+    assert!(deferred.volumes[1..].iter().all(|v| v.shape != VolumeShape::Screen));
+    // Transparent surfaces see the forward lists: the 64 most important.
+    assert_eq!(deferred.other_light_count(), 64);
+    assert!(deferred.gpu_lights(&scene).len() <= 68);
+
+    settings.render.light_buffer = LightBuffer::LdrExp2;
+    let ldr = plan_with(&settings, PlanRequest { aovs: true, ..Default::default() });
+    assert_eq!(
+        ldr.passes,
+        vec![PassId::Shadows, PassId::GBuffer, PassId::DeferredLights, PassId::LdrDecode, PassId::Aov, PassId::Tonemap]
+    );
+    // Debug views imply the deferred path, even when the settings say forward.
+    settings.render.path = RenderPath::Forward;
+    let albedo = plan_with(&settings, PlanRequest { debug_view: Some(DebugView::GbufferAlbedo), ..Default::default() });
+    assert_eq!(albedo.path, RenderPath::Deferred);
+    assert_eq!(albedo.passes, vec![PassId::GBuffer, PassId::DebugView]);
+    let overdraw =
+        plan_with(&settings, PlanRequest { debug_view: Some(DebugView::LightOverdraw), ..Default::default() });
+    assert_eq!(overdraw.passes, vec![PassId::GBuffer, PassId::DeferredLights, PassId::DebugView]);
 }

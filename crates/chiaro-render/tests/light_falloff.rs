@@ -147,9 +147,19 @@ fn lights_over_the_limit_are_dropped_by_importance() {
         .map(|i| point_light(Vec3::new((i % 10) as f32 - 4.5, 0.5, (i / 10) as f32 - 3.0), 1.0 + i as f32, Some(2.0)))
         .collect();
     let scene = floor_scene(12.0, EYE, lights);
-    let frame = render(&mut renderer(), &scene, &unlit_settings(), 64);
+    let mut forward = unlit_settings();
+    forward.render.path = chiaro_scene::RenderPath::Forward;
+    let frame = render(&mut renderer(), &scene, &forward, 64);
     assert_eq!(frame.other_lights_shaded(), 64);
     assert_eq!(frame.other_lights_dropped(), 6);
+    // The deferred path shades them all, or as many as the setting says.
+    let mut deferred = unlit_settings();
+    deferred.render.path = chiaro_scene::RenderPath::Deferred;
+    let frame = render(&mut renderer(), &scene, &deferred, 64);
+    assert_eq!((frame.other_lights_shaded(), frame.other_lights_dropped()), (70, 0));
+    deferred.lights.max_other_lights = Some(50);
+    let frame = render(&mut renderer(), &scene, &deferred, 64);
+    assert_eq!((frame.other_lights_shaded(), frame.other_lights_dropped()), (50, 20));
 }
 
 #[test]
@@ -162,7 +172,7 @@ fn every_pass_that_ran_reports_its_own_gpu_time() {
     let options = chiaro_render::FrameOptions { aovs: true, readback: true, ..Default::default() };
     let frame = renderer.render(&scene, &prepared, &view, &chiaro_scene::Settings::default(), options).unwrap();
     let passes: Vec<&str> = frame.timings.gpu_pass_ms.iter().map(|(p, _)| *p).collect();
-    assert_eq!(passes, ["shadows", "forward", "aov", "tonemap"]);
+    assert_eq!(passes, ["shadows", "gbuffer", "deferred lights", "aov", "tonemap"]);
     for (pass, ms) in &frame.timings.gpu_pass_ms {
         assert!(*ms > 0.0 && ms.is_finite(), "{pass} pass timed at {ms} ms");
     }

@@ -186,7 +186,8 @@ impl FramePlan {
             }
         };
         let mut passes = Vec::new();
-        if !shadows.tiles.is_empty() && request.debug_view.is_none_or(|v| v == DebugView::LightOverdraw) {
+        // Debug views show no shading, so they need no shadows.
+        if !shadows.tiles.is_empty() && request.debug_view.is_none() {
             passes.push(PassId::Shadows);
         }
         match (path, request.debug_view) {
