@@ -129,6 +129,14 @@ fn generated_scenes_with_every_light_type_agree() {
         ("point", vec![point.clone()]),
         ("spot", vec![cone.clone()]),
         ("all three", vec![sun(), point.clone(), cone.clone()]),
+        // Wider than 60 degrees: a sphere rather than a pyramid holds the cone.
+        (
+            "wide spot",
+            vec![Light {
+                kind: LightKind::Spot { inner_cone_rad: 1.0, outer_cone_rad: 1.3 },
+                ..spot(Vec3::new(0.5, 2.5, 0.5), Vec3::new(0.1, -1.0, 0.0), 20.0)
+            }],
+        ),
     ] {
         let scene = boxes(eye, lights);
         assert_paths_agree(name, &scene, &camera_view(&scene, 192), &settings);

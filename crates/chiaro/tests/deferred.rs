@@ -125,6 +125,10 @@ fn the_path_comes_from_the_flag_or_the_settings() {
         &["settings.toml", "ldr"],
     );
     expect_usage_error(&["render", "--path", "backward"], &["backward"]);
+    for path in ["forward", "deferred"] {
+        let (_, run) = run_in(&[], &["compare", "--width", "48", "--height", "48", "--path", path]);
+        assert!(run.stdout.contains("sun"), "{path}: {}", run.stdout);
+    }
 }
 
 #[test]
