@@ -40,6 +40,8 @@ fn add_quad(scene: &mut Scene, height: f32, material: Material) {
         world_from_local: Mat4::from_translation(Vec3::new(0.0, height, 0.0)),
         cast_shadows: CastShadows::TwoSided,
         receive_shadows: true,
+        is_static: true,
+        lightmap: None,
     });
 }
 

@@ -9,6 +9,7 @@ pub mod camera;
 pub mod frustum;
 pub mod light;
 pub mod rigid;
+pub mod sh;
 pub mod shadow;
 pub mod tonemap;
 

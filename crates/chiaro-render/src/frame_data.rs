@@ -1,6 +1,7 @@
 //! Group 0 of every scene pass: the frame uniform, the light buffer and its light lists,
 //! the objects, the shadow uniform, the two atlases with their comparison sampler, and
-//! the cookie arrays with their samplers.
+//! the cookie arrays with their samplers, the lightmap array (sampled with the clamping
+//! cookie sampler: one mip, bilinear) and the light probes.
 //! A frame plan flows in and is uploaded; a bind group over this frame's buffers and
 //! atlases flows out.
 
@@ -80,6 +81,8 @@ impl FrameData {
                 entry(9, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::CubeArray)),
                 entry(10, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
                 entry(11, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
+                entry(12, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
+                entry(13, S::FRAGMENT, buffer(storage)),
             ],
         });
         let uniform_buffer = |label, size| {
@@ -142,6 +145,11 @@ impl FrameData {
                 wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&scene.cookies.cube) },
                 wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::Sampler(&self.cookie_repeat) },
                 wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::Sampler(&self.cookie_clamp) },
+                wgpu::BindGroupEntry {
+                    binding: 12,
+                    resource: wgpu::BindingResource::TextureView(&scene.baked.lightmaps),
+                },
+                wgpu::BindGroupEntry { binding: 13, resource: scene.baked.probes.as_entire_binding() },
             ],
         })
     }

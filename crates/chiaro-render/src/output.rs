@@ -69,6 +69,9 @@ pub struct Aovs {
     pub normal_ws: Vec<[f32; 3]>,
     /// Linear depth along the view axis, metres; infinity where no surface is.
     pub depth: Vec<f32>,
+    /// The baked irradiance (lux) each pixel used, from its lightmap or the probes; zero
+    /// where no bake lights it.
+    pub baked_irradiance: Vec<[f32; 3]>,
 }
 
 /// A shadow atlas as read back: its side and depths, row-major.

@@ -74,7 +74,7 @@ impl Renderer {
         let passes: Vec<Box<dyn FramePass>> = vec![
             Box::new(ShadowPass::new(&ctx, &material_layout)),
             Box::new(ForwardPass::new(device, scene_layout(), ctx.depth_format)),
-            Box::new(AovPass::new(device, scene_layout(), ctx.depth_format)),
+            Box::new(AovPass::new(device, &scene_layout(), ctx.depth_format)),
             Box::new(TonemapPass::new(device)),
             Box::new(GBufferPass::new(device, &scene_layout(), ctx.depth_format)),
             Box::new(DeferredLightsPass::new(device, &frame_data.layout, ctx.depth_format)),
@@ -214,7 +214,7 @@ impl Renderer {
                 Resource::GBufferAlbedoMetallic => (GBUFFER_ALBEDO_METALLIC_FORMAT, attach | sampled),
                 Resource::GBufferPacked => (GBUFFER_PACKED_FORMAT, attach | sampled),
                 Resource::LightBufferLdr => (LIGHT_BUFFER_LDR_FORMAT, attach | sampled),
-                Resource::AovPosition | Resource::AovNormalDepth => (AOV_FORMAT, attach),
+                Resource::AovPosition | Resource::AovNormalDepth | Resource::AovBaked => (AOV_FORMAT, attach),
                 Resource::AovShadow => (SHADOW_AOV_FORMAT, attach),
                 Resource::Output if !external_output => (OUTPUT_FORMAT, attach),
                 _ => continue,
@@ -294,9 +294,13 @@ impl Renderer {
         let mut copies = Vec::new();
         let mut wanted = Vec::new();
         if options.readback {
-            for (resource, bytes_per_pixel) in
-                [(Resource::Hdr, 8), (Resource::Output, 4), (Resource::AovPosition, 16), (Resource::AovNormalDepth, 16)]
-            {
+            for (resource, bytes_per_pixel) in [
+                (Resource::Hdr, 8),
+                (Resource::Output, 4),
+                (Resource::AovPosition, 16),
+                (Resource::AovNormalDepth, 16),
+                (Resource::AovBaked, 16),
+            ] {
                 if written.contains(&resource)
                     && let Some(texture) = self.targets.texture(resource)
                 {
@@ -435,6 +439,7 @@ impl Renderer {
 fn unpack_images(out: &mut FrameOutput, resources: &[Resource], bytes: Vec<Vec<u8>>, exposure: f32) {
     let mut position = None;
     let mut normal = None;
+    let mut baked = None;
     for (resource, b) in resources.iter().zip(bytes) {
         match resource {
             Resource::Hdr => {
@@ -450,22 +455,26 @@ fn unpack_images(out: &mut FrameOutput, resources: &[Resource], bytes: Vec<Vec<u
             Resource::Output => out.ldr = b,
             Resource::AovPosition => position = Some(b),
             Resource::AovNormalDepth => normal = Some(b),
+            Resource::AovBaked => baked = Some(b),
             _ => {}
         }
     }
-    if let (Some(position), Some(normal)) = (position, normal) {
+    if let (Some(position), Some(normal), Some(baked)) = (position, normal, baked) {
         let position: &[[f32; 4]] = bytemuck::cast_slice(&position);
         let normal: &[[f32; 4]] = bytemuck::cast_slice(&normal);
+        let baked: &[[f32; 4]] = bytemuck::cast_slice(&baked);
         let mut a = Aovs::default();
-        for (p, n) in position.iter().zip(normal) {
+        for ((p, n), e) in position.iter().zip(normal).zip(baked) {
             if p[3] > 0.5 {
                 a.position_ws.push([p[0], p[1], p[2]]);
                 a.normal_ws.push([n[0], n[1], n[2]]);
                 a.depth.push(n[3]);
+                a.baked_irradiance.push([e[0], e[1], e[2]]);
             } else {
                 a.position_ws.push([f32::NAN; 3]);
                 a.normal_ws.push([f32::NAN; 3]);
                 a.depth.push(f32::INFINITY);
+                a.baked_irradiance.push([0.0; 3]);
             }
         }
         out.aovs = Some(a);

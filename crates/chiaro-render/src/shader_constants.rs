@@ -38,6 +38,10 @@ pub const CASCADE_BLEND_DITHER: u32 = 2;
 
 /// `GpuObject::flags` bit: the object receives shadows.
 pub const OBJECT_RECEIVES_SHADOWS: u32 = 1;
+/// `GpuObject::flags` bit: baked light comes from its lightmap layer.
+pub const OBJECT_LIGHTMAPPED: u32 = 2;
+/// `GpuObject::flags` bit: baked light comes from the light probes.
+pub const OBJECT_PROBE_LIT: u32 = 4;
 
 /// `GpuMaterial::alpha_mode`.
 pub const MATERIAL_ALPHA_OPAQUE: u32 = 0;
@@ -80,6 +84,8 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("CASCADE_BLEND_SOFT", CASCADE_BLEND_SOFT),
     ("CASCADE_BLEND_DITHER", CASCADE_BLEND_DITHER),
     ("OBJECT_RECEIVES_SHADOWS", OBJECT_RECEIVES_SHADOWS),
+    ("OBJECT_LIGHTMAPPED", OBJECT_LIGHTMAPPED),
+    ("OBJECT_PROBE_LIT", OBJECT_PROBE_LIT),
     ("MATERIAL_ALPHA_OPAQUE", MATERIAL_ALPHA_OPAQUE),
     ("MATERIAL_ALPHA_MASK", MATERIAL_ALPHA_MASK),
     ("MATERIAL_ALPHA_BLEND", MATERIAL_ALPHA_BLEND),

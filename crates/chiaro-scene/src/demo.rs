@@ -75,6 +75,8 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
             world_from_local: transform,
             cast_shadows: CastShadows::On,
             receive_shadows: true,
+            is_static: true,
+            lightmap: None,
         });
     };
     place(0, "floor", Mat4::IDENTITY);
@@ -114,6 +116,7 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
         world_from_light: looking_along(Vec3::ZERO, sun_direction),
         shadow: LightShadow::default(),
         cookie: None,
+        mode: LightMode::Realtime,
     });
     for i in 0..other_lights {
         // A golden-angle spiral keeps any count evenly spread.
@@ -151,6 +154,7 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
                 LightShadow { mode: ShadowMode::None, ..LightShadow::default() }
             },
             cookie: None,
+            mode: LightMode::Realtime,
         });
     }
 

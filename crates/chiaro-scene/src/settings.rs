@@ -18,6 +18,35 @@ pub struct Settings {
     pub lights: LightSettings,
     pub camera: CameraSettings,
     pub shadows: ShadowSettings,
+    pub bake: BakeSettings,
+}
+
+/// The lightmap baker's settings (`chiaro bake`; its flags override these).
+#[derive(Clone, Debug, Deserialize, PartialEq, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BakeSettings {
+    /// Paths traced per lightmap texel (1 to 65536), on a stratified grid over the texel.
+    /// Too few leave noise in the bounced light; the time grows in proportion.
+    pub samples: u32,
+    /// Bounces of indirect light (0 to 64). 0 bakes direct light alone; each bounce adds
+    /// what one more reflection carries (albedo times the last).
+    pub bounces: u32,
+    /// Lightmap texels per metre (0.01 to 1000) where the baker makes lightmap UVs. Too
+    /// few blur shadows; too many cost bake time and memory quadratically.
+    pub texels_per_metre: f32,
+    /// Seed of the random numbers: the same seed bakes the same lightmaps.
+    pub seed: u64,
+    /// Metres between light probes (0.05 to 1000) in the grid over the scene bounds.
+    /// Too wide misses light changes; too fine costs bake time (at most 262144 probes).
+    pub probe_spacing: f32,
+    /// Directions traced per light probe (1 to 65536).
+    pub probe_samples: u32,
+}
+
+impl Default for BakeSettings {
+    fn default() -> Self {
+        BakeSettings { samples: 64, bounces: 3, texels_per_metre: 8.0, seed: 0, probe_spacing: 2.0, probe_samples: 256 }
+    }
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -322,6 +351,12 @@ impl Settings {
         }
         check_range("shadows.directional.cascade_fade", d.cascade_fade, 0.001, 1.0)?;
         check_atlas_and_filter("shadows.other", sh.other.atlas_size, &sh.other.filter)?;
+        let b = &self.bake;
+        check_range("bake.samples", b.samples as f32, 1.0, 65536.0)?;
+        check_range("bake.bounces", b.bounces as f32, 0.0, 64.0)?;
+        check_range("bake.texels_per_metre", b.texels_per_metre, 0.01, 1000.0)?;
+        check_range("bake.probe_spacing", b.probe_spacing, 0.05, 1000.0)?;
+        check_range("bake.probe_samples", b.probe_samples as f32, 1.0, 65536.0)?;
         Ok(())
     }
 }

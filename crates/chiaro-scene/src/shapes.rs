@@ -7,7 +7,6 @@ use glam::{Vec2, Vec3, Vec4};
 
 fn finish(mut p: Primitive) -> Primitive {
     p.bounds = Aabb::from_points(p.positions.iter().copied());
-    p.uv1 = p.uv0.clone();
     p
 }
 

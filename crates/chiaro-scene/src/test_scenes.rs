@@ -28,6 +28,8 @@ pub fn floor_scene(size: f32, eye: Vec3, lights: Vec<Light>) -> Scene {
             world_from_local: Mat4::IDENTITY,
             cast_shadows: CastShadows::On,
             receive_shadows: true,
+            is_static: true,
+            lightmap: None,
         }],
         materials: vec![Material {
             name: "white".into(),
@@ -74,6 +76,8 @@ pub fn add_box(scene: &mut Scene, position: Vec3, size: Vec3, yaw_rad: f32, cast
         world_from_local: Mat4::from_scale_rotation_translation(size, glam::Quat::from_rotation_y(yaw_rad), position),
         cast_shadows: cast,
         receive_shadows: true,
+        is_static: true,
+        lightmap: None,
     });
 }
 

@@ -22,6 +22,9 @@ pub struct Primitive {
     pub material: Option<usize>,
     /// Object-space bounds of `positions`.
     pub bounds: Aabb,
+    /// Coordinates in the instance's lightmap atlas, one per vertex; empty until a bake is
+    /// applied (`baked::apply`), which gives each lightmapped instance its own mesh.
+    pub lightmap_uv: Vec<Vec2>,
 }
 
 impl Primitive {
@@ -60,6 +63,11 @@ pub struct MeshInstance {
     pub cast_shadows: CastShadows,
     /// Node `extras.receiveShadows`; true by default.
     pub receive_shadows: bool,
+    /// Static instances receive lightmaps; dynamic ones (node `extras.static: false`, or
+    /// moved by a glTF animation) are lit by light probes.
+    pub is_static: bool,
+    /// The atlas layer of its lightmap, once a bake is applied.
+    pub lightmap: Option<u32>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -283,6 +291,39 @@ pub struct Cookie {
     pub size_m: Vec2,
 }
 
+/// How a light is evaluated (light `extras.mode`). Without a bake every light is realtime,
+/// so that nothing goes dark.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum LightMode {
+    /// Realtime direct light, not baked at all.
+    #[default]
+    Realtime,
+    /// Realtime direct light; its indirect light is baked.
+    Mixed,
+    /// Direct and indirect light baked; not evaluated at runtime when a bake is applied.
+    Baked,
+}
+
+impl LightMode {
+    pub fn name(self) -> &'static str {
+        match self {
+            LightMode::Realtime => "realtime",
+            LightMode::Mixed => "mixed",
+            LightMode::Baked => "baked",
+        }
+    }
+
+    /// Whether the baker writes the light's direct light.
+    pub fn bakes_direct(self) -> bool {
+        self == LightMode::Baked
+    }
+
+    /// Whether the baker carries the light's bounced light.
+    pub fn bakes_indirect(self) -> bool {
+        self != LightMode::Realtime
+    }
+}
+
 /// A KHR_lights_punctual light placed in the world.
 #[derive(Clone, Debug)]
 pub struct Light {
@@ -301,6 +342,7 @@ pub struct Light {
     pub world_from_light: Mat4,
     pub shadow: LightShadow,
     pub cookie: Option<Cookie>,
+    pub mode: LightMode,
 }
 
 impl Light {
@@ -318,11 +360,22 @@ impl Light {
             world_from_light: looking_along(position, direction),
             shadow: LightShadow::default(),
             cookie: None,
+            mode: LightMode::Realtime,
         }
     }
 
     pub fn position(&self) -> Vec3 {
         self.world_from_light.w_axis.truncate()
+    }
+
+    /// The range a point or spot light is shaded (and baked) with: its own, or the distance
+    /// at which its peak illuminance falls to `range_threshold_lux`, at most
+    /// `MAX_SHADED_RANGE_M`.
+    pub fn shaded_range(&self, range_threshold_lux: f32) -> f32 {
+        let range = self.range.unwrap_or_else(|| {
+            chiaro_math::light::derived_range(self.intensity * self.color.max_element(), range_threshold_lux)
+        });
+        range.min(chiaro_math::light::MAX_SHADED_RANGE_M)
     }
 
     /// Unit direction the light shines in (-Z of its node); unused by point lights.
@@ -358,6 +411,8 @@ pub struct Scene {
     pub ignored: Vec<String>,
     /// Files the scene was read from: the document, then its external buffers and images.
     pub inputs: Vec<PathBuf>,
+    /// Lightmaps and light probes, once a bake is applied (`baked::apply`).
+    pub baked: Option<crate::baked::BakedLighting>,
 }
 
 impl Scene {
@@ -371,6 +426,12 @@ impl Scene {
 
     pub fn triangle_count(&self) -> usize {
         self.instances.iter().flat_map(|inst| &self.meshes[inst.mesh].primitives).map(Primitive::triangle_count).sum()
+    }
+
+    /// Whether baked lights are left out of the realtime lights: only when a bake is
+    /// applied, so that without one they fall back to realtime.
+    pub fn skips_baked_lights(&self) -> bool {
+        self.baked.is_some()
     }
 
     /// Finds a camera by name (camera or node name) or by index in `cameras`.

@@ -47,6 +47,12 @@ pub struct Hit {
     pub geometric_normal: Vec3,
     /// Index into `Scene::instances`.
     pub instance: usize,
+    /// The primitive of the instance's mesh, and the triangle in it (indices
+    /// `3 * triangle ..`), for looking up materials and vertex attributes.
+    pub primitive: usize,
+    pub triangle: usize,
+    /// Weights of the triangle's corners at `position`.
+    pub barycentrics: [f32; 3],
 }
 
 /// Every valid world-space triangle of a scene in one hierarchy.
@@ -57,6 +63,8 @@ pub struct SceneBvh {
     triangles: Vec<Triangle>,
     /// The instance of each entry of `triangles`.
     triangle_instance: Vec<u32>,
+    /// The (primitive, triangle) of each entry of `triangles` within its instance's mesh.
+    triangle_source: Vec<(u32, u32)>,
     /// `VISIBLE | CASTER` bits of each entry of `triangles`: its instance's casting mode,
     /// less CASTER where its material casts no shadows (as in the renderer).
     triangle_mask: Vec<u8>,
@@ -86,6 +94,7 @@ struct AlphaTriangle {
 struct Gathered {
     triangle: Triangle,
     instance: u32,
+    source: (u32, u32),
     mask: u8,
     alpha: Option<(u32, [Vec2; 3])>,
 }
@@ -124,6 +133,7 @@ impl SceneBvh {
                 bvh: None,
                 triangles: Vec::new(),
                 triangle_instance: Vec::new(),
+                triangle_source: Vec::new(),
                 triangle_mask: Vec::new(),
                 triangle_alpha: Vec::new(),
                 alpha_triangles: Vec::new(),
@@ -140,11 +150,13 @@ impl SceneBvh {
         let mut triangle_alpha = Vec::with_capacity(bvh.primitive_indices.len());
         let mut triangles = Vec::with_capacity(bvh.primitive_indices.len());
         let mut triangle_instance = Vec::with_capacity(bvh.primitive_indices.len());
+        let mut triangle_source = Vec::with_capacity(bvh.primitive_indices.len());
         let mut triangle_mask = Vec::with_capacity(bvh.primitive_indices.len());
         for &i in &bvh.primitive_indices {
             let g = &gathered[i as usize];
             triangles.push(g.triangle);
             triangle_instance.push(g.instance);
+            triangle_source.push(g.source);
             triangle_mask.push(g.mask);
             triangle_alpha.push(match g.alpha {
                 Some((material, uv)) => {
@@ -165,6 +177,7 @@ impl SceneBvh {
             bvh: Some(bvh),
             triangles,
             triangle_instance,
+            triangle_source,
             triangle_mask,
             triangle_alpha,
             alpha_triangles,
@@ -204,11 +217,16 @@ impl SceneBvh {
         let id = ray_hit.primitive_id as usize;
         let tri = &self.triangles[id];
         let [a, b, c] = [tri.v0, tri.v1, tri.v2].map(|v| Vec3::from_array(v.into()));
+        let position = origin + direction * ray_hit.t;
+        let (primitive, triangle) = self.triangle_source[id];
         Some(Hit {
             t: ray_hit.t,
-            position: origin + direction * ray_hit.t,
+            position,
             geometric_normal: (b - a).cross(c - a).normalize_or_zero(),
             instance: self.triangle_instance[id] as usize,
+            primitive: primitive as usize,
+            triangle: triangle as usize,
+            barycentrics: barycentrics(a, b, c, position),
         })
     }
 
@@ -306,7 +324,7 @@ fn world_triangles<'a>(
     let primitives = scene.meshes.get(instance.mesh).map(|mesh| mesh.primitives.as_slice()).unwrap_or_default();
     let world_from_local = instance.world_from_local;
     let instance_bits = instance_mask(instance.cast_shadows);
-    primitives.iter().flat_map(move |primitive| {
+    primitives.iter().enumerate().flat_map(move |(primitive_index, primitive)| {
         let material = primitive.material.and_then(|m| scene.materials.get(m).map(|material| (m, material)));
         let casts = material.is_none_or(|(_, m)| m.shadow_casting != ShadowCasting::Off);
         let mask = if casts { instance_bits } else { instance_bits & !CASTER };
@@ -314,7 +332,7 @@ fn world_triangles<'a>(
             let uvs = if AlphaMaterial::new(material).uv_set() == 1 { &primitive.uv1 } else { &primitive.uv0 };
             (m as u32, uvs)
         });
-        primitive.indices.chunks_exact(3).filter_map(move |corners| {
+        primitive.indices.chunks_exact(3).enumerate().filter_map(move |(triangle_index, corners)| {
             let mut world = [Vec3::ZERO; 3];
             for (w, &index) in world.iter_mut().zip(corners) {
                 *w = world_from_local.transform_point3(*primitive.positions.get(index as usize)?);
@@ -327,6 +345,7 @@ fn world_triangles<'a>(
             Some(Gathered {
                 triangle: Triangle { v0: a.to_array().into(), v1: b.to_array().into(), v2: c.to_array().into() },
                 instance: index,
+                source: (primitive_index as u32, triangle_index as u32),
                 mask,
                 alpha,
             })
@@ -343,7 +362,16 @@ mod tests {
     use std::sync::OnceLock;
 
     fn instance(mesh: usize, world_from_local: Mat4, cast_shadows: CastShadows) -> MeshInstance {
-        MeshInstance { mesh, node: 0, name: String::new(), world_from_local, cast_shadows, receive_shadows: true }
+        MeshInstance {
+            mesh,
+            node: 0,
+            name: String::new(),
+            world_from_local,
+            cast_shadows,
+            receive_shadows: true,
+            is_static: true,
+            lightmap: None,
+        }
     }
 
     fn mesh(primitive: Primitive) -> Mesh {
@@ -495,6 +523,29 @@ mod tests {
         assert!(hits > 500, "{hits} of 1000 aimed rays hit");
     }
 
+    #[test]
+    fn hits_name_the_triangle_and_weights_that_rebuild_their_position() {
+        let (scene, bvh) = shared();
+        let mut checked = 0;
+        for k in 0..400 {
+            let angle = k as f32 * 0.37;
+            let origin = Vec3::new(angle.cos() * 6.0, 3.0 + (k % 7) as f32 * 0.3, angle.sin() * 6.0);
+            let target = Vec3::new((k % 5) as f32 * 0.4 - 0.8, 0.2, (k % 3) as f32 * 0.5 - 0.5);
+            let Some(hit) = bvh.closest_hit(origin, target - origin, f32::INFINITY) else { continue };
+            let instance = &scene.instances[hit.instance];
+            let primitive = &scene.meshes[instance.mesh].primitives[hit.primitive];
+            let corners = &primitive.indices[3 * hit.triangle..3 * hit.triangle + 3];
+            let rebuilt: Vec3 = corners
+                .iter()
+                .zip(hit.barycentrics)
+                .map(|(&i, w)| instance.world_from_local.transform_point3(primitive.positions[i as usize]) * w)
+                .sum();
+            assert!(rebuilt.distance(hit.position) < 1e-4, "{rebuilt} vs {}", hit.position);
+            checked += 1;
+        }
+        assert!(checked > 100, "{checked} hits");
+    }
+
     /// A floor at y = 0 and three quads above it facing up, at heights 1, 2 and 3, with
     /// shadows off, shadows only and on.
     fn stacked_scene() -> Scene {
@@ -595,6 +646,8 @@ mod alpha_tests {
                 world_from_local: Mat4::IDENTITY,
                 cast_shadows: CastShadows::On,
                 receive_shadows: true,
+                is_static: true,
+                lightmap: None,
             }],
             ..Scene::default()
         }

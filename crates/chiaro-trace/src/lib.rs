@@ -12,4 +12,4 @@ pub mod reference;
 
 pub use bvh::{Hit, SceneBvh};
 pub use compare::{LightComparison, PixelVerdict, classify_pixels, compare_light, difference_image};
-pub use reference::{PixelCamera, ShadowReference, trace_shadow_reference};
+pub use reference::{PixelCamera, ShadowReference, light_visibility, trace_shadow_reference};

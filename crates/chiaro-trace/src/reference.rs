@@ -155,15 +155,16 @@ fn trace_row(scene: &Scene, bvh: &SceneBvh, world_from_clip: &Mat4, camera: &Pix
         row.normal[x] = facing_normal;
         row.receives[x] = scene.instances[hit.instance].receive_shadows;
         for (light_index, light) in scene.lights.iter().enumerate() {
-            row.visibility[light_index * width + x] = visibility(bvh, light, hit.position, facing_normal);
+            row.visibility[light_index * width + x] = light_visibility(bvh, light, hit.position, facing_normal);
         }
     }
     row
 }
 
-/// How much of `light` a shadow ray from just off the surface carries: 1 unoccluded, 0
-/// behind a caster, between for dithered (transparent) casters.
-fn visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3) -> f32 {
+/// How much of `light` a shadow ray from just off the surface (on the side `facing_normal`
+/// points to) carries: 1 unoccluded, 0 behind a caster, between for dithered
+/// (transparent) casters. The baker's shadows use it too, so they agree with the reference.
+pub fn light_visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3) -> f32 {
     let offset = SHADOW_RAY_OFFSET_SCALE * position.abs().max_element().max(1.0);
     let origin = position + facing_normal * offset;
     let (direction, max_t) = match light.kind {
@@ -196,6 +197,8 @@ mod tests {
             world_from_local,
             cast_shadows: CastShadows::On,
             receive_shadows: true,
+            is_static: true,
+            lightmap: None,
         }
     }
 

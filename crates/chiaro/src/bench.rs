@@ -2,6 +2,7 @@
 //! and by GPU timestamp queries where the device has them, with the CPU time spent
 //! preparing each frame.
 
+use crate::bake_arg::BakeUseArgs;
 use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
@@ -35,6 +36,8 @@ pub struct BenchArgs {
     pub shadow: ShadowArgs,
     #[command(flatten)]
     pub path: PathArgs,
+    #[command(flatten)]
+    pub bake: BakeUseArgs,
 }
 
 struct Stats {
@@ -54,7 +57,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
     args.path.apply(&mut settings)?;
-    let scene = load_scene(args.scene.as_deref(), &args.demo)?;
+    let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
+    args.bake.apply(&mut scene, args.scene.as_deref())?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;

@@ -1,6 +1,7 @@
 //! `chiaro compare`: realtime shadows against the ray-traced reference, per light, as the
 //! share of compared pixels where they disagree, split into false and missed shadow.
 
+use crate::bake_arg::BakeUseArgs;
 use crate::output::{Encoded, Inputs, check_outputs, sibling_path, write_group};
 use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
@@ -37,6 +38,8 @@ pub struct CompareArgs {
     pub shadow: ShadowArgs,
     #[command(flatten)]
     pub path: PathArgs,
+    #[command(flatten)]
+    pub bake: BakeUseArgs,
 }
 
 /// A percentage from 0 to 100 (NaN and infinities are not).
@@ -49,7 +52,8 @@ pub fn run(args: CompareArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
     args.path.apply(&mut settings)?;
-    let scene = load_scene(args.scene.as_deref(), &args.demo)?;
+    let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
+    args.bake.apply(&mut scene, args.scene.as_deref())?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let diff_path = |node: usize| args.diff.as_ref().map(|diff| sibling_path(diff, &format!("{node}.png")));
     let outputs: Vec<PathBuf> = scene.lights.iter().filter_map(|l| diff_path(l.node)).collect();

@@ -1,6 +1,9 @@
-//! `chiaro`: render glTF scenes (or the built-in demo) to images, describe them, and
-//! benchmark frames. A thin layer over chiaro-scene and chiaro-render.
+//! `chiaro`: render glTF scenes (or the built-in demo) to images, describe them,
+//! benchmark frames, compare shadows with a reference, and bake lightmaps. A thin layer
+//! over chiaro-scene, chiaro-bake and chiaro-render.
 
+mod bake;
+mod bake_arg;
 mod bench;
 mod compare;
 mod info;
@@ -30,6 +33,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Compare realtime shadows with a CPU ray-traced reference, per light.
     Compare(compare::CompareArgs),
+    /// Bake lightmaps and light probes for a scene's static objects (CPU path tracing).
+    Bake(bake::BakeArgs),
 }
 
 /// Mesa's Vulkan drivers load libwayland, which prints "XDG_RUNTIME_DIR is invalid or not
@@ -63,6 +68,7 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Bake(args) => bake::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

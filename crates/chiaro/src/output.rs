@@ -86,6 +86,11 @@ impl Inputs {
         files.extend(settings.map(|s| (s.to_path_buf(), "the settings file")));
         Inputs { files }
     }
+
+    /// Whether `path` is one of the inputs.
+    pub fn contains(&self, path: &Path) -> bool {
+        self.files.iter().any(|(input, _)| same_file(path, input))
+    }
 }
 
 /// Checks, before any work, that each of `outputs` can be written and replaces no input.

@@ -1,5 +1,6 @@
 //! `chiaro render`: one frame to an image, with optional AOVs beside it.
 
+use crate::bake_arg::BakeUseArgs;
 use crate::output::{Encoded, Inputs, OutputFormat, aov_path, check_outputs, output_format, sibling_path, write_group};
 use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
@@ -21,6 +22,9 @@ pub enum Aov {
     Depth,
     /// Per light, `<stem>.shadow.<node>.exr`: the realtime shadow attenuation used.
     Shadow,
+    /// `<stem>.lightmap.exr`: the baked irradiance (lux, RGB float32) each pixel used,
+    /// from its lightmap or the light probes; zero where no bake lights it.
+    Lightmap,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -94,12 +98,16 @@ pub struct RenderArgs {
     pub shadow: ShadowArgs,
     #[command(flatten)]
     pub path: PathArgs,
+    #[command(flatten)]
+    pub bake: BakeUseArgs,
 }
 
 /// Every file the render will write, known before it runs.
 fn planned_outputs(args: &RenderArgs, scene: &chiaro_scene::Scene) -> Vec<PathBuf> {
     let mut outputs = vec![args.output.clone()];
-    for (aov, name) in [(Aov::Position, "position"), (Aov::Normal, "normal"), (Aov::Depth, "depth")] {
+    for (aov, name) in
+        [(Aov::Position, "position"), (Aov::Normal, "normal"), (Aov::Depth, "depth"), (Aov::Lightmap, "lightmap")]
+    {
         if args.aov.contains(&aov) {
             outputs.push(aov_path(&args.output, name));
         }
@@ -132,14 +140,15 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     let width = args.width.unwrap_or(settings.render.width);
     let height = args.height.unwrap_or(settings.render.height);
-    let scene = load_scene(args.scene.as_deref(), &args.demo)?;
+    let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
+    args.bake.apply(&mut scene, args.scene.as_deref())?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
     check_outputs(&planned_outputs(&args, &scene), &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
     let wants = |aov: Aov| args.aov.contains(&aov);
     let options = FrameOptions {
-        aovs: wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Depth),
+        aovs: wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Depth) || wants(Aov::Lightmap),
         shadow_aovs: wants(Aov::Shadow),
         readback: true,
         debug_cascades: args.debug.contains(&Debug::Cascades),
@@ -183,6 +192,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 Aov::Position => ("position", Encoded::ExrRgb { width, height, rgb: &aovs.position_ws }),
                 Aov::Normal => ("normal", Encoded::ExrRgb { width, height, rgb: &aovs.normal_ws }),
                 Aov::Depth => ("depth", Encoded::ExrSingle { width, height, values: &aovs.depth }),
+                Aov::Lightmap => ("lightmap", Encoded::ExrRgb { width, height, rgb: &aovs.baked_irradiance }),
                 Aov::Shadow => continue,
             };
             files.push((aov_path(&args.output, name), image));

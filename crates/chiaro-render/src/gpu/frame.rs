@@ -1,6 +1,6 @@
 //! The per-frame uniform and the per-object transforms (`shaders/common/frame.wesl`).
 
-use crate::shader_constants::OBJECT_RECEIVES_SHADOWS;
+use crate::shader_constants::{OBJECT_LIGHTMAPPED, OBJECT_PROBE_LIT, OBJECT_RECEIVES_SHADOWS};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
@@ -37,7 +37,22 @@ pub struct GpuObject {
     pub normal_from_local: Mat4,
     /// `OBJECT_*` bits.
     pub flags: u32,
-    pub _pad: [u32; 3],
+    /// Its lightmap's layer in the lightmap array, with `OBJECT_LIGHTMAPPED`.
+    pub lightmap_layer: u32,
+    pub _pad: [u32; 2],
+}
+
+/// The head of the light probe buffer (`shaders/lighting/baked.wesl`); nine RGB
+/// coefficients (as vec4) per probe follow, x varying fastest, then y, then z.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuProbeGridHeader {
+    pub origin: Vec3,
+    pub _pad0: f32,
+    pub spacing: Vec3,
+    pub _pad1: f32,
+    pub counts: [u32; 3],
+    pub _pad2: u32,
 }
 
 impl GpuObject {
@@ -46,7 +61,18 @@ impl GpuObject {
             world_from_local,
             normal_from_local: world_from_local.inverse().transpose(),
             flags: if receives_shadows { OBJECT_RECEIVES_SHADOWS } else { 0 },
-            _pad: [0; 3],
+            lightmap_layer: 0,
+            _pad: [0; 2],
         }
+    }
+
+    /// Lit by layer `layer` of the lightmaps instead of the ambient term.
+    pub fn lightmapped(self, layer: u32) -> GpuObject {
+        GpuObject { flags: self.flags | OBJECT_LIGHTMAPPED, lightmap_layer: layer, ..self }
+    }
+
+    /// Lit by the light probes instead of the ambient term.
+    pub fn probe_lit(self) -> GpuObject {
+        GpuObject { flags: self.flags | OBJECT_PROBE_LIT, ..self }
     }
 }

@@ -9,7 +9,7 @@ mod material;
 mod shadow;
 mod vertex;
 
-pub use frame::{GpuFrame, GpuObject};
+pub use frame::{GpuFrame, GpuObject, GpuProbeGridHeader};
 pub use light::{GpuAovLight, GpuLight, GpuLightListEntry, GpuVolumeLight};
 pub use material::{GpuMaterial, GpuTextureTransform};
 pub use shadow::{GpuAtlas, GpuCascade, GpuCasterView, GpuShadowFade, GpuShadowTile, GpuShadows};
@@ -42,7 +42,8 @@ layouts! {
         clip_from_world, view_from_world, world_from_view, view_from_clip, camera_position_ws, exposure_scale,
         ambient, debug_view, directional_light_count, shadowed_other_light_count, other_light_count, width, height,
     }
-    GpuObject { world_from_local, normal_from_local, flags }
+    GpuObject { world_from_local, normal_from_local, flags, lightmap_layer }
+    GpuProbeGridHeader { origin, spacing, counts }
     GpuLight {
         color, kind, position_ws, range, direction_ws, shadow_slot, spot_scale, spot_offset,
         shadow_strength, shadow_first_tile, shadow_filter, cookie_layer, cookie_scale, axis_x_ws, axis_y_ws,

@@ -11,11 +11,13 @@ pub struct GpuVertex {
     pub tangent: [f32; 4],
     pub uv0: [f32; 2],
     pub uv1: [f32; 2],
+    /// Coordinates in the instance's lightmap atlas layer (zero without one).
+    pub lightmap_uv: [f32; 2],
 }
 
 impl GpuVertex {
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
-        0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x2
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x2, 5 => Float32x2
     ];
 
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {
@@ -39,6 +41,7 @@ mod tests {
             std::mem::offset_of!(GpuVertex, tangent),
             std::mem::offset_of!(GpuVertex, uv0),
             std::mem::offset_of!(GpuVertex, uv1),
+            std::mem::offset_of!(GpuVertex, lightmap_uv),
         ];
         for (attribute, offset) in GpuVertex::ATTRIBUTES.iter().zip(offsets) {
             assert_eq!(attribute.offset as usize, offset, "location {}", attribute.shader_location);

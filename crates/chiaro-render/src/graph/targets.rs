@@ -25,6 +25,8 @@ pub enum Resource {
     AovPosition,
     /// World normal and linear view depth.
     AovNormalDepth,
+    /// Baked irradiance (RGB) and whether a bake lights the pixel (A).
+    AovBaked,
     /// One light's shadow term and coverage.
     AovShadow,
     /// The tone-mapped, display-encoded image.

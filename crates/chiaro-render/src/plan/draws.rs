@@ -152,6 +152,8 @@ mod tests {
                 world_from_local: Mat4::from_translation(Vec3::new(x, 0.0, 0.0)),
                 cast_shadows: cast,
                 receive_shadows: true,
+                is_static: true,
+                lightmap: None,
             });
         }
         scene

@@ -11,10 +11,9 @@ use crate::shader_constants::{
 use crate::view::View;
 use chiaro_math::Frustum;
 use chiaro_math::light::{
-    LightSelection, MAX_DIRECTIONAL_LIGHTS, MAX_SHADED_RANGE_M, OtherLightBounds, derived_range, select_other_lights,
-    spot_angle_params,
+    LightSelection, MAX_DIRECTIONAL_LIGHTS, OtherLightBounds, select_other_lights, spot_angle_params,
 };
-use chiaro_scene::{Light, LightKind, Scene, Settings};
+use chiaro_scene::{Light, LightKind, LightMode, Scene, Settings};
 use glam::Vec2;
 
 /// A light's index in `Scene::lights`: the same light has the same id in every frame of
@@ -53,16 +52,16 @@ pub struct LightChoice {
 /// The range a point or spot light is shaded with: its own, or one derived from its
 /// intensity, at most `MAX_SHADED_RANGE_M`.
 pub fn effective_range(light: &Light, settings: &Settings) -> f32 {
-    let range = light.range.unwrap_or_else(|| {
-        derived_range(light.intensity * light.color.max_element(), settings.lights.range_threshold_lux)
-    });
-    range.min(MAX_SHADED_RANGE_M)
+    light.shaded_range(settings.lights.range_threshold_lux)
 }
 
 pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightChoice {
     let id = |i: usize| LightId(i as u32);
+    // With a bake applied, baked lights live in the lightmaps and probes alone.
+    let skip_baked = scene.skips_baked_lights();
+    let realtime = |i: &usize| !(skip_baked && scene.lights[*i].mode == LightMode::Baked);
     let all_directional: Vec<usize> =
-        (0..scene.lights.len()).filter(|&i| scene.lights[i].kind == LightKind::Directional).collect();
+        (0..scene.lights.len()).filter(realtime).filter(|&i| scene.lights[i].kind == LightKind::Directional).collect();
     let dropped_directional = all_directional.len().saturating_sub(MAX_DIRECTIONAL_LIGHTS);
     if dropped_directional > 0 {
         tracing::warn!(
@@ -72,7 +71,7 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
     let directional = all_directional.iter().take(MAX_DIRECTIONAL_LIGHTS).map(|&i| id(i)).collect();
 
     let others: Vec<usize> =
-        (0..scene.lights.len()).filter(|&i| scene.lights[i].kind != LightKind::Directional).collect();
+        (0..scene.lights.len()).filter(realtime).filter(|&i| scene.lights[i].kind != LightKind::Directional).collect();
     let bounds: Vec<OtherLightBounds> = others
         .iter()
         .map(|&i| {

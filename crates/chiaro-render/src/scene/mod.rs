@@ -2,6 +2,7 @@
 //! out by `plan::draws::GeometryLayout`), an object buffer of transforms, a bind group per
 //! material, and the draw list the frame plans index.
 
+pub mod baked;
 pub mod cookies;
 mod textures;
 
@@ -10,6 +11,7 @@ use crate::plan::draws::{Draw, GeometryLayout, scene_draws};
 use crate::shader_constants::{
     MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_ALPHA_OPAQUE, MATERIAL_FLAG_NORMAL_TEXTURE,
 };
+use baked::BakedTextures;
 use bytemuck::Zeroable;
 use chiaro_scene::{AlphaMode, Material, Scene, TextureRef};
 use cookies::CookieTextures;
@@ -25,6 +27,8 @@ pub struct GpuScene {
     pub draws: Vec<Draw>,
     /// The lights' cookies, bound in group 0.
     pub cookies: CookieTextures,
+    /// Lightmaps and light probes, bound in group 0.
+    pub baked: BakedTextures,
 }
 
 pub fn material_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
@@ -120,6 +124,7 @@ impl GpuScene {
                     tangent: p.tangents.get(i).copied().unwrap_or(Vec4::new(1.0, 0.0, 0.0, 1.0)).to_array(),
                     uv0: p.uv0.get(i).copied().unwrap_or_default().to_array(),
                     uv1: p.uv1.get(i).copied().unwrap_or_default().to_array(),
+                    lightmap_uv: p.lightmap_uv.get(i).copied().unwrap_or_default().to_array(),
                 });
             }
             indices.extend_from_slice(&p.indices);
@@ -132,8 +137,19 @@ impl GpuScene {
             indices.push(0);
         }
         let draws = scene_draws(scene, &geometry);
-        let mut objects: Vec<GpuObject> =
-            scene.instances.iter().map(|inst| GpuObject::new(inst.world_from_local, inst.receive_shadows)).collect();
+        let has_probes = scene.baked.as_ref().is_some_and(|b| b.probes.is_some());
+        let mut objects: Vec<GpuObject> = scene
+            .instances
+            .iter()
+            .map(|inst| {
+                let object = GpuObject::new(inst.world_from_local, inst.receive_shadows);
+                match inst.lightmap {
+                    Some(layer) if scene.baked.is_some() => object.lightmapped(layer),
+                    _ if has_probes => object.probe_lit(),
+                    _ => object,
+                }
+            })
+            .collect();
         if objects.is_empty() {
             objects.push(GpuObject::new(glam::Mat4::IDENTITY, true));
         }
@@ -199,6 +215,7 @@ impl GpuScene {
             })
             .collect();
         let cookies = CookieTextures::upload(device, queue, scene);
-        GpuScene { vertices, indices, objects, materials, draws, cookies }
+        let baked = BakedTextures::upload(device, queue, scene.baked.as_ref());
+        GpuScene { vertices, indices, objects, materials, draws, cookies, baked }
     }
 }

@@ -1,11 +1,11 @@
 //! glTF `extras` Chiaro reads, since glTF has no place for shadow settings or cookies: a
 //! light's `{"shadows": "none"|"hard"|"soft", "shadowStrength", "shadowDepthBias",
-//! "shadowNormalBias", "shadowNearPlane", "cookie": {"image": N, "size": [W, H]}}`, a
-//! mesh node's `{"castShadows": "on"|"off"|"two-sided"|"shadows-only", "receiveShadows":
-//! bool}`, and a material's `{"shadowCasting": "on"|"clip"|"dither"|"off"}`. Other keys
+//! "shadowNormalBias", "shadowNearPlane", "cookie": {"image": N, "size": [W, H]}, "mode":
+//! "realtime"|"mixed"|"baked"}`, a mesh node's `{"castShadows":
+//! "on"|"off"|"two-sided"|"shadows-only", "receiveShadows": bool, "static": bool}`, and a material's `{"shadowCasting": "on"|"clip"|"dither"|"off"}`. Other keys
 //! are left alone; a known key with a wrong value is an error naming it.
 
-use crate::types::{AlphaMode, CastShadows, LightShadow, ShadowCasting, ShadowMode};
+use crate::types::{AlphaMode, CastShadows, LightMode, LightShadow, ShadowCasting, ShadowMode};
 use gltf::json;
 use serde::Deserialize;
 use serde_json::value::RawValue;
@@ -29,6 +29,7 @@ struct LightExtras {
     shadow_depth_bias: Option<f32>,
     shadow_normal_bias: Option<f32>,
     shadow_near_plane: Option<f32>,
+    mode: Option<serde_json::Value>,
 }
 
 #[derive(Deserialize, Default)]
@@ -36,6 +37,8 @@ struct LightExtras {
 struct NodeExtras {
     cast_shadows: Option<serde_json::Value>,
     receive_shadows: Option<bool>,
+    #[serde(rename = "static")]
+    is_static: Option<serde_json::Value>,
 }
 
 #[derive(Deserialize, Default)]
@@ -92,6 +95,31 @@ pub(super) fn light_shadow(extras: Option<&RawValue>) -> Result<LightShadow, Str
 pub(super) fn light_cookie(extras: Option<&RawValue>) -> Result<Option<CookieExtras>, String> {
     let e: LightExtras = parse(extras)?;
     e.cookie.map(|c| serde_json::from_value(c).map_err(|e| format!("extras.cookie: {e}"))).transpose()
+}
+
+/// A light's mode: realtime unless its extras say mixed or baked.
+pub(super) fn light_mode(extras: Option<&RawValue>) -> Result<LightMode, String> {
+    let e: LightExtras = parse(extras)?;
+    match e.mode {
+        None => Ok(LightMode::Realtime),
+        Some(serde_json::Value::String(s)) => match s.as_str() {
+            "realtime" => Ok(LightMode::Realtime),
+            "mixed" => Ok(LightMode::Mixed),
+            "baked" => Ok(LightMode::Baked),
+            other => Err(format!("extras.mode: '{other}' is not realtime, mixed or baked")),
+        },
+        Some(other) => Err(format!("extras.mode: {other} is not a string")),
+    }
+}
+
+/// A mesh node's `extras.static`, if it gives one.
+pub(super) fn node_static(node: &json::scene::Node) -> Result<Option<bool>, String> {
+    let e: NodeExtras = parse(node.extras.as_deref())?;
+    match e.is_static {
+        None => Ok(None),
+        Some(serde_json::Value::Bool(b)) => Ok(Some(b)),
+        Some(other) => Err(format!("extras.static: {other} is not true or false")),
+    }
 }
 
 /// A mesh node's (cast, receive) shadow flags.
@@ -181,6 +209,23 @@ mod tests {
         );
         assert_eq!(node_shadows(&node(r#"{"castShadows": "two-sided"}"#)).unwrap().0, CastShadows::TwoSided);
         assert!(node_shadows(&node(r#"{"castShadows": "sometimes"}"#)).unwrap_err().contains("castShadows"));
+    }
+
+    #[test]
+    fn light_modes_and_static_flags_parse_and_name_bad_values() {
+        assert_eq!(light_mode(None).unwrap(), LightMode::Realtime);
+        assert_eq!(light_mode(Some(&raw(r#"{"mode": "baked"}"#))).unwrap(), LightMode::Baked);
+        assert_eq!(light_mode(Some(&raw(r#"{"mode": "mixed"}"#))).unwrap(), LightMode::Mixed);
+        assert_eq!(
+            light_mode(Some(&raw(r#"{"mode": "sometimes"}"#))).unwrap_err(),
+            "extras.mode: 'sometimes' is not realtime, mixed or baked"
+        );
+        assert!(light_mode(Some(&raw(r#"{"mode": 2}"#))).unwrap_err().starts_with("extras.mode"));
+        let node =
+            |extras: &str| json::scene::Node { extras: Some(raw(extras)), ..serde_json::from_str("{}").unwrap() };
+        assert_eq!(node_static(&node(r#"{"static": false}"#)).unwrap(), Some(false));
+        assert_eq!(node_static(&node(r#"{"castShadows": "on"}"#)).unwrap(), None);
+        assert!(node_static(&node(r#"{"static": "yes"}"#)).unwrap_err().starts_with("extras.static"));
     }
 
     #[test]

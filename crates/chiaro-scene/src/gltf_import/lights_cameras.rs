@@ -70,6 +70,8 @@ impl Loader<'_> {
         };
         let shadow =
             super::extras::light_shadow(light.extras.as_deref()).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+        let mode =
+            super::extras::light_mode(light.extras.as_deref()).map_err(|e| self.invalid(format!("{label}: {e}")))?;
         let cookie = match super::extras::light_cookie(light.extras.as_deref())
             .map_err(|e| self.invalid(format!("{label}: {e}")))?
         {
@@ -113,6 +115,7 @@ impl Loader<'_> {
             world_from_light,
             shadow,
             cookie,
+            mode,
         }))
     }
 

@@ -156,7 +156,17 @@ impl Loader<'_> {
         };
 
         let bounds = Aabb::from_points(positions.iter().copied());
-        Ok(Some(Primitive { positions, normals, tangents, uv0, uv1, indices, material, bounds }))
+        Ok(Some(Primitive {
+            positions,
+            normals,
+            tangents,
+            uv0,
+            uv1,
+            indices,
+            material,
+            bounds,
+            lightmap_uv: Vec::new(),
+        }))
     }
 }
 

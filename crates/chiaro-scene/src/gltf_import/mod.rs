@@ -125,6 +125,7 @@ impl<'a> Loader<'a> {
             (0..self.root.meshes.len()).map(|index| self.mesh(index, &materials)).collect::<Result<Vec<_>, _>>()?;
 
         let placements = self.walk_scene()?;
+        let moving = self.animated_nodes();
         let mut instances = Vec::new();
         let mut lights = Vec::new();
         let mut cameras = Vec::new();
@@ -138,6 +139,9 @@ impl<'a> Loader<'a> {
                     .unwrap_or_else(|| format!("node {}", placement.node));
                 let (cast_shadows, receive_shadows) = extras::node_shadows(node)
                     .map_err(|e| self.invalid(format!("node {} ({name}): {e}", placement.node)))?;
+                let is_static = extras::node_static(node)
+                    .map_err(|e| self.invalid(format!("node {} ({name}): {e}", placement.node)))?
+                    .unwrap_or(!moving[placement.node]);
                 instances.push(MeshInstance {
                     mesh: mesh.value(),
                     node: placement.node,
@@ -145,6 +149,8 @@ impl<'a> Loader<'a> {
                     world_from_local: placement.world_from_local,
                     cast_shadows,
                     receive_shadows,
+                    is_static,
+                    lightmap: None,
                 });
             }
             if let Some(light) = self.light(placement)? {
@@ -167,6 +173,7 @@ impl<'a> Loader<'a> {
             cameras,
             ignored: std::mem::take(&mut self.ignored),
             inputs: Vec::new(),
+            baked: None,
         })
     }
 
@@ -183,7 +190,7 @@ impl<'a> Loader<'a> {
         let root = self.root;
         let t = &self.tally;
         let notes = [
-            (root.animations.len(), "animation", "not supported, ignored"),
+            (root.animations.len(), "animation", "not played; the nodes it moves are dynamic (lit by light probes)"),
             (root.skins.len(), "skin", "not supported, skinned meshes drawn in their bind pose"),
             (t.morph_targets, "primitive with morph targets", "not supported, drawn with base positions"),
             (t.vertex_colors, "primitive with vertex colours", "not supported, ignored"),

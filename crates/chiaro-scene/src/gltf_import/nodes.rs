@@ -56,6 +56,32 @@ impl Loader<'_> {
     }
 }
 
+impl Loader<'_> {
+    /// Per node, whether a glTF animation moves it or one of its ancestors: those nodes are
+    /// dynamic, so the baker gives them light probes rather than lightmaps.
+    pub(super) fn animated_nodes(&self) -> Vec<bool> {
+        let nodes = &self.root.nodes;
+        let mut moving = vec![false; nodes.len()];
+        let mut stack: Vec<usize> = self
+            .root
+            .animations
+            .iter()
+            .flat_map(|a| &a.channels)
+            .map(|c| c.target.node.value())
+            .filter(|&n| n < nodes.len())
+            .collect();
+        // The hierarchy was checked to be a forest in `walk_scene`; `moving` also guards
+        // against revisiting.
+        while let Some(n) = stack.pop() {
+            if std::mem::replace(&mut moving[n], true) {
+                continue;
+            }
+            stack.extend(nodes[n].children.iter().flatten().map(|c| c.value()).filter(|&c| c < nodes.len()));
+        }
+        moving
+    }
+}
+
 fn local_transform(node: &json::scene::Node) -> Mat4 {
     if let Some(m) = node.matrix {
         return Mat4::from_cols_array(&m);

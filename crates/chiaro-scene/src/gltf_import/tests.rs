@@ -4,7 +4,7 @@
 
 use super::load_gltf;
 use crate::error::SceneError;
-use crate::types::{AlphaMode, ColorSpace, LightKind, SamplerDesc, Scene, UvTransform, WrapMode};
+use crate::types::{AlphaMode, ColorSpace, LightKind, LightMode, SamplerDesc, Scene, UvTransform, WrapMode};
 use base64::Engine as _;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use serde_json::{Value, json};
@@ -695,7 +695,7 @@ fn ignored_features_are_counted_once_per_kind() {
     assert_eq!(
         scene.ignored,
         vec![
-            "3 animations: not supported, ignored".to_owned(),
+            "3 animations: not played; the nodes it moves are dynamic (lit by light probes)".to_owned(),
             "1 primitive with vertex colours: not supported, ignored".to_owned(),
             "2 primitives of points or lines: not supported, ignored".to_owned(),
             "1 primitive without POSITION: nothing to draw, ignored".to_owned(),
@@ -949,4 +949,58 @@ fn bad_cookies_are_errors_naming_the_light() {
         };
         assert!(message.contains("gobo") && message.contains(needle), "{needle}: {message}");
     }
+}
+
+#[test]
+fn animated_nodes_and_their_children_are_dynamic_and_extras_override() {
+    let dir = TempDir::new("animated");
+    let mut doc = triangle_doc();
+    // Node 0 still; node 1 animated, carrying node 2; node 3 still but says static: false;
+    // node 4 animated but says static: true.
+    doc["scenes"] = json!([{ "nodes": [0, 1, 3, 4] }]);
+    doc["nodes"] = json!([
+        { "mesh": 0, "name": "still" },
+        { "mesh": 0, "name": "spinning", "children": [2] },
+        { "mesh": 0, "name": "carried" },
+        { "mesh": 0, "name": "declared", "extras": { "static": false } },
+        { "mesh": 0, "name": "pinned", "extras": { "static": true } },
+    ]);
+    // The channels' samplers reuse the position accessor; only the targets matter here.
+    doc["animations"] = json!([{
+        "channels": [
+            { "sampler": 0, "target": { "node": 1, "path": "translation" } },
+            { "sampler": 0, "target": { "node": 4, "path": "translation" } }
+        ],
+        "samplers": [{ "input": 0, "output": 0 }]
+    }]);
+    let scene = load_doc(&dir, &doc).unwrap();
+    let flags: Vec<(&str, bool)> = scene.instances.iter().map(|i| (i.name.as_str(), i.is_static)).collect();
+    assert_eq!(
+        flags,
+        vec![("still", true), ("spinning", false), ("carried", false), ("declared", false), ("pinned", true)]
+    );
+    let mut bad = triangle_doc();
+    bad["nodes"][0]["extras"] = json!({ "static": 1 });
+    assert!(invalid_message(load_doc(&dir, &bad)).contains("extras.static"));
+}
+
+#[test]
+fn light_mode_comes_from_extras() {
+    let dir = TempDir::new("light mode");
+    let mut doc = triangle_doc();
+    doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    doc["extensions"] = json!({ "KHR_lights_punctual": { "lights": [
+        { "type": "point", "extras": { "mode": "baked" } },
+        { "type": "point" }
+    ] } });
+    doc["scenes"] = json!([{ "nodes": [0, 1, 2] }]);
+    doc["nodes"] = json!([
+        { "mesh": 0 },
+        { "extensions": { "KHR_lights_punctual": { "light": 0 } } },
+        { "extensions": { "KHR_lights_punctual": { "light": 1 } } }
+    ]);
+    let scene = load_doc(&dir, &doc).unwrap();
+    assert_eq!(scene.lights.iter().map(|l| l.mode).collect::<Vec<_>>(), vec![LightMode::Baked, LightMode::Realtime]);
+    doc["extensions"]["KHR_lights_punctual"]["lights"][1]["extras"] = json!({ "mode": "never" });
+    assert!(invalid_message(load_doc(&dir, &doc)).contains("extras.mode"));
 }

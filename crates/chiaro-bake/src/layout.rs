@@ -1,0 +1,174 @@
+//! The lightmap layout of a scene: which static instances get lightmaps, their charts,
+//! and where each chart lies in which atlas. Every atlas has the same size (a power of
+//! two, at most `MAX_ATLAS_SIZE`), so that they load as layers of one texture array.
+
+use crate::charts::{Chart, UvSource, WorldPrimitive, instance_charts};
+use crate::pack::ShelfPacker;
+use chiaro_scene::Scene;
+use chiaro_scene::baked::InstanceLightmap;
+use glam::Vec2;
+
+pub const MAX_ATLAS_SIZE: u32 = 4096;
+/// Empty texels around every chart: dilation fills them, so that bilinear filtering at a
+/// chart's edge reads its own light and never the next chart's.
+pub const GUTTER_TEXELS: u32 = 2;
+
+/// One triangle placed in an atlas.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlacedTriangle {
+    pub instance: u32,
+    pub primitive: u32,
+    pub triangle: u32,
+    /// Corners in atlas texel coordinates (texel `(i, j)` spans `[i, i + 1] x [j, j + 1]`).
+    pub corners: [Vec2; 3],
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct InstanceLayout {
+    pub instance: usize,
+    pub layer: u32,
+    pub uv_source: UvSource,
+    /// The density used, lower than asked where the instance would not fit one atlas.
+    pub texels_per_metre: f32,
+    pub triangles: Vec<PlacedTriangle>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct AtlasLayout {
+    pub size: u32,
+    pub atlas_count: u32,
+    pub instances: Vec<InstanceLayout>,
+}
+
+impl AtlasLayout {
+    /// The triangles of atlas `layer`.
+    pub fn triangles_of(&self, layer: u32) -> impl Iterator<Item = &PlacedTriangle> {
+        self.instances.iter().filter(move |i| i.layer == layer).flat_map(|i| &i.triangles)
+    }
+
+    /// Per lightmapped instance, its corners' atlas coordinates (0 to 1) in index order,
+    /// as `chiaro_scene::baked::apply` takes them.
+    pub fn placements(&self, scene: &Scene) -> Vec<InstanceLightmap> {
+        self.instances
+            .iter()
+            .map(|layout| {
+                let mesh = &scene.meshes[scene.instances[layout.instance].mesh];
+                let mut corner_uvs: Vec<Vec<Vec2>> =
+                    mesh.primitives.iter().map(|p| vec![Vec2::ZERO; p.indices.len()]).collect();
+                for t in &layout.triangles {
+                    let first = 3 * t.triangle as usize;
+                    for (k, corner) in t.corners.iter().enumerate() {
+                        corner_uvs[t.primitive as usize][first + k] = *corner / self.size as f32;
+                    }
+                }
+                InstanceLightmap { instance: layout.instance, layer: layout.layer, corner_uvs }
+            })
+            .collect()
+    }
+}
+
+/// The instances that get lightmaps: static, drawn (not shadows-only), with triangles.
+pub fn lightmapped_instances(scene: &Scene) -> Vec<usize> {
+    (0..scene.instances.len())
+        .filter(|&i| {
+            let instance = &scene.instances[i];
+            instance.is_static
+                && instance.cast_shadows != chiaro_scene::CastShadows::ShadowsOnly
+                && scene.meshes.get(instance.mesh).is_some_and(|m| m.primitives.iter().any(|p| p.triangle_count() > 0))
+        })
+        .collect()
+}
+
+fn charts_of(scene: &Scene, instance: usize, texels_per_metre: f32) -> (Vec<Chart>, UvSource) {
+    let inst = &scene.instances[instance];
+    let primitives: Vec<WorldPrimitive> = scene.meshes[inst.mesh]
+        .primitives
+        .iter()
+        .map(|p| WorldPrimitive {
+            positions: p.positions.iter().map(|&q| inst.world_from_local.transform_point3(q)).collect(),
+            indices: &p.indices,
+            uv1: &p.uv1,
+        })
+        .collect();
+    instance_charts(&primitives, texels_per_metre)
+}
+
+/// A chart's rectangle in texels: its extent, one texel so that its edges lie inside
+/// texels, and the gutter on every side.
+fn rect_of(chart: &Chart) -> (u32, u32) {
+    let side = |extent: f32| extent.ceil() as u32 + 1 + 2 * GUTTER_TEXELS;
+    (side(chart.size.x), side(chart.size.y))
+}
+
+/// Lays out every lightmapped instance of `scene` at `texels_per_metre`.
+pub fn layout_scene(scene: &Scene, texels_per_metre: f32) -> AtlasLayout {
+    let mut charts: Vec<(usize, f32, Vec<Chart>, UvSource)> = Vec::new();
+    for instance in lightmapped_instances(scene) {
+        let mut density = texels_per_metre;
+        loop {
+            let (c, source) = charts_of(scene, instance, density);
+            let rects: Vec<(u32, u32)> = sorted_by_height(&c).iter().map(|&k| rect_of(&c[k])).collect();
+            if ShelfPacker::new(MAX_ATLAS_SIZE).place_all(&rects).is_some() || density < 1e-3 {
+                if density < texels_per_metre {
+                    tracing::warn!(
+                        "{}: lowered to {density} texels per metre to fit one {MAX_ATLAS_SIZE}-texel atlas",
+                        scene.instances[instance].name
+                    );
+                }
+                charts.push((instance, density, c, source));
+                break;
+            }
+            density *= 0.5;
+        }
+    }
+    let area: u64 =
+        charts.iter().flat_map(|(_, _, c, _)| c).map(rect_of).map(|(w, h)| w as u64 * h as u64).sum();
+    let size = ((area as f64 * 1.3).sqrt().ceil() as u32).next_power_of_two().clamp(16, MAX_ATLAS_SIZE);
+    let size = charts
+        .iter()
+        .flat_map(|(_, _, c, _)| c)
+        .map(rect_of)
+        .fold(size, |s, (w, h)| s.max(w.max(h).next_power_of_two()))
+        .min(MAX_ATLAS_SIZE);
+
+    let mut packers = vec![ShelfPacker::new(size)];
+    let mut instances = Vec::new();
+    for (instance, density, c, uv_source) in charts {
+        let order = sorted_by_height(&c);
+        let rects: Vec<(u32, u32)> = order.iter().map(|&k| rect_of(&c[k])).collect();
+        let (layer, placed) = match packers.last_mut().and_then(|p| p.place_all(&rects)) {
+            Some(placed) => (packers.len() - 1, placed),
+            None => {
+                let mut packer = ShelfPacker::new(size);
+                let placed = packer.place_all(&rects).unwrap_or_default();
+                packers.push(packer);
+                (packers.len() - 1, placed)
+            }
+        };
+        let mut triangles = Vec::new();
+        for (&k, p) in order.iter().zip(&placed) {
+            let origin = Vec2::new(p.x as f32, p.y as f32) + (GUTTER_TEXELS as f32 + 0.5);
+            triangles.extend(c[k].triangles.iter().map(|t| PlacedTriangle {
+                instance: instance as u32,
+                primitive: t.primitive,
+                triangle: t.triangle,
+                corners: t.corners.map(|q| origin + q),
+            }));
+        }
+        instances.push(InstanceLayout {
+            instance,
+            layer: layer as u32,
+            uv_source,
+            texels_per_metre: density,
+            triangles,
+        });
+    }
+    AtlasLayout { size, atlas_count: if instances.is_empty() { 0 } else { packers.len() as u32 }, instances }
+}
+
+/// Chart indices, tallest first (ties by index, so the layout is deterministic).
+fn sorted_by_height(charts: &[Chart]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..charts.len()).collect();
+    order.sort_by(|&a, &b| rect_of(&charts[b]).1.cmp(&rect_of(&charts[a]).1).then(a.cmp(&b)));
+    order
+}

@@ -1,0 +1,100 @@
+//! What the baker needs to know about a point on a surface: its diffuse albedo (base
+//! colour times `1 - metallic`, textures included), its emission, whether its back face
+//! reflects, and its shading normal.
+
+use chiaro_scene::{ColorSpace, Image, Material, Scene, TextureRef, WrapMode};
+use glam::{Mat3, Vec2, Vec3, Vec4};
+
+pub struct SurfacePoint {
+    pub albedo: Vec3,
+    pub emissive: Vec3,
+    pub double_sided: bool,
+    /// Interpolated vertex normal in world space (unit; zero where the mesh has none).
+    pub shading_normal: Vec3,
+}
+
+/// Surface lookups over a scene.
+pub struct Surfaces<'a> {
+    scene: &'a Scene,
+    default_material: Material,
+    /// Per instance, the normal matrix.
+    normal_from_local: Vec<Mat3>,
+    srgb_to_linear: [f32; 256],
+}
+
+impl<'a> Surfaces<'a> {
+    pub fn new(scene: &'a Scene) -> Surfaces<'a> {
+        let normal_from_local =
+            scene.instances.iter().map(|i| Mat3::from_mat4(i.world_from_local).inverse().transpose()).collect();
+        let mut srgb_to_linear = [0.0; 256];
+        for (k, v) in srgb_to_linear.iter_mut().enumerate() {
+            let c = k as f32 / 255.0;
+            *v = if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+        }
+        Surfaces { scene, default_material: Material::default(), normal_from_local, srgb_to_linear }
+    }
+
+    /// The surface of `instance` at weights `w` of triangle `triangle` of its mesh's
+    /// primitive `primitive`.
+    pub fn at(&self, instance: usize, primitive: usize, triangle: usize, w: [f32; 3]) -> SurfacePoint {
+        let inst = &self.scene.instances[instance];
+        let p = &self.scene.meshes[inst.mesh].primitives[primitive];
+        let corners = [0, 1, 2].map(|k| p.indices.get(3 * triangle + k).copied().unwrap_or(0) as usize);
+        let lerp2 = |values: &[Vec2]| -> Vec2 {
+            corners.iter().zip(w).map(|(&i, wk)| values.get(i).copied().unwrap_or_default() * wk).sum()
+        };
+        let normal_ls: Vec3 =
+            corners.iter().zip(w).map(|(&i, wk)| p.normals.get(i).copied().unwrap_or_default() * wk).sum();
+        let shading_normal = (self.normal_from_local[instance] * normal_ls).normalize_or_zero();
+        let material = p.material.and_then(|m| self.scene.materials.get(m)).unwrap_or(&self.default_material);
+        let (uv0, uv1) = (lerp2(&p.uv0), lerp2(&p.uv1));
+        let texture = |t: &Option<TextureRef>| -> Vec4 {
+            match t.as_ref().and_then(|t| self.scene.images.get(t.image).map(|image| (t, image))) {
+                Some((t, image)) => {
+                    let uv = if t.tex_coord == 1 { uv1 } else { uv0 };
+                    let m = t.transform.matrix();
+                    self.sample(image, t, m[0] * uv.x + m[1] * uv.y + m[2])
+                }
+                None => Vec4::ONE,
+            }
+        };
+        let base = material.base_color * texture(&material.base_color_texture);
+        let metallic = (material.metallic * texture(&material.metallic_roughness_texture).z).clamp(0.0, 1.0);
+        let emissive = material.emissive * texture(&material.emissive_texture).truncate();
+        SurfacePoint {
+            albedo: (base.truncate() * (1.0 - metallic)).clamp(Vec3::ZERO, Vec3::ONE),
+            emissive,
+            double_sided: material.double_sided,
+            shading_normal,
+        }
+    }
+
+    /// Nearest-texel lookup (bounced light is diffuse and averaged over many paths), colour
+    /// images decoded to linear.
+    fn sample(&self, image: &Image, t: &TextureRef, uv: Vec2) -> Vec4 {
+        if image.width == 0 || image.height == 0 || !uv.is_finite() {
+            return Vec4::ONE;
+        }
+        let wrap = |c: f32, mode: WrapMode, n: u32| -> u32 {
+            let n_f = n as f32;
+            let x = match mode {
+                WrapMode::Repeat => c.rem_euclid(1.0) * n_f,
+                WrapMode::MirroredRepeat => {
+                    let m = c.rem_euclid(2.0);
+                    (if m > 1.0 { 2.0 - m } else { m }) * n_f
+                }
+                WrapMode::ClampToEdge => c.clamp(0.0, 1.0) * n_f,
+            };
+            (x as u32).min(n - 1)
+        };
+        let x = wrap(uv.x, t.sampler.wrap_u, image.width);
+        let y = wrap(uv.y, t.sampler.wrap_v, image.height);
+        let i = ((y * image.width + x) * 4) as usize;
+        let Some(px) = image.rgba8.get(i..i + 4) else { return Vec4::ONE };
+        let channel = |k: usize| match image.color_space {
+            ColorSpace::Srgb if k < 3 => self.srgb_to_linear[px[k] as usize],
+            _ => px[k] as f32 / 255.0,
+        };
+        Vec4::new(channel(0), channel(1), channel(2), channel(3))
+    }
+}

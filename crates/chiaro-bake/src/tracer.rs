@@ -1,0 +1,268 @@
+//! The path tracer behind lightmaps and probes. Light arrives at a surface point from:
+//! baked lights directly (next event estimation with the reference's shadow rays), and
+//! along cosine-weighted paths: the sky (the ambient setting), emissive surfaces, and the
+//! light of baked and mixed lights reflected diffusely by up to `bounces` surfaces. The
+//! falloff is the runtime's: inverse square times the range window, times the spot cone.
+
+use crate::surface::Surfaces;
+use chiaro_math::light::{distance_attenuation, spot_angle_params, spot_attenuation};
+use chiaro_scene::{Light, LightKind, Scene};
+use chiaro_trace::{SceneBvh, light_visibility};
+use glam::Vec3;
+use std::f32::consts::PI;
+
+/// Rays start this far (relative to the position's largest coordinate, at least 1 m) off
+/// their surface, like the reference's shadow rays.
+const RAY_OFFSET_SCALE: f32 = chiaro_trace::reference::SHADOW_RAY_OFFSET_SCALE;
+
+/// A light as the baker evaluates it.
+struct BakeLight {
+    light: Light,
+    color: Vec3,
+    range: f32,
+    spot: Option<(f32, f32)>,
+    direct: bool,
+    indirect: bool,
+}
+
+pub struct Tracer<'a> {
+    pub bvh: &'a SceneBvh,
+    surfaces: Surfaces<'a>,
+    lights: Vec<BakeLight>,
+    sky: Vec3,
+    bounces: u32,
+}
+
+/// Rays traced, counted per work item and summed.
+pub type RayCount = u64;
+
+/// Unit vectors perpendicular to unit `n` and to each other (Duff et al. 2017).
+pub fn basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
+}
+
+/// A cosine-weighted direction about `n` from a point of the unit square.
+pub fn cosine_direction(n: Vec3, u: f32, v: f32) -> Vec3 {
+    let (t, b) = basis(n);
+    let r = u.sqrt();
+    let phi = 2.0 * PI * v;
+    (t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u).max(0.0).sqrt()).normalize_or_zero()
+}
+
+/// A uniform direction on the sphere from a point of the unit square.
+pub fn sphere_direction(u: f32, v: f32) -> Vec3 {
+    let z = 1.0 - 2.0 * u;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * v;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+fn offset_of(p: Vec3) -> f32 {
+    RAY_OFFSET_SCALE * p.abs().max_element().max(1.0)
+}
+
+impl<'a> Tracer<'a> {
+    pub fn new(
+        scene: &'a Scene,
+        bvh: &'a SceneBvh,
+        ambient: Vec3,
+        bounces: u32,
+        range_threshold_lux: f32,
+    ) -> Tracer<'a> {
+        let lights = scene
+            .lights
+            .iter()
+            .filter(|l| l.mode.bakes_indirect())
+            .map(|l| BakeLight {
+                light: l.clone(),
+                color: l.color * l.intensity,
+                range: l.shaded_range(range_threshold_lux),
+                spot: match l.kind {
+                    LightKind::Spot { inner_cone_rad, outer_cone_rad } => {
+                        Some(spot_angle_params(inner_cone_rad, outer_cone_rad))
+                    }
+                    _ => None,
+                },
+                direct: l.mode.bakes_direct(),
+                indirect: l.mode.bakes_indirect(),
+            })
+            .collect();
+        Tracer { bvh, surfaces: Surfaces::new(scene), lights, sky: ambient, bounces }
+    }
+
+    pub fn bounces(&self) -> u32 {
+        self.bounces
+    }
+
+    /// Illuminance at normal incidence from light `l` at `p` (before the cosine), and the
+    /// unit direction towards it; `None` out of range or cone.
+    fn arriving(&self, l: &BakeLight, p: Vec3) -> Option<(Vec3, Vec3)> {
+        match l.light.kind {
+            LightKind::Directional => Some((l.color, -l.light.direction())),
+            _ => {
+                let to_light = l.light.position() - p;
+                let d2 = to_light.length_squared();
+                let dir = to_light.try_normalize()?;
+                let mut e = l.color * distance_attenuation(d2, l.range);
+                if let Some(params) = l.spot {
+                    e *= spot_attenuation(l.light.direction().dot(-dir), params);
+                }
+                (e.max_element() > 0.0).then_some((e, dir))
+            }
+        }
+    }
+
+    /// How much of the light passes the shadow ray, after the light's shadow mode and
+    /// strength (a light with shadows off bakes none either).
+    fn visibility(&self, l: &BakeLight, p: Vec3, side: Vec3, rays: &mut RayCount) -> f32 {
+        if !l.light.shadow.casts() {
+            return 1.0;
+        }
+        *rays += 1;
+        let v = light_visibility(self.bvh, &l.light, p, side);
+        1.0 - l.light.shadow.strength * (1.0 - v)
+    }
+
+    /// Irradiance on the surface at `p` (normal `n`, on the side of `side`) from the lights
+    /// `which` selects.
+    fn light_irradiance(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        side: Vec3,
+        which: impl Fn(&BakeLight) -> bool,
+        rays: &mut RayCount,
+    ) -> Vec3 {
+        let mut e = Vec3::ZERO;
+        for l in self.lights.iter().filter(|l| which(l)) {
+            let Some((arriving, dir)) = self.arriving(l, p) else { continue };
+            let cos = n.dot(dir);
+            if cos <= 0.0 || side.dot(dir) <= 0.0 {
+                continue;
+            }
+            e += arriving * cos * self.visibility(l, p, side, rays);
+        }
+        e
+    }
+
+    /// Direct irradiance from baked lights on a lightmap texel's sample point.
+    pub fn direct(&self, p: Vec3, n: Vec3, side: Vec3, rays: &mut RayCount) -> Vec3 {
+        self.light_irradiance(p, n, side, |l| l.direct, rays)
+    }
+
+    /// Each baked light's arriving illuminance at a probe position (after visibility), with
+    /// the direction it arrives from.
+    pub fn probe_deltas(&self, p: Vec3, rays: &mut RayCount) -> Vec<(Vec3, Vec3)> {
+        let mut out = Vec::new();
+        for l in self.lights.iter().filter(|l| l.direct) {
+            let Some((arriving, dir)) = self.arriving(l, p) else { continue };
+            // No surface here: the shadow ray leaves from the probe itself.
+            let v = self.visibility(l, p, dir, rays);
+            out.push((dir, arriving * v));
+        }
+        out
+    }
+
+    /// Radiance arriving at `origin` from `direction` (unit): sky where the path escapes,
+    /// emission, and light reflected by up to `reflections` surfaces along a cosine path.
+    pub fn incoming(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        reflections: u32,
+        rng: &mut crate::rng::Rng,
+        rays: &mut RayCount,
+    ) -> Vec3 {
+        let (mut origin, mut direction) = (origin, direction);
+        let mut radiance = Vec3::ZERO;
+        let mut throughput = Vec3::ONE;
+        let mut left = reflections;
+        loop {
+            *rays += 1;
+            let Some(hit) = self.bvh.closest_hit(origin, direction, f32::INFINITY) else {
+                radiance += throughput * self.sky;
+                break;
+            };
+            let surface = self.surfaces.at(hit.instance, hit.primitive, hit.triangle, hit.barycentrics);
+            let front = hit.geometric_normal.dot(direction) < 0.0;
+            if !front && !surface.double_sided {
+                // The back of a one-sided surface: nothing leaves it towards us.
+                break;
+            }
+            let side = if front { hit.geometric_normal } else { -hit.geometric_normal };
+            let mut n = if front { surface.shading_normal } else { -surface.shading_normal };
+            if n.dot(side) <= 0.0 {
+                n = side;
+            }
+            radiance += throughput * surface.emissive;
+            if left == 0 || surface.albedo.max_element() <= 0.0 {
+                break;
+            }
+            let p = hit.position + side * offset_of(hit.position);
+            let e = self.light_irradiance(p, n, side, |l| l.indirect, rays);
+            radiance += throughput * surface.albedo / PI * e;
+            throughput *= surface.albedo;
+            left -= 1;
+            origin = p;
+            direction = cosine_direction(n, rng.next_f32(), rng.next_f32());
+            if direction.dot(side) <= 0.0 {
+                break;
+            }
+        }
+        radiance
+    }
+
+    /// One sample of the irradiance at a texel's surface point: direct light from baked
+    /// lights, plus pi times the radiance along a cosine-weighted direction from `(u, v)`.
+    pub fn texel_sample(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        side: Vec3,
+        (u, v): (f32, f32),
+        rng: &mut crate::rng::Rng,
+        rays: &mut RayCount,
+    ) -> Vec3 {
+        let origin = p + side * offset_of(p);
+        let mut e = self.direct(origin, n, side, rays);
+        let direction = cosine_direction(n, u, v);
+        if direction.dot(side) > 0.0 {
+            e += PI * self.incoming(origin, direction, self.bounces, rng, rays);
+        }
+        e
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cosine_directions_have_the_cosine_mean() {
+        // E[cos] under a cosine-weighted pdf is 2/3.
+        let n = Vec3::new(0.3, -0.5, 0.8).normalize();
+        let mut sum = 0.0;
+        let m = 64;
+        for i in 0..m {
+            for j in 0..m {
+                let d = cosine_direction(n, (i as f32 + 0.5) / m as f32, (j as f32 + 0.5) / m as f32);
+                assert!((d.length() - 1.0).abs() < 1e-4);
+                sum += d.dot(n);
+            }
+        }
+        let mean = sum / (m * m) as f32;
+        assert!((mean - 2.0 / 3.0).abs() < 1e-3, "{mean}");
+    }
+
+    #[test]
+    fn basis_is_orthonormal_for_any_normal() {
+        for n in [Vec3::Z, Vec3::NEG_Z, Vec3::X, Vec3::new(0.2, 0.9, -0.1).normalize()] {
+            let (t, b) = basis(n);
+            assert!(t.dot(n).abs() < 1e-5 && b.dot(n).abs() < 1e-5 && t.dot(b).abs() < 1e-5);
+            assert!((t.length() - 1.0).abs() < 1e-5 && (b.length() - 1.0).abs() < 1e-5);
+        }
+    }
+}

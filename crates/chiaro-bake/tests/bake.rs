@@ -1,0 +1,226 @@
+//! The baker end to end on small scenes: energy conservation in a closed box,
+//! determinism for a seed, cancelling, and bake directories that know their scene.
+
+use chiaro_bake::bake::probe_layout;
+use chiaro_bake::{BakeError, Silent, apply_bake_dir, bake, read_bake_dir, write_bake_dir};
+use chiaro_scene::test_scenes::{add_box, floor_scene, point_light};
+use chiaro_scene::{CastShadows, LightMode, Material, Mesh, MeshInstance, Scene, Settings, shapes};
+use glam::{Mat4, Vec3, Vec4};
+use std::f32::consts::PI;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+/// A closed box of `size`, its faces turned to face inwards, albedo `rho`.
+fn room(size: f32, rho: f32) -> Scene {
+    let mut walls = shapes::cuboid(Vec3::splat(size));
+    for tri in walls.indices.chunks_exact_mut(3) {
+        tri.swap(1, 2);
+    }
+    for n in &mut walls.normals {
+        *n = -*n;
+    }
+    walls.material = Some(0);
+    Scene {
+        meshes: vec![Mesh { name: "room".into(), primitives: vec![walls] }],
+        instances: vec![MeshInstance {
+            mesh: 0,
+            node: 0,
+            name: "room".into(),
+            world_from_local: Mat4::IDENTITY,
+            cast_shadows: CastShadows::On,
+            receive_shadows: true,
+            is_static: true,
+            lightmap: None,
+        }],
+        materials: vec![Material {
+            name: "grey".into(),
+            base_color: Vec4::new(rho, rho, rho, 1.0),
+            metallic: 0.0,
+            roughness: 1.0,
+            ..Material::default()
+        }],
+        ..Scene::default()
+    }
+}
+
+fn baked_point(position: Vec3, intensity: f32) -> chiaro_scene::Light {
+    let mut light = point_light(position, intensity, Some(1.0e4));
+    light.mode = LightMode::Baked;
+    light
+}
+
+fn settings(samples: u32, bounces: u32, texels_per_metre: f32) -> Settings {
+    let mut s = Settings::default();
+    s.render.ambient = [0.0; 3];
+    s.bake.samples = samples;
+    s.bake.bounces = bounces;
+    s.bake.texels_per_metre = texels_per_metre;
+    s.bake.probe_samples = 64;
+    s
+}
+
+/// Coverage-weighted mean irradiance over all lightmaps, and the covered area in m².
+fn mean_irradiance(result: &chiaro_bake::BakeResult, texels_per_metre: f32) -> (f32, f32) {
+    let (mut sum, mut weight) = (0.0f64, 0.0f64);
+    for map in &result.lighting.lightmaps {
+        for t in &map.texels {
+            sum += t[0] as f64 * t[3] as f64;
+            weight += t[3] as f64;
+        }
+    }
+    ((sum / weight) as f32, (weight / (texels_per_metre as f64).powi(2)) as f32)
+}
+
+#[test]
+fn a_closed_room_absorbs_every_watt_wherever_the_light_is() {
+    let (size, rho, intensity) = (2.0, 0.5, 10.0);
+    let area = 6.0 * size * size;
+    let expected = 4.0 * PI * intensity / (area * (1.0 - rho));
+    for position in [Vec3::ZERO, Vec3::new(0.55, -0.4, 0.25)] {
+        let mut scene = room(size, rho);
+        scene.lights.push(baked_point(position, intensity));
+        // rho^25 of the light is left after 24 bounces: 3e-8.
+        let s = settings(16, 24, 8.0);
+        let result = bake(&scene, &s, &Silent, &AtomicBool::new(false)).unwrap();
+        let (mean, covered) = mean_irradiance(&result, 8.0);
+        println!("light at {position}: mean irradiance {mean:.4} lux, expected {expected:.4}; covered {covered:.3} m²");
+        assert!((covered - area).abs() / area < 0.01, "covered {covered} m² of {area}");
+        assert!((mean - expected).abs() / expected < 0.01, "{mean} vs {expected}");
+        // Direct light alone: every watt lands once, 4 pi I / A.
+        let direct = bake(&scene, &settings(16, 0, 8.0), &Silent, &AtomicBool::new(false)).unwrap();
+        let (mean_direct, _) = mean_irradiance(&direct, 8.0);
+        let expected_direct = 4.0 * PI * intensity / area;
+        println!("  direct only: {mean_direct:.4}, expected {expected_direct:.4}");
+        assert!((mean_direct - expected_direct).abs() / expected_direct < 0.01);
+    }
+}
+
+#[test]
+fn glowing_walls_light_a_closed_room_by_pi_radiance_per_bounce() {
+    // Every direction from a wall sees another wall of radiance L: E = pi L, and each
+    // bounce adds rho times the last, so E = pi L (1 - rho^(B + 1)) / (1 - rho).
+    for (rho, bounces) in [(0.0, 0), (0.5, 1), (0.5, 20)] {
+        let mut scene = room(2.0, rho);
+        scene.materials[0].emissive = Vec3::ONE;
+        let result = bake(&scene, &settings(16, bounces, 8.0), &Silent, &AtomicBool::new(false)).unwrap();
+        let (mean, _) = mean_irradiance(&result, 8.0);
+        let expected = PI * (1.0 - rho.powi(bounces as i32 + 1)) / (1.0 - rho);
+        println!("rho {rho}, {bounces} bounces: {mean:.5}, expected {expected:.5}");
+        assert!((mean - expected).abs() / expected < 0.002, "{mean} vs {expected}");
+    }
+}
+
+fn small_scene() -> Scene {
+    let mut scene = floor_scene(4.0, Vec3::new(0.0, 4.0, 3.0), vec![baked_point(Vec3::new(0.3, 1.5, 0.2), 5.0)]);
+    add_box(&mut scene, Vec3::new(0.0, 0.4, 0.0), Vec3::splat(0.8), 0.3, CastShadows::On);
+    scene
+}
+
+#[test]
+fn the_same_seed_bakes_the_same_bits_and_another_seed_other_noise() {
+    let scene = small_scene();
+    let mut s = settings(4, 2, 4.0);
+    let run = |s: &Settings| bake(&scene, s, &Silent, &AtomicBool::new(false)).unwrap();
+    let (a, b) = (run(&s), run(&s));
+    assert_eq!(a.lighting, b.lighting);
+    assert_eq!(a.layout, b.layout);
+    s.bake.seed = 7;
+    let c = run(&s);
+    assert_eq!(a.layout, c.layout);
+    assert_ne!(a.lighting.lightmaps, c.lighting.lightmaps);
+}
+
+#[test]
+fn a_cancelled_bake_returns_nothing() {
+    let scene = small_scene();
+    let e = bake(&scene, &settings(4, 1, 4.0), &Silent, &AtomicBool::new(true));
+    assert!(matches!(e, Err(BakeError::Cancelled)));
+}
+
+#[test]
+fn probes_cover_the_scene_bounds_and_refuse_absurd_counts() {
+    let scene = small_scene();
+    let (origin, counts) = probe_layout(&scene, 1.0).unwrap().unwrap();
+    let bounds = scene.bounds();
+    assert_eq!(counts.to_array(), [5, 1, 5]);
+    assert!((origin - Vec3::new(-2.0, bounds.min.y + (bounds.max.y - bounds.min.y) / 2.0, -2.0)).length() < 1e-4);
+    let e = probe_layout(&scene, 0.001).unwrap_err().to_string();
+    assert!(e.contains("bake.probe_spacing"), "{e}");
+}
+
+fn shared_scene(dir: &Path) -> PathBuf {
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets/ShadowsSpot/glTF");
+    for file in ["shadows-spot.gltf", "shadows-spot.bin"] {
+        std::fs::copy(source.join(file), dir.join(file)).unwrap();
+    }
+    dir.join("shadows-spot.gltf")
+}
+
+#[test]
+fn a_bake_directory_is_read_back_for_its_scene_and_refused_for_another() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = shared_scene(dir.path());
+    let mut scene = chiaro_scene::load_gltf(&path).unwrap();
+    for light in &mut scene.lights {
+        light.mode = LightMode::Baked;
+    }
+    let s = settings(2, 1, 2.0);
+    let result = bake(&scene, &s, &Silent, &AtomicBool::new(false)).unwrap();
+    let out = chiaro_bake::default_bake_dir(&path);
+    assert_eq!(out, dir.path().join("shadows-spot.bake"));
+    write_bake_dir(&out, &scene, &s, &result, &AtomicBool::new(false)).unwrap();
+    let loaded = read_bake_dir(&out, &scene).unwrap();
+    assert_eq!(loaded.lighting.lightmaps.len(), result.lighting.lightmaps.len());
+    for (read, baked) in loaded.lighting.lightmaps.iter().zip(&result.lighting.lightmaps) {
+        assert_eq!(read, baked, "EXR float32 round trip is exact");
+    }
+    assert_eq!(loaded.lighting.probes, result.lighting.probes);
+    assert_eq!(loaded.placements, result.layout.placements(&scene));
+    let mut applied = scene.clone();
+    apply_bake_dir(&out, &mut applied).unwrap();
+    assert!(applied.baked.is_some());
+    assert!(applied.instances.iter().any(|i| i.lightmap.is_some()));
+
+    // The scene's buffer changes by one byte: the bake no longer fits.
+    let bin = dir.path().join("shadows-spot.bin");
+    let mut bytes = std::fs::read(&bin).unwrap();
+    bytes[0] ^= 1;
+    std::fs::write(&bin, &bytes).unwrap();
+    let e = read_bake_dir(&out, &scene).err().unwrap();
+    assert!(e.contains("another version of the scene"), "{e}");
+    let mut untouched = scene.clone();
+    assert!(apply_bake_dir(&out, &mut untouched).is_err());
+    assert!(untouched.baked.is_none());
+
+    // Another format version is refused with its number.
+    bytes[0] ^= 1;
+    std::fs::write(&bin, &bytes).unwrap();
+    let manifest = out.join("manifest.json");
+    let text = std::fs::read_to_string(&manifest).unwrap().replace("\"format_version\": 1", "\"format_version\": 99");
+    std::fs::write(&manifest, text).unwrap();
+    let e = read_bake_dir(&out, &scene).err().unwrap();
+    assert!(e.contains("format version 99"), "{e}");
+}
+
+#[test]
+fn writing_replaces_an_old_bake_and_an_interrupt_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = shared_scene(dir.path());
+    let scene = chiaro_scene::load_gltf(&path).unwrap();
+    let s = settings(1, 0, 1.0);
+    let result = bake(&scene, &s, &Silent, &AtomicBool::new(false)).unwrap();
+    let out = dir.path().join("out.bake");
+    write_bake_dir(&out, &scene, &s, &result, &AtomicBool::new(true)).unwrap_err();
+    let names = |d: &Path| -> Vec<String> {
+        let mut v: Vec<String> =
+            std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        v.sort();
+        v
+    };
+    assert_eq!(names(dir.path()), vec!["shadows-spot.bin", "shadows-spot.gltf"]);
+    write_bake_dir(&out, &scene, &s, &result, &AtomicBool::new(false)).unwrap();
+    std::fs::write(out.join("stale"), b"old").unwrap();
+    write_bake_dir(&out, &scene, &s, &result, &AtomicBool::new(false)).unwrap();
+    assert!(!out.join("stale").exists());
+    assert_eq!(names(dir.path()), vec!["out.bake", "shadows-spot.bin", "shadows-spot.gltf"]);
+}

@@ -1,0 +1,200 @@
+//! Bakes rendered: a baked light with no bounces renders like the same light in realtime,
+//! and its baked shadows agree with the ray-traced reference; dynamic objects take their
+//! light from the probes. On the software device, like every GPU test.
+
+use chiaro_bake::{Silent, bake};
+use chiaro_math::light::{distance_attenuation, spot_angle_params, spot_attenuation};
+use chiaro_render::{FrameOptions, FrameOutput, GpuContext, Renderer, View};
+use chiaro_scene::test_scenes::{add_box, floor_scene};
+use chiaro_scene::{CastShadows, Light, LightKind, LightMode, RenderPath, Scene, Settings, ShadowMode, baked};
+use glam::Vec3;
+use std::sync::atomic::AtomicBool;
+
+fn renderer() -> Renderer {
+    Renderer::new(GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))).expect("renderer")
+}
+
+fn render(renderer: &mut Renderer, scene: &Scene, settings: &Settings, size: u32) -> FrameOutput {
+    let view = View::from_camera(scene, 0, size, size);
+    let prepared = renderer.prepare(scene).expect("prepare");
+    renderer
+        .render(scene, &prepared, &view, settings, FrameOptions { aovs: true, readback: true, ..Default::default() })
+        .expect("render")
+}
+
+fn settings(path: RenderPath) -> Settings {
+    let mut s = Settings::default();
+    s.render.ambient = [0.0; 3];
+    s.render.path = path;
+    s.bake.samples = 64;
+    s.bake.bounces = 0;
+    s.bake.texels_per_metre = 16.0;
+    s.bake.probe_samples = 64;
+    s
+}
+
+fn spot(mode: LightMode, shadows: ShadowMode) -> Light {
+    let mut light = Light::new(
+        LightKind::Spot { inner_cone_rad: 0.5, outer_cone_rad: 0.9 },
+        Vec3::new(0.4, 2.5, -0.3),
+        Vec3::new(-0.1, -1.0, 0.15),
+    );
+    light.intensity = 30.0;
+    light.range = Some(9.0);
+    light.mode = mode;
+    light.shadow.mode = shadows;
+    light
+}
+
+fn baked_scene(scene: &Scene, s: &Settings) -> Scene {
+    let result = bake(scene, s, &Silent, &AtomicBool::new(false)).unwrap();
+    let mut baked_scene = scene.clone();
+    baked::apply(&mut baked_scene, result.lighting, &result.layout.placements(scene)).unwrap();
+    baked_scene
+}
+
+/// The realtime model's irradiance at a surface point: what the bake must reproduce.
+fn model_irradiance(light: &Light, p: Vec3, n: Vec3) -> f32 {
+    let to_light = light.position() - p;
+    let l = to_light.normalize();
+    let LightKind::Spot { inner_cone_rad, outer_cone_rad } = light.kind else { unreachable!() };
+    let cone = spot_attenuation(light.direction().dot(-l), spot_angle_params(inner_cone_rad, outer_cone_rad));
+    light.intensity * distance_attenuation(to_light.length_squared(), light.range.unwrap()) * cone * n.dot(l).max(0.0)
+}
+
+#[test]
+fn a_baked_light_without_bounces_renders_like_the_realtime_light() {
+    let mut gpu = renderer();
+    for path in [RenderPath::Forward, RenderPath::Deferred] {
+        let s = settings(path);
+        let realtime = floor_scene(8.0, Vec3::new(0.0, 5.0, 4.0), vec![spot(LightMode::Realtime, ShadowMode::None)]);
+        let mut to_bake = realtime.clone();
+        to_bake.lights[0].mode = LightMode::Baked;
+        let baked = baked_scene(&to_bake, &s);
+        let (a, b) = (render(&mut gpu, &realtime, &s, 128), render(&mut gpu, &baked, &s, 128));
+        assert_eq!(b.other_lights_shaded(), 0, "the baked light is not shaded in realtime");
+        let aovs = b.aovs.as_ref().unwrap();
+        let peak = a.hdr.iter().map(|p| p[0]).fold(0.0, f32::max);
+        let (mut lit, mut close, mut irradiance_close, mut worst, mut worst_irradiance) = (0, 0, 0, 0.0f32, 0.0f32);
+        for i in 0..a.hdr.len() {
+            if !aovs.position_ws[i][0].is_finite() || a.hdr[i][0] < peak * 0.05 {
+                continue;
+            }
+            lit += 1;
+            let relative = (b.hdr[i][0] - a.hdr[i][0]).abs() / a.hdr[i][0];
+            worst = worst.max(relative);
+            close += (relative < 0.05) as usize;
+            let expected = model_irradiance(&realtime.lights[0], Vec3::from(aovs.position_ws[i]), Vec3::Y);
+            let irradiance_error = (aovs.baked_irradiance[i][0] - expected).abs() / expected;
+            worst_irradiance = worst_irradiance.max(irradiance_error);
+            irradiance_close += (irradiance_error < 0.02) as usize;
+        }
+        let (close, irradiance_close) = (close as f32 / lit as f32, irradiance_close as f32 / lit as f32);
+        println!(
+            "{path:?}: {lit} lit pixels; radiance within 5% of realtime: {:.2}% (worst {:.1}%); lightmap irradiance \
+             within 2% of the model: {:.2}% (worst {:.1}%)",
+            close * 100.0,
+            worst * 100.0,
+            irradiance_close * 100.0,
+            worst_irradiance * 100.0
+        );
+        assert!(lit > 2000, "{lit}");
+        // Realtime adds a rough specular lobe and takes Fresnel off the diffuse: a few %.
+        assert!(close > 0.99, "{close}");
+        assert!(irradiance_close > 0.99, "{irradiance_close}");
+    }
+}
+
+/// The baked shadow of the one baked light, per pixel: baked irradiance over what the
+/// model gives unshadowed there (NaN where the light gives almost nothing, not judged).
+fn baked_shadow(frame: &FrameOutput, light: &Light) -> (Vec<f32>, Vec<Option<Vec3>>) {
+    let aovs = frame.aovs.as_ref().unwrap();
+    let mut shadow = Vec::new();
+    let mut positions = Vec::new();
+    for i in 0..aovs.position_ws.len() {
+        let p = Vec3::from(aovs.position_ws[i]);
+        if !p.is_finite() {
+            shadow.push(f32::NAN);
+            positions.push(None);
+            continue;
+        }
+        let unshadowed = model_irradiance(light, p, Vec3::from(aovs.normal_ws[i]));
+        shadow.push(if unshadowed > 0.05 { aovs.baked_irradiance[i][0] / unshadowed } else { f32::NAN });
+        positions.push(Some(p));
+    }
+    (shadow, positions)
+}
+
+#[test]
+fn baked_shadows_agree_with_the_traced_reference() {
+    let mut gpu = renderer();
+    let s = Settings {
+        bake: chiaro_scene::settings::BakeSettings { texels_per_metre: 32.0, ..settings(RenderPath::Deferred).bake },
+        ..settings(RenderPath::Deferred)
+    };
+    // Low and to the side, so the boxes cast long shadows.
+    let mut light = spot(LightMode::Baked, ShadowMode::Hard);
+    light.world_from_light = chiaro_math::rigid::looking_along(Vec3::new(2.0, 1.6, -0.3), Vec3::new(-2.3, -1.6, 0.4));
+    let mut scene = floor_scene(8.0, Vec3::new(0.0, 5.0, 4.0), vec![light]);
+    add_box(&mut scene, Vec3::new(0.3, 0.4, 0.2), Vec3::new(0.6, 0.8, 0.5), 0.4, CastShadows::On);
+    add_box(&mut scene, Vec3::new(-0.6, 0.25, -0.5), Vec3::new(0.3, 0.5, 0.9), -0.3, CastShadows::On);
+    let baked = baked_scene(&scene, &s);
+    let size = 160;
+    let frame = render(&mut gpu, &baked, &s, size);
+    let light = &scene.lights[0];
+    let (shadow, positions) = baked_shadow(&frame, light);
+    let view = View::from_camera(&scene, 0, size, size);
+    let camera = chiaro_trace::PixelCamera { clip_from_world: view.clip_from_world(), width: size, height: size };
+    let range = light.range.unwrap();
+    let reference = chiaro_trace::trace_shadow_reference(&scene, &camera, &[range]);
+    let comparison = chiaro_trace::compare_light(&shadow, &positions, &reference, 0, light, range);
+    let shadowed = shadow.iter().filter(|&&v| v < 0.5).count();
+    println!(
+        "baked spot shadow: {} pixels compared, {} shadowed, disagreement {:.3}% (false {:.3}%, missed {:.3}%)",
+        comparison.compared,
+        shadowed,
+        comparison.disagreement() * 100.0,
+        comparison.false_share() * 100.0,
+        comparison.missed_share() * 100.0
+    );
+    assert!(comparison.compared > 5000, "{comparison:?}");
+    assert!(shadowed > 300, "the boxes shadow the floor: {shadowed} pixels");
+    assert!(comparison.disagreement() < 0.005, "{comparison:?}");
+}
+
+#[test]
+fn dynamic_objects_take_baked_light_from_the_probes() {
+    // A box lit by a baked spot: static, it reads its lightmap; dynamic, the probes. Both
+    // must give its lit top about the light's irradiance there (the probes' L2 lobe and
+    // trilinear blend cost some accuracy, so within 10%), and the floor stays lightmapped.
+    let mut gpu = renderer();
+    let mut s = settings(RenderPath::Deferred);
+    s.bake.probe_spacing = 0.5;
+    s.bake.probe_samples = 128;
+    let mut scene = floor_scene(8.0, Vec3::new(0.0, 5.0, 4.0), vec![spot(LightMode::Baked, ShadowMode::None)]);
+    add_box(&mut scene, Vec3::new(0.2, 0.5, -0.1), Vec3::splat(1.0), 0.0, CastShadows::Off);
+    scene.instances[1].is_static = false;
+    let baked = baked_scene(&scene, &s);
+    assert!(baked.instances[0].lightmap.is_some() && baked.instances[1].lightmap.is_none());
+    let frame = render(&mut gpu, &baked, &s, 128);
+    let aovs = frame.aovs.as_ref().unwrap();
+    let light = &scene.lights[0];
+    let (mut top, mut close, mut error_sum) = (0, 0, 0.0);
+    for i in 0..aovs.position_ws.len() {
+        let p = Vec3::from(aovs.position_ws[i]);
+        if !(p.is_finite() && (p.y - 1.0).abs() < 1e-3) {
+            continue;
+        }
+        top += 1;
+        let expected = model_irradiance(light, p, Vec3::Y);
+        let error = (aovs.baked_irradiance[i][0] - expected).abs() / expected;
+        error_sum += error;
+        close += (error < 0.1) as usize;
+    }
+    println!(
+        "probe-lit box top: {close} of {top} pixels within 10% of the light's irradiance, mean error {:.1}%",
+        error_sum / top as f32 * 100.0
+    );
+    assert!(top > 150, "{top}");
+    assert!(close as f32 > top as f32 * 0.95, "{close} of {top}");
+}
