@@ -133,7 +133,8 @@ pub fn bake(
                     .map(|x| {
                         let texel = (y * size + x) as usize;
                         let ids = map.of(texel);
-                        if ids.is_empty() {
+                        // Checked per texel too: at many samples a row takes seconds.
+                        if ids.is_empty() || cancel.load(Ordering::Relaxed) {
                             return ([0.0; 4], false);
                         }
                         let index = layer as u64 * size as u64 * size as u64 + texel as u64;

@@ -121,8 +121,7 @@ pub fn layout_scene(scene: &Scene, texels_per_metre: f32) -> AtlasLayout {
             density *= 0.5;
         }
     }
-    let area: u64 =
-        charts.iter().flat_map(|(_, _, c, _)| c).map(rect_of).map(|(w, h)| w as u64 * h as u64).sum();
+    let area: u64 = charts.iter().flat_map(|(_, _, c, _)| c).map(rect_of).map(|(w, h)| w as u64 * h as u64).sum();
     let size = ((area as f64 * 1.3).sqrt().ceil() as u32).next_power_of_two().clamp(16, MAX_ATLAS_SIZE);
     let size = charts
         .iter()

@@ -198,3 +198,30 @@ fn dynamic_objects_take_baked_light_from_the_probes() {
     assert!(top > 150, "{top}");
     assert!(close as f32 > top as f32 * 0.95, "{close} of {top}");
 }
+
+#[test]
+fn mixed_lights_stay_realtime_and_bake_only_their_bounces() {
+    let mut gpu = renderer();
+    let mut s = settings(RenderPath::Deferred);
+    let mut scene = floor_scene(8.0, Vec3::new(0.0, 5.0, 4.0), vec![spot(LightMode::Mixed, ShadowMode::Soft)]);
+    add_box(&mut scene, Vec3::new(0.3, 0.4, 0.2), Vec3::new(0.6, 0.8, 0.5), 0.4, CastShadows::On);
+    let without = render(&mut gpu, &scene, &s, 96);
+    // No bounces: the mixed light bakes nothing, and renders as before.
+    let direct_only = baked_scene(&scene, &s);
+    let frame = render(&mut gpu, &direct_only, &s, 96);
+    assert_eq!(frame.other_lights_shaded(), 1, "the mixed light is shaded in realtime");
+    let baked_max = frame.aovs.as_ref().unwrap().baked_irradiance.iter().map(|e| e[0]).fold(0.0, f32::max);
+    assert_eq!(baked_max, 0.0, "no direct light of a mixed light in the lightmap");
+    for (a, b) in without.hdr.iter().zip(&frame.hdr) {
+        assert!((a[0] - b[0]).abs() <= a[0] * 1e-3 + 1e-6, "{a:?} vs {b:?}");
+    }
+    // Two bounces: light reflected by the floor and the box reaches the lightmaps.
+    s.bake.bounces = 2;
+    let bounced = baked_scene(&scene, &s);
+    let frame = render(&mut gpu, &bounced, &s, 96);
+    assert_eq!(frame.other_lights_shaded(), 1);
+    let lit = frame.aovs.as_ref().unwrap().baked_irradiance.iter().filter(|e| e[0] > 0.0).count();
+    let brighter = without.hdr.iter().zip(&frame.hdr).filter(|(a, b)| b[0] > a[0] * 1.001 + 1e-6).count();
+    println!("mixed spot, two bounces: {lit} pixels read baked indirect light, {brighter} got brighter");
+    assert!(lit > 1000 && brighter > 1000, "{lit} {brighter}");
+}

@@ -10,7 +10,7 @@ use serde_json::{Value, json};
 const INTERESTING_BYTES: [u8; 12] = [0, 0xff, 0x7f, 0x80, b'"', b'{', b'[', b'-', b'9', b',', b'.', b'e'];
 
 /// Keys the glTF schema knows, to add where they do not belong (or do, with bad values).
-const GLTF_KEYS: [&str; 39] = [
+const GLTF_KEYS: [&str; 44] = [
     "byteStride",
     "byteOffset",
     "byteLength",
@@ -50,6 +50,11 @@ const GLTF_KEYS: [&str; 39] = [
     "cookie",
     "image",
     "size",
+    "mode",
+    "static",
+    "animations",
+    "channels",
+    "target",
 ];
 
 fn interesting_value(rng: &mut Rng) -> Value {
@@ -84,6 +89,11 @@ fn interesting_value(rng: &mut Rng) -> Value {
         json!({ "image": 0 }),
         json!({ "image": 0, "size": [1, 0.5] }),
         json!({ "cookie": { "image": 0 } }),
+        json!({ "mode": "baked" }),
+        json!({ "mode": "mixed", "shadows": "none" }),
+        json!({ "static": false }),
+        json!("baked"),
+        json!([{ "channels": [{ "sampler": 0, "target": { "node": 0, "path": "translation" } }], "samplers": [] }]),
         json!([[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]),
         json!({"KHR_lights_punctual": {"light": 0}, "KHR_texture_transform": {"scale": [1e38, 0]}}),
         json!(["KHR_draco_mesh_compression"]),

@@ -15,9 +15,10 @@ pub fn run(args: InfoArgs) -> Result<()> {
     let scene = load_gltf(&args.scene)?;
     println!("scene: {}", args.scene.display());
     println!(
-        "meshes: {} ({} instances, {} triangles drawn)",
+        "meshes: {} ({} instances, {} static, {} triangles drawn)",
         scene.meshes.len(),
         scene.instances.len(),
+        scene.instances.iter().filter(|i| i.is_static).count(),
         scene.triangle_count()
     );
     for (i, m) in scene.meshes.iter().enumerate() {
@@ -51,12 +52,16 @@ pub fn run(args: InfoArgs) -> Result<()> {
         );
     }
     let count = |f: fn(&LightKind) -> bool| scene.lights.iter().filter(|l| f(&l.kind)).count();
+    let modes = |mode: chiaro_scene::LightMode| scene.lights.iter().filter(|l| l.mode == mode).count();
     println!(
-        "lights: {} ({} directional, {} point, {} spot)",
+        "lights: {} ({} directional, {} point, {} spot; {} realtime, {} mixed, {} baked)",
         scene.lights.len(),
         count(|k| *k == LightKind::Directional),
         count(|k| *k == LightKind::Point),
-        count(|k| matches!(k, LightKind::Spot { .. }))
+        count(|k| matches!(k, LightKind::Spot { .. })),
+        modes(chiaro_scene::LightMode::Realtime),
+        modes(chiaro_scene::LightMode::Mixed),
+        modes(chiaro_scene::LightMode::Baked)
     );
     for l in &scene.lights {
         let range = l.range.map(|r| format!("{r} m")).unwrap_or_else(|| "none (derived)".into());

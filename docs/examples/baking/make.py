@@ -59,7 +59,7 @@ nodes.append({"name": "tall box", "mesh": 5, "translation": [-0.7, 0.75, -0.6], 
 nodes.append({"name": "short box", "mesh": 5, "translation": [0.8, 0.35, 0.4], "scale": [0.7, 0.7, 0.7], "rotation": rot_y(-25)})
 nodes.append({"name": "moving box", "mesh": 6, "translation": [0.2, 0.2, 1.3], "scale": [0.4, 0.4, 0.4], "rotation": rot_y(40),
               "extras": {"static": False}})
-nodes.append({"name": "lamp", "translation": [0, 2.2, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}})
+nodes.append({"name": "lamp", "translation": [0, 1.75, 0.2], "extensions": {"KHR_lights_punctual": {"light": 0}}})
 nodes.append({"name": "camera", "translation": [0, 1.3, 5.6], "rotation": rot_x(-5), "camera": 0})
 
 accessors = [
@@ -97,5 +97,5 @@ doc = {
 }
 json.dump(doc, open(os.path.join(out, "room.gltf"), "w"), indent=1)
 open(os.path.join(out, "settings.toml"), "w").write(
-    "# The room is lit by its baked lamp alone.\n[render]\nambient = [0.0, 0.0, 0.0]\nexposure_ev100 = -1.5\n\n"
-    "[bake]\nsamples = 256\nbounces = 4\ntexels_per_metre = 24.0\nprobe_spacing = 0.5\n")
+    "# The room is lit by its baked lamp alone.\n[render]\nambient = [0.0, 0.0, 0.0]\nexposure_ev100 = -0.5\n\n"
+    "[bake]\nsamples = 1024\nbounces = 4\ntexels_per_metre = 24.0\nprobe_spacing = 0.5\n")
