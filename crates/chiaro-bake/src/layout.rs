@@ -16,6 +16,8 @@ pub const GUTTER_TEXELS: u32 = 2;
 /// One triangle placed in an atlas.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlacedTriangle {
+    /// The chart it belongs to, counted over the whole layout.
+    pub chart: u32,
     pub instance: u32,
     pub primitive: u32,
     pub triangle: u32,
@@ -132,6 +134,7 @@ pub fn layout_scene(scene: &Scene, texels_per_metre: f32) -> AtlasLayout {
 
     let mut packers = vec![ShelfPacker::new(size)];
     let mut instances = Vec::new();
+    let mut chart_count = 0u32;
     for (instance, density, c, uv_source) in charts {
         let order = sorted_by_height(&c);
         let rects: Vec<(u32, u32)> = order.iter().map(|&k| rect_of(&c[k])).collect();
@@ -147,7 +150,10 @@ pub fn layout_scene(scene: &Scene, texels_per_metre: f32) -> AtlasLayout {
         let mut triangles = Vec::new();
         for (&k, p) in order.iter().zip(&placed) {
             let origin = Vec2::new(p.x as f32, p.y as f32) + (GUTTER_TEXELS as f32 + 0.5);
+            let chart = chart_count;
+            chart_count += 1;
             triangles.extend(c[k].triangles.iter().map(|t| PlacedTriangle {
+                chart,
                 instance: instance as u32,
                 primitive: t.primitive,
                 triangle: t.triangle,
@@ -170,4 +176,95 @@ fn sorted_by_height(charts: &[Chart]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..charts.len()).collect();
     order.sort_by(|&a, &b| rect_of(&charts[b]).1.cmp(&rect_of(&charts[a]).1).then(a.cmp(&b)));
     order
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raster::overlaps_texel;
+    use chiaro_scene::test_scenes::{add_box, floor_scene};
+    use chiaro_scene::{CastShadows, shapes};
+    use glam::Vec3;
+    use std::collections::HashMap;
+
+    fn scene() -> Scene {
+        let mut scene = floor_scene(6.0, Vec3::new(0.0, 4.0, 3.0), Vec::new());
+        for k in 0..12 {
+            let x = k as f32 * 0.45 - 2.5;
+            add_box(
+                &mut scene,
+                Vec3::new(x, 0.3, 0.2 * k as f32 - 1.0),
+                Vec3::new(0.4, 0.6 + 0.1 * k as f32, 0.3),
+                0.3 * k as f32,
+                CastShadows::On,
+            );
+        }
+        // A sphere: many small charts.
+        scene.meshes.push(chiaro_scene::Mesh { name: "ball".into(), primitives: vec![shapes::sphere(0.5, 16, 8)] });
+        let mut ball = scene.instances[1].clone();
+        ball.mesh = scene.meshes.len() - 1;
+        ball.world_from_local = glam::Mat4::from_translation(Vec3::new(1.0, 0.5, 1.0));
+        scene.instances.push(ball);
+        scene
+    }
+
+    /// Every texel each chart's triangles overlap, per layer.
+    fn chart_texels(layout: &AtlasLayout) -> HashMap<(u32, u32, u32), u32> {
+        let mut owner = HashMap::new();
+        for instance in &layout.instances {
+            for t in &instance.triangles {
+                let min = t.corners[0].min(t.corners[1]).min(t.corners[2]).floor();
+                let max = t.corners[0].max(t.corners[1]).max(t.corners[2]).ceil();
+                for y in min.y as u32..max.y as u32 {
+                    for x in min.x as u32..max.x as u32 {
+                        if overlaps_texel(&t.corners, x, y) {
+                            let previous = owner.insert((instance.layer, x, y), t.chart);
+                            assert!(previous.is_none_or(|c| c == t.chart), "texel {x},{y} is in two charts");
+                        }
+                    }
+                }
+            }
+        }
+        owner
+    }
+
+    #[test]
+    fn charts_never_share_texels_and_keep_two_gutters_apart() {
+        let scene = scene();
+        let layout = layout_scene(&scene, 20.0);
+        assert_eq!(layout.instances.len(), scene.instances.len());
+        let owner = chart_texels(&layout);
+        let g = GUTTER_TEXELS as i64;
+        for (&(layer, x, y), &chart) in &owner {
+            assert!(x < layout.size && y < layout.size);
+            // No texel of another chart within 2 gutters: dilation fills `g` texels around
+            // each chart, and bilinear filtering reads one texel further.
+            for dy in -2 * g..=2 * g {
+                for dx in -2 * g..=2 * g {
+                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                    if nx < 0 || ny < 0 {
+                        continue;
+                    }
+                    if let Some(&other) = owner.get(&(layer, nx as u32, ny as u32)) {
+                        assert!(
+                            other == chart || dx.abs() >= 2 * g || dy.abs() >= 2 * g,
+                            "charts {chart} and {other} at {x},{y} and {nx},{ny}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn generated_charts_keep_the_requested_density() {
+        let scene = scene();
+        let layout = layout_scene(&scene, 20.0);
+        // The floor is one flat chart: 6 m at 20 texels per metre.
+        let floor = &layout.instances[0];
+        assert_eq!(floor.uv_source, crate::charts::UvSource::Generated);
+        let min = floor.triangles.iter().flat_map(|t| t.corners).fold(glam::Vec2::INFINITY, |a, c| a.min(c));
+        let max = floor.triangles.iter().flat_map(|t| t.corners).fold(glam::Vec2::NEG_INFINITY, |a, c| a.max(c));
+        assert!(((max - min) - glam::Vec2::splat(120.0)).abs().max_element() < 1e-3, "{min} {max}");
+    }
 }

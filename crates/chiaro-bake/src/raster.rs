@@ -147,7 +147,7 @@ mod tests {
     use super::*;
 
     fn placed(corners: [Vec2; 3]) -> PlacedTriangle {
-        PlacedTriangle { instance: 0, primitive: 0, triangle: 0, corners }
+        PlacedTriangle { chart: 0, instance: 0, primitive: 0, triangle: 0, corners }
     }
 
     #[test]

@@ -4,7 +4,7 @@
 use crate::plan::lights::LightId;
 use crate::plan::shadows::ShadowSlot;
 use crate::plan::{DebugView, FramePlan};
-use chiaro_scene::Scene;
+use chiaro_scene::{LightMode, Scene};
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameOptions {
@@ -122,6 +122,7 @@ impl FrameOutput {
         (0..scene.lights.len())
             .map(|i| match self.plan.light_index(LightId(i as u32)).map(|k| self.plan.lights[k].shadow) {
                 _ if !scene.lights[i].shadow.casts() => ShadowStatus::Off,
+                None if scene.skips_baked_lights() && scene.lights[i].mode == LightMode::Baked => ShadowStatus::Baked,
                 None => ShadowStatus::NotShaded,
                 Some(ShadowSlot::Realtime { .. }) => ShadowStatus::Mapped,
                 Some(ShadowSlot::BakedOnly) => ShadowStatus::NoTile,
@@ -142,6 +143,8 @@ pub enum ShadowStatus {
     NotShaded,
     /// It casts shadows but found no free atlas tiles.
     NoTile,
+    /// A baked light with a bake applied: its light and shadows are in the lightmaps.
+    Baked,
 }
 
 /// IEEE half to single precision (the HDR target is Rgba16Float).

@@ -89,6 +89,9 @@ pub fn run(args: CompareArgs) -> Result<()> {
             ShadowStatus::Off => Some("casts no shadows"),
             ShadowStatus::NotShaded => Some("not shaded this frame"),
             ShadowStatus::NoTile => Some("no free atlas tiles: no realtime shadow"),
+            ShadowStatus::Baked => {
+                Some("baked: its shadows are in the lightmaps, summed with other light; not compared")
+            }
         };
         if let Some(why) = why {
             println!("{:<6} {:<24} {:<12} {why}", light.node, light.name.chars().take(24).collect::<String>(), kind);
