@@ -2,15 +2,16 @@
 //! dilate the atlases. Deterministic for a seed: each texel and probe draws from its own
 //! random stream.
 
+use crate::channels::{ChannelAssignment, ChannelCandidate, assign_channels, spot_bounds};
 use crate::layout::{AtlasLayout, GUTTER_TEXELS, PlacedTriangle, layout_scene};
 use crate::raster::{TexelTriangles, barycentric, clamp_to_triangle, dilate, inside};
 use crate::rng::Rng;
 use crate::surface::Surfaces;
 use crate::tracer::{RayCount, Tracer, sphere_direction};
 use chiaro_math::sh::ShRgb;
-use chiaro_scene::baked::{BakedLighting, Lightmap, ProbeGrid};
+use chiaro_scene::baked::{BakedLighting, Lightmap, ProbeGrid, ShadowMask};
 use chiaro_scene::settings::BakeSettings;
-use chiaro_scene::{Scene, Settings};
+use chiaro_scene::{LightKind, LightMode, Scene, Settings};
 use chiaro_trace::SceneBvh;
 use glam::{UVec3, Vec2, Vec3};
 use rayon::prelude::*;
@@ -108,9 +109,34 @@ pub fn bake(
     settings.validate().map_err(BakeError::Invalid)?;
     let probe_grid = probe_layout(scene, b.probe_spacing)?;
     let layout = layout_scene(scene, b.texels_per_metre);
-    let bvh = SceneBvh::build(scene);
-    let tracer =
-        Tracer::new(scene, &bvh, Vec3::from(settings.render.ambient), b.bounces, settings.lights.range_threshold_lux);
+    // Baked light and shadows come from static objects alone: dynamic ones move, and
+    // take their light from the probes and their shadows from the realtime maps.
+    let bvh = SceneBvh::build_with(scene, |instance| instance.is_static);
+    let assignment = if settings.lighting.mixed_mode.uses_shadow_mask() {
+        mask_channels(scene, settings)
+    } else {
+        ChannelAssignment::default()
+    };
+    let mut modes: Vec<LightMode> = scene.lights.iter().map(|l| l.mode).collect();
+    for &light in &assignment.demoted {
+        modes[light] = LightMode::Baked;
+        tracing::warn!(
+            "light '{}': a fifth mixed light overlapping four others, no shadow mask channel left: baked instead",
+            scene.lights[light].name
+        );
+    }
+    // Each channel's light, in channel order for a texel's four values.
+    let channel_lights: Vec<(usize, usize)> =
+        assignment.channels.iter().map(|&(light, channel)| (channel as usize, light)).collect();
+    let masks = !channel_lights.is_empty();
+    let tracer = Tracer::new(
+        scene,
+        &modes,
+        &bvh,
+        Vec3::from(settings.render.ambient),
+        b.bounces,
+        settings.lights.range_threshold_lux,
+    );
     let surfaces = Surfaces::new(scene);
     let rays = AtomicU64::new(0);
     let texel_count = AtomicU64::new(0);
@@ -118,11 +144,12 @@ pub fn bake(
     let size = layout.size;
     progress.stage("lightmap rows", layout.atlas_count as u64 * size as u64);
     let mut lightmaps = Vec::new();
+    let mut shadow_masks = Vec::new();
     for layer in 0..layout.atlas_count {
         let triangles: Vec<PlacedTriangle> = layout.triangles_of(layer).copied().collect();
         let world: Vec<WorldTriangle> = triangles.iter().map(|t| WorldTriangle::of(scene, t)).collect();
         let map = TexelTriangles::build(size, &triangles);
-        let rows: Vec<Vec<([f32; 4], bool)>> = (0..size)
+        let rows: Vec<Vec<BakedTexel>> = (0..size)
             .into_par_iter()
             .map(|y| {
                 if cancel.load(Ordering::Relaxed) {
@@ -135,12 +162,12 @@ pub fn bake(
                         let ids = map.of(texel);
                         // Checked per texel too: at many samples a row takes seconds.
                         if ids.is_empty() || cancel.load(Ordering::Relaxed) {
-                            return ([0.0; 4], false);
+                            return ([0.0; 4], [1.0; 4], false);
                         }
                         let index = layer as u64 * size as u64 * size as u64 + texel as u64;
                         let mut rng = Rng::new(b.seed, DOMAIN_TEXEL, index);
                         let shift = rng.next_u32();
-                        let (mut sum, mut covered) = (Vec3::ZERO, 0u32);
+                        let (mut sum, mut covered, mut mask) = (Vec3::ZERO, 0u32, [0.0f32; 4]);
                         for k in 0..b.samples {
                             let (u, v) = stratum(k, b.samples, 0, &mut rng);
                             let q = Vec2::new(x as f32 + u, y as f32 + v);
@@ -154,9 +181,20 @@ pub fn bake(
                             let n = if shading.dot(wt.normal) > 0.0 { shading } else { wt.normal };
                             let direction = stratum(k, b.samples, shift, &mut rng);
                             sum += tracer.texel_sample(p, n, wt.normal, direction, &mut rng, &mut row_rays);
+                            if masks {
+                                // The same supersampled points: the mask's edges are as
+                                // soft as the texel, no softer.
+                                for &(channel, light) in &channel_lights {
+                                    mask[channel] += tracer.mask_visibility(light, p, wt.normal, &mut row_rays);
+                                }
+                            }
                         }
                         let e = sum / b.samples as f32;
-                        ([e.x, e.y, e.z, covered as f32 / b.samples as f32], true)
+                        let mut texel_mask = [1.0f32; 4];
+                        for &(channel, _) in &channel_lights {
+                            texel_mask[channel] = mask[channel] / b.samples as f32;
+                        }
+                        ([e.x, e.y, e.z, covered as f32 / b.samples as f32], texel_mask, true)
                     })
                     .collect();
                 rays.fetch_add(row_rays, Ordering::Relaxed);
@@ -167,10 +205,25 @@ pub fn bake(
         if cancel.load(Ordering::Relaxed) {
             return Err(BakeError::Cancelled);
         }
-        let (mut texels, mut filled): (Vec<[f32; 4]>, Vec<bool>) = rows.into_iter().flatten().unzip();
-        texel_count.fetch_add(filled.iter().filter(|&&f| f).count() as u64, Ordering::Relaxed);
+        let texel_rows: Vec<BakedTexel> = rows.into_iter().flatten().collect();
+        let mut texels: Vec<[f32; 4]> = texel_rows.iter().map(|r| r.0).collect();
+        let mut mask: Vec<[f32; 4]> = texel_rows.iter().map(|r| r.1).collect();
+        let baked: Vec<bool> = texel_rows.iter().map(|r| r.2).collect();
+        texel_count.fetch_add(baked.iter().filter(|&&f| f).count() as u64, Ordering::Relaxed);
+        let mut filled = baked.clone();
         dilate(&mut texels, &mut filled, size, GUTTER_TEXELS);
+        // Dilated texels cover nothing of the surface.
+        for (t, &was) in texels.iter_mut().zip(&baked) {
+            if !was {
+                t[3] = 0.0;
+            }
+        }
         lightmaps.push(Lightmap { width: size, height: size, texels });
+        if masks {
+            let mut filled = baked;
+            dilate(&mut mask, &mut filled, size, GUTTER_TEXELS);
+            shadow_masks.push(ShadowMask { width: size, height: size, texels: mask });
+        }
     }
 
     let probes = match probe_grid {
@@ -178,25 +231,37 @@ pub fn bake(
             let total = counts.x * counts.y * counts.z;
             progress.stage("light probes", total as u64);
             let spacing = Vec3::splat(b.probe_spacing);
-            let probes: Vec<ShRgb> = (0..total)
+            let traced: Vec<(ShRgb, [f32; 4])> = (0..total)
                 .into_par_iter()
                 .map(|index| {
                     if cancel.load(Ordering::Relaxed) {
-                        return ShRgb::default();
+                        return (ShRgb::default(), [1.0; 4]);
                     }
                     let (x, y, z) = (index % counts.x, (index / counts.x) % counts.y, index / (counts.x * counts.y));
                     let p = origin + spacing * Vec3::new(x as f32, y as f32, z as f32);
                     let mut probe_rays: RayCount = 0;
                     let sh = trace_probe(&tracer, p, b, index as u64, &mut probe_rays);
+                    // Probe occlusion: what the probe itself sees of each channel's light.
+                    let mut occlusion = [1.0f32; 4];
+                    for &(channel, light) in &channel_lights {
+                        let towards = scene.lights[light].position() - p;
+                        let side = match scene.lights[light].kind {
+                            LightKind::Directional => -scene.lights[light].direction(),
+                            _ => towards.normalize_or_zero(),
+                        };
+                        occlusion[channel] = tracer.mask_visibility(light, p, side, &mut probe_rays);
+                    }
                     rays.fetch_add(probe_rays, Ordering::Relaxed);
                     progress.advance(1);
-                    sh
+                    (sh, occlusion)
                 })
                 .collect();
             if cancel.load(Ordering::Relaxed) {
                 return Err(BakeError::Cancelled);
             }
-            Some(ProbeGrid { origin, spacing, counts, probes })
+            let (probes, occlusion): (Vec<ShRgb>, Vec<[f32; 4]>) = traced.into_iter().unzip();
+            let occlusion = if masks { occlusion } else { Vec::new() };
+            Some(ProbeGrid { origin, spacing, counts, probes, occlusion })
         }
         None => None,
     };
@@ -210,7 +275,38 @@ pub fn bake(
         texels: texel_count.load(Ordering::Relaxed),
         probes: probes.as_ref().map_or(0, |p| p.probes.len() as u64),
     };
-    Ok(BakeResult { layout, lighting: BakedLighting { lightmaps, probes }, stats })
+    let mut light_channels = vec![None; scene.lights.len()];
+    for &(light, channel) in &assignment.channels {
+        light_channels[light] = Some(channel);
+    }
+    let lighting =
+        BakedLighting { lightmaps, probes, shadow_masks, light_channels, demoted: assignment.demoted.clone() };
+    Ok(BakeResult { layout, lighting, stats })
+}
+
+/// Shadow mask channels for the scene's shadowed mixed lights.
+fn mask_channels(scene: &Scene, settings: &Settings) -> ChannelAssignment {
+    let candidates: Vec<ChannelCandidate> = scene
+        .lights
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.mode == LightMode::Mixed && l.shadow.casts())
+        .map(|(light, l)| {
+            let range = l.shaded_range(settings.lights.range_threshold_lux);
+            ChannelCandidate {
+                light,
+                importance: l.intensity * l.color.max_element(),
+                bounds: match l.kind {
+                    LightKind::Directional => None,
+                    LightKind::Point => Some((l.position(), range)),
+                    LightKind::Spot { outer_cone_rad, .. } => {
+                        Some(spot_bounds(l.position(), l.direction(), range, outer_cone_rad))
+                    }
+                },
+            }
+        })
+        .collect();
+    assign_channels(&candidates)
 }
 
 fn trace_probe(tracer: &Tracer, p: Vec3, b: &BakeSettings, index: u64, rays: &mut RayCount) -> ShRgb {
@@ -228,6 +324,10 @@ fn trace_probe(tracer: &Tracer, p: Vec3, b: &BakeSettings, index: u64, rays: &mu
     }
     sh
 }
+
+/// One texel's irradiance (RGB, coverage in A), its shadow mask, and whether a surface
+/// touches it (the rest are left for dilation).
+type BakedTexel = ([f32; 4], [f32; 4], bool);
 
 /// A placed triangle's world corners and front-face normal.
 struct WorldTriangle {

@@ -1,12 +1,13 @@
 //! Bake directories: `manifest.json`, one `lightmap-N.exr` per atlas (RGB irradiance in
-//! lux, A the texel's coverage), `lightmap-uvs.bin` (each lightmapped instance's corner
-//! coordinates, little-endian f32 pairs) and `probes.bin` (nine RGB coefficients per
-//! probe, little-endian f32). Written into a temporary directory beside the target and
+//! lux, A the texel's coverage), with shadow masks one `shadowmask-N.exr` per atlas (four
+//! channels' visibility), `lightmap-uvs.bin` (each lightmapped instance's corner
+//! coordinates, little-endian f32 pairs), `probes.bin` (nine RGB coefficients per probe,
+//! little-endian f32) and with shadow masks `probe-occlusion.bin` (four f32 per probe). Written into a temporary directory beside the target and
 //! renamed into place, so a failure or an interrupt leaves nothing half-written.
 
 use crate::bake::{BakeError, BakeResult, BakeStats};
 use chiaro_math::sh::{SH_COEFFICIENTS, ShRgb};
-use chiaro_scene::baked::{BakedLighting, InstanceLightmap, Lightmap, ProbeGrid};
+use chiaro_scene::baked::{BakedLighting, InstanceLightmap, Lightmap, ProbeGrid, ShadowMask};
 use chiaro_scene::settings::BakeSettings;
 use chiaro_scene::{Scene, Settings};
 use glam::{UVec3, Vec2, Vec3};
@@ -19,6 +20,7 @@ pub const FORMAT_VERSION: u32 = 1;
 pub const MANIFEST: &str = "manifest.json";
 const UVS: &str = "lightmap-uvs.bin";
 const PROBES: &str = "probes.bin";
+const PROBE_OCCLUSION: &str = "probe-occlusion.bin";
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Manifest {
@@ -36,7 +38,35 @@ pub struct Manifest {
     pub lightmaps: Vec<String>,
     pub instances: Vec<ManifestInstance>,
     pub probes: Option<ManifestProbes>,
+    /// How mixed lights' shadows were baked.
+    #[serde(default)]
+    pub mixed_mode: chiaro_scene::MixedMode,
+    /// Shadow masks, one file per lightmap atlas; empty without shadowed mixed lights.
+    #[serde(default)]
+    pub shadow_masks: Vec<String>,
+    /// Which mixed light has which shadow mask channel.
+    #[serde(default)]
+    pub channels: Vec<ManifestChannel>,
+    /// Mixed lights that found no channel and were baked instead.
+    #[serde(default)]
+    pub demoted: Vec<ManifestLight>,
     pub stats: BakeStats,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ManifestChannel {
+    /// Index in the scene's lights, with its node and name to check against.
+    pub light: usize,
+    pub node: usize,
+    pub name: String,
+    pub channel: u8,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ManifestLight {
+    pub light: usize,
+    pub node: usize,
+    pub name: String,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -105,6 +135,15 @@ pub fn write_bake_dir(
         write_exr(&temp.path().join(&file), lightmap)?;
         lightmap_files.push(file);
     }
+    let mut mask_files = Vec::new();
+    for (layer, mask) in result.lighting.shadow_masks.iter().enumerate() {
+        let file = format!("shadowmask-{layer}.exr");
+        write_exr(
+            &temp.path().join(&file),
+            &Lightmap { width: mask.width, height: mask.height, texels: mask.texels.clone() },
+        )?;
+        mask_files.push(file);
+    }
     let mut uvs: Vec<u8> = Vec::new();
     for placement in result.layout.placements(scene) {
         for uv in placement.corner_uvs.iter().flatten() {
@@ -123,8 +162,13 @@ pub fn write_bake_dir(
         }
         let path = temp.path().join(PROBES);
         std::fs::write(&path, bytes).map_err(io_error(&path))?;
+        if !grid.occlusion.is_empty() {
+            let bytes: Vec<u8> = grid.occlusion.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
+            let path = temp.path().join(PROBE_OCCLUSION);
+            std::fs::write(&path, bytes).map_err(io_error(&path))?;
+        }
     }
-    let manifest = Manifest { lightmaps: lightmap_files, ..manifest };
+    let manifest = Manifest { lightmaps: lightmap_files, shadow_masks: mask_files, ..manifest };
     let path = temp.path().join(MANIFEST);
     let text = serde_json::to_string_pretty(&manifest).map_err(|e| BakeError::Invalid(e.to_string()))?;
     std::fs::write(&path, text).map_err(io_error(&path))?;
@@ -186,6 +230,28 @@ fn manifest_of(scene: &Scene, settings: &Settings, result: &BakeResult) -> Resul
             spacing: g.spacing.to_array(),
             counts: g.counts.to_array(),
         }),
+        mixed_mode: settings.lighting.mixed_mode,
+        shadow_masks: Vec::new(),
+        channels: result
+            .lighting
+            .light_channels
+            .iter()
+            .enumerate()
+            .filter_map(|(light, channel)| {
+                let l = &scene.lights[light];
+                channel.map(|channel| ManifestChannel { light, node: l.node, name: l.name.clone(), channel })
+            })
+            .collect(),
+        demoted: result
+            .lighting
+            .demoted
+            .iter()
+            .map(|&light| ManifestLight {
+                light,
+                node: scene.lights[light].node,
+                name: scene.lights[light].name.clone(),
+            })
+            .collect(),
         stats: result.stats,
     })
 }
@@ -261,6 +327,38 @@ pub fn read_bake_dir(dir: &Path, scene: &Scene) -> Result<LoadedBake, String> {
             ));
         }
     }
+    for (light, node, name) in manifest
+        .channels
+        .iter()
+        .map(|c| (c.light, c.node, &c.name))
+        .chain(manifest.demoted.iter().map(|d| (d.light, d.node, &d.name)))
+    {
+        if !scene.lights.get(light).is_some_and(|l| l.node == node && &l.name == name) {
+            return Err(format!("{}: light {light} ({name}) does not match the scene", manifest_path.display()));
+        }
+    }
+    let shadow_masks = manifest
+        .shadow_masks
+        .iter()
+        .map(|file| {
+            let map = read_exr(&dir.join(file))?;
+            if map.width != manifest.lightmap_size || map.height != manifest.lightmap_size {
+                return Err(format!(
+                    "{}: {}x{}, the manifest says {}",
+                    file, map.width, map.height, manifest.lightmap_size
+                ));
+            }
+            Ok(ShadowMask { width: map.width, height: map.height, texels: map.texels })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    if !shadow_masks.is_empty() && shadow_masks.len() != manifest.lightmaps.len() {
+        return Err(format!(
+            "{}: {} shadow masks for {} lightmaps",
+            manifest_path.display(),
+            shadow_masks.len(),
+            manifest.lightmaps.len()
+        ));
+    }
     let lightmaps = manifest
         .lightmaps
         .iter()
@@ -314,11 +412,48 @@ pub fn read_bake_dir(dir: &Path, scene: &Scene) -> Result<LoadedBake, String> {
                     coefficients: std::array::from_fn(|k| Vec3::new(c[3 * k], c[3 * k + 1], c[3 * k + 2])),
                 })
                 .collect();
-            Some(ProbeGrid { origin: Vec3::from_array(p.origin), spacing: Vec3::from_array(p.spacing), counts, probes })
+            let occlusion_path = dir.join(PROBE_OCCLUSION);
+            let occlusion = if manifest.shadow_masks.is_empty() {
+                Vec::new()
+            } else {
+                let bytes = std::fs::read(&occlusion_path).map_err(|e| format!("{}: {e}", occlusion_path.display()))?;
+                if bytes.len() != n * 16 {
+                    return Err(format!(
+                        "{}: {} bytes, {n} probes need {}",
+                        occlusion_path.display(),
+                        bytes.len(),
+                        n * 16
+                    ));
+                }
+                bytes
+                    .chunks_exact(16)
+                    .map(|c| {
+                        std::array::from_fn(|k| {
+                            f32::from_le_bytes([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]])
+                        })
+                    })
+                    .collect()
+            };
+            Some(ProbeGrid {
+                origin: Vec3::from_array(p.origin),
+                spacing: Vec3::from_array(p.spacing),
+                counts,
+                probes,
+                occlusion,
+            })
         }
         None => None,
     };
-    Ok(LoadedBake { manifest, lighting: BakedLighting { lightmaps, probes }, placements })
+    let mut light_channels = vec![None; scene.lights.len()];
+    for c in &manifest.channels {
+        if c.channel as usize >= crate::channels::SHADOW_MASK_CHANNELS {
+            return Err(format!("{}: light {} has channel {}", manifest_path.display(), c.name, c.channel));
+        }
+        light_channels[c.light] = Some(c.channel);
+    }
+    let demoted = manifest.demoted.iter().map(|d| d.light).collect();
+    let lighting = BakedLighting { lightmaps, probes, shadow_masks, light_channels, demoted };
+    Ok(LoadedBake { manifest, lighting, placements })
 }
 
 /// Reads the bake at `dir` and applies it to `scene`; on any mismatch the scene is left

@@ -7,6 +7,7 @@
 
 pub mod bake;
 pub mod bake_dir;
+pub mod channels;
 pub mod charts;
 pub mod layout;
 pub mod pack;

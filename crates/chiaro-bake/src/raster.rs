@@ -106,7 +106,8 @@ pub fn clamp_to_triangle(corners: &[Vec2; 3], p: Vec2) -> [f32; 3] {
 }
 
 /// Fills empty texels from their filled neighbours, `passes` rings outwards: each pass
-/// gives every empty texel next to a filled one the mean of those neighbours.
+/// gives every empty texel next to a filled one the mean of those neighbours (all four
+/// channels).
 pub fn dilate(texels: &mut [[f32; 4]], filled: &mut [bool], size: u32, passes: u32) {
     let n = size as i64;
     for _ in 0..passes {
@@ -118,7 +119,7 @@ pub fn dilate(texels: &mut [[f32; 4]], filled: &mut [bool], size: u32, passes: u
                 if before[i] {
                     continue;
                 }
-                let (mut sum, mut count) = ([0.0f32; 3], 0);
+                let (mut sum, mut count) = ([0.0f32; 4], 0);
                 for (dx, dy) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
                     let (nx, ny) = (x + dx, y + dy);
                     if nx < 0 || ny < 0 || nx >= n || ny >= n {
@@ -126,7 +127,7 @@ pub fn dilate(texels: &mut [[f32; 4]], filled: &mut [bool], size: u32, passes: u
                     }
                     let j = (ny * n + nx) as usize;
                     if before[j] {
-                        for c in 0..3 {
+                        for c in 0..4 {
                             sum[c] += source[j][c];
                         }
                         count += 1;
@@ -134,7 +135,7 @@ pub fn dilate(texels: &mut [[f32; 4]], filled: &mut [bool], size: u32, passes: u
                 }
                 if count > 0 {
                     let k = 1.0 / count as f32;
-                    texels[i] = [sum[0] * k, sum[1] * k, sum[2] * k, 0.0];
+                    texels[i] = sum.map(|v| v * k);
                     filled[i] = true;
                 }
             }
@@ -181,17 +182,16 @@ mod tests {
         let size = 5;
         let mut texels = vec![[0.0f32; 4]; 25];
         let mut filled = vec![false; 25];
-        texels[12] = [4.0, 2.0, 1.0, 1.0];
+        texels[12] = [4.0, 2.0, 1.0, 0.5];
         filled[12] = true;
         dilate(&mut texels, &mut filled, size, 1);
         // The centre's eight neighbours take its value; the outer ring is still empty.
         for i in [6, 7, 8, 11, 13, 16, 17, 18] {
-            assert!(filled[i] && texels[i][..3] == [4.0, 2.0, 1.0], "{i}");
-            assert_eq!(texels[i][3], 0.0, "dilated texels keep zero coverage");
+            assert!(filled[i] && texels[i] == [4.0, 2.0, 1.0, 0.5], "{i}");
         }
         assert!(!filled[0] && !filled[24]);
         dilate(&mut texels, &mut filled, size, 1);
         assert!(filled.iter().all(|&f| f));
-        assert_eq!(texels[12], [4.0, 2.0, 1.0, 1.0]);
+        assert_eq!(texels[12], [4.0, 2.0, 1.0, 0.5]);
     }
 }

@@ -6,7 +6,7 @@
 
 use crate::surface::Surfaces;
 use chiaro_math::light::{distance_attenuation, spot_angle_params, spot_attenuation};
-use chiaro_scene::{Light, LightKind, Scene};
+use chiaro_scene::{Light, LightKind, LightMode, Scene};
 use chiaro_trace::{SceneBvh, light_visibility};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -17,6 +17,8 @@ const RAY_OFFSET_SCALE: f32 = chiaro_trace::reference::SHADOW_RAY_OFFSET_SCALE;
 
 /// A light as the baker evaluates it.
 struct BakeLight {
+    /// Index in `Scene::lights`.
+    index: usize,
     light: Light,
     color: Vec3,
     range: f32,
@@ -65,8 +67,11 @@ fn offset_of(p: Vec3) -> f32 {
 }
 
 impl<'a> Tracer<'a> {
+    /// `modes` gives each scene light's mode for this bake (the file's, with mixed lights
+    /// that found no shadow mask channel demoted to baked).
     pub fn new(
         scene: &'a Scene,
+        modes: &[LightMode],
         bvh: &'a SceneBvh,
         ambient: Vec3,
         bounces: u32,
@@ -75,8 +80,11 @@ impl<'a> Tracer<'a> {
         let lights = scene
             .lights
             .iter()
-            .filter(|l| l.mode.bakes_indirect())
-            .map(|l| BakeLight {
+            .zip(modes)
+            .enumerate()
+            .filter(|(_, (_, mode))| mode.bakes_indirect())
+            .map(|(index, (l, mode))| BakeLight {
+                index,
                 light: l.clone(),
                 color: l.color * l.intensity,
                 range: l.shaded_range(range_threshold_lux),
@@ -86,8 +94,8 @@ impl<'a> Tracer<'a> {
                     }
                     _ => None,
                 },
-                direct: l.mode.bakes_direct(),
-                indirect: l.mode.bakes_indirect(),
+                direct: mode.bakes_direct(),
+                indirect: mode.bakes_indirect(),
             })
             .collect();
         Tracer { bvh, surfaces: Surfaces::new(scene), lights, sky: ambient, bounces }
@@ -146,6 +154,18 @@ impl<'a> Tracer<'a> {
             e += arriving * cos * self.visibility(l, p, side, rays);
         }
         e
+    }
+
+    /// How much of scene light `index` (a mixed light) reaches `p` unblocked, from the
+    /// side `side` faces: the raw visibility a shadow mask stores (1 out of its range or
+    /// cone, where the mask does not matter).
+    pub fn mask_visibility(&self, index: usize, p: Vec3, side: Vec3, rays: &mut RayCount) -> f32 {
+        let Some(l) = self.lights.iter().find(|l| l.index == index) else { return 1.0 };
+        if self.arriving(l, p).is_none() {
+            return 1.0;
+        }
+        *rays += 1;
+        light_visibility(self.bvh, &l.light, p, side)
     }
 
     /// Direct irradiance from baked lights on a lightmap texel's sample point.

@@ -1,7 +1,7 @@
 //! Group 0 of every scene pass: the frame uniform, the light buffer and its light lists,
 //! the objects, the shadow uniform, the two atlases with their comparison sampler, and
 //! the cookie arrays with their samplers, the lightmap array (sampled with the clamping
-//! cookie sampler: one mip, bilinear) and the light probes.
+//! cookie sampler: one mip, bilinear), the light probes and the shadow mask array.
 //! A frame plan flows in and is uploaded; a bind group over this frame's buffers and
 //! atlases flows out.
 
@@ -83,6 +83,7 @@ impl FrameData {
                 entry(11, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
                 entry(12, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
                 entry(13, S::FRAGMENT, buffer(storage)),
+                entry(14, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
             ],
         });
         let uniform_buffer = |label, size| {
@@ -150,6 +151,10 @@ impl FrameData {
                     resource: wgpu::BindingResource::TextureView(&scene.baked.lightmaps),
                 },
                 wgpu::BindGroupEntry { binding: 13, resource: scene.baked.probes.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 14,
+                    resource: wgpu::BindingResource::TextureView(&scene.baked.shadow_masks),
+                },
             ],
         })
     }

@@ -125,6 +125,9 @@ impl FrameOutput {
                 None if scene.skips_baked_lights() && scene.lights[i].mode == LightMode::Baked => ShadowStatus::Baked,
                 None => ShadowStatus::NotShaded,
                 Some(ShadowSlot::Realtime { .. }) => ShadowStatus::Mapped,
+                Some(ShadowSlot::BakedOnly) if scene.baked.as_ref().is_some_and(|b| b.channel(i).is_some()) => {
+                    ShadowStatus::MaskOnly
+                }
                 Some(ShadowSlot::BakedOnly) => ShadowStatus::NoTile,
                 Some(ShadowSlot::None) => ShadowStatus::Off,
             })
@@ -145,6 +148,8 @@ pub enum ShadowStatus {
     NoTile,
     /// A baked light with a bake applied: its light and shadows are in the lightmaps.
     Baked,
+    /// No free atlas tiles, but a shadow mask channel: its baked shadows are used.
+    MaskOnly,
 }
 
 /// IEEE half to single precision (the HDR target is Rgba16Float).

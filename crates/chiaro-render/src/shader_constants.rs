@@ -61,6 +61,14 @@ pub const CASTER_CLAMP_DEPTH: u32 = 1;
 /// `GpuLight::cookie_layer` of a light without a cookie.
 pub const NO_COOKIE: u32 = u32::MAX;
 
+/// `GpuLight::shadow_mask_channel` of a light without one.
+pub const NO_MASK_CHANNEL: u32 = u32::MAX;
+
+/// `GpuFrame::mixed_mode`.
+pub const MIXED_MODE_BAKED_INDIRECT: u32 = 0;
+pub const MIXED_MODE_SHADOWMASK: u32 = 1;
+pub const MIXED_MODE_DISTANCE_SHADOWMASK: u32 = 2;
+
 /// `GpuAovLight::list_index` of a light the frame does not shade.
 pub const NO_LIGHT: u32 = u32::MAX;
 
@@ -95,6 +103,10 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("CASTER_CLAMP_DEPTH", CASTER_CLAMP_DEPTH),
     ("NO_LIGHT", NO_LIGHT),
     ("NO_COOKIE", NO_COOKIE),
+    ("NO_MASK_CHANNEL", NO_MASK_CHANNEL),
+    ("MIXED_MODE_BAKED_INDIRECT", MIXED_MODE_BAKED_INDIRECT),
+    ("MIXED_MODE_SHADOWMASK", MIXED_MODE_SHADOWMASK),
+    ("MIXED_MODE_DISTANCE_SHADOWMASK", MIXED_MODE_DISTANCE_SHADOWMASK),
 ];
 
 /// Every `f32` constant the shaders share with chiaro_math.

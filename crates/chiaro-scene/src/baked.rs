@@ -17,6 +17,15 @@ pub struct Lightmap {
     pub texels: Vec<[f32; 4]>,
 }
 
+/// A shadow mask atlas: per texel, for each of four channels, the fraction of the texel
+/// that sees the mixed light assigned to that channel (1 where no light is assigned).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadowMask {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<[f32; 4]>,
+}
+
 /// Irradiance probes on a regular grid, x varying fastest, then y, then z.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProbeGrid {
@@ -27,6 +36,9 @@ pub struct ProbeGrid {
     pub counts: UVec3,
     /// Incoming radiance per probe.
     pub probes: Vec<ShRgb>,
+    /// Per probe, how much of each shadow mask channel's light reaches it (empty without
+    /// shadow masks): the shadow mask of dynamic objects.
+    pub occlusion: Vec<[f32; 4]>,
 }
 
 impl ProbeGrid {
@@ -56,6 +68,30 @@ impl ProbeGrid {
         let x11 = at(0, 1, 1).lerp(&at(1, 1, 1), t.x);
         x00.lerp(&x10, t.y).lerp(&x01.lerp(&x11, t.y), t.z)
     }
+
+    /// The trilinear blend of probe occlusion at `p`, as the shader samples it; all ones
+    /// without occlusion data.
+    pub fn sample_occlusion(&self, p: Vec3) -> [f32; 4] {
+        if self.occlusion.len() != self.probes.len() {
+            return [1.0; 4];
+        }
+        let max = (self.counts.as_vec3() - 1.0).max(Vec3::ZERO);
+        let cell = ((p - self.origin) / self.spacing).clamp(Vec3::ZERO, max);
+        let base = cell.floor().min((max - 1.0).max(Vec3::ZERO));
+        let t = cell - base;
+        let b = base.as_uvec3();
+        let mut out = [0.0; 4];
+        for corner in 0..8u32 {
+            let offset = UVec3::new(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+            let f = Vec3::select(offset.cmpeq(UVec3::ONE), t, Vec3::ONE - t);
+            let c = (b + offset).min(self.counts - 1);
+            let o = self.occlusion[self.index(c.x, c.y, c.z)];
+            for k in 0..4 {
+                out[k] += f.x * f.y * f.z * o[k];
+            }
+        }
+        out
+    }
 }
 
 /// What a bake gives the renderer.
@@ -64,6 +100,19 @@ pub struct BakedLighting {
     /// All the same size, one texture-array layer each.
     pub lightmaps: Vec<Lightmap>,
     pub probes: Option<ProbeGrid>,
+    /// One per lightmap, same size and layout, when mixed lights have shadow masks.
+    pub shadow_masks: Vec<ShadowMask>,
+    /// Per scene light, its shadow mask channel (0 to 3), if it has one.
+    pub light_channels: Vec<Option<u8>>,
+    /// Scene lights the bake turned from mixed to baked (no channel was free).
+    pub demoted: Vec<usize>,
+}
+
+impl BakedLighting {
+    /// The shadow mask channel of scene light `light`.
+    pub fn channel(&self, light: usize) -> Option<u8> {
+        self.light_channels.get(light).copied().flatten()
+    }
 }
 
 /// An instance's place in the lightmaps: its atlas layer, and per primitive one atlas
@@ -120,6 +169,10 @@ pub fn apply(scene: &mut Scene, lighting: BakedLighting, placements: &[InstanceL
         instance.mesh = scene.meshes.len() - 1;
         instance.lightmap = Some(placement.layer);
     }
+    for &light in &lighting.demoted {
+        let light = scene.lights.get_mut(light).ok_or_else(|| format!("demoted light {light} is not in the scene"))?;
+        light.mode = crate::types::LightMode::Baked;
+    }
     scene.baked = Some(lighting);
     Ok(())
 }
@@ -173,7 +226,10 @@ mod tests {
     }
 
     fn lighting() -> BakedLighting {
-        BakedLighting { lightmaps: vec![Lightmap { width: 1, height: 1, texels: vec![[1.0; 4]] }], probes: None }
+        BakedLighting {
+            lightmaps: vec![Lightmap { width: 1, height: 1, texels: vec![[1.0; 4]] }],
+            ..BakedLighting::default()
+        }
     }
 
     #[test]
@@ -224,10 +280,17 @@ mod tests {
                 }
             }
         }
-        let grid = ProbeGrid { origin: Vec3::ZERO, spacing: Vec3::splat(2.0), counts: UVec3::new(3, 2, 2), probes };
+        let occlusion = (0..probes.len()).map(|k| [k as f32, 1.0, 0.5, 0.0]).collect();
+        let grid =
+            ProbeGrid { origin: Vec3::ZERO, spacing: Vec3::splat(2.0), counts: UVec3::new(3, 2, 2), probes, occlusion };
         let c = |p: Vec3| grid.sample(p).coefficients[0];
         assert!((c(Vec3::new(1.0, 1.0, 1.0)) - Vec3::new(0.5, 0.5, 0.5)).length() < 1e-6);
         assert!((c(Vec3::new(3.0, 0.0, 2.0)) - Vec3::new(1.5, 0.0, 1.0)).length() < 1e-6);
         assert!((c(Vec3::new(10.0, -5.0, 9.0)) - Vec3::new(2.0, 0.0, 1.0)).length() < 1e-6);
+        // Occlusion blends the same way: probe k holds k in channel 0.
+        let o = grid.sample_occlusion(Vec3::new(1.0, 0.0, 0.0));
+        assert!((o[0] - 0.5).abs() < 1e-6 && o[1] == 1.0 && o[2] == 0.5);
+        let o = grid.sample_occlusion(Vec3::new(0.0, 2.0, 2.0));
+        assert!((o[0] - 9.0).abs() < 1e-6, "{o:?}");
     }
 }

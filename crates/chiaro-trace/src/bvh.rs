@@ -104,18 +104,26 @@ impl SceneBvh {
     /// Triangles with a non-finite position, an index past the vertex list, or zero area
     /// are skipped; user data never panics here.
     pub fn build(scene: &Scene) -> SceneBvh {
+        SceneBvh::build_with(scene, |_| true)
+    }
+
+    /// Builds the hierarchy from the instances `include` accepts (the baker leaves dynamic
+    /// objects out); hits still name instances by their index in `scene`.
+    pub fn build_with(scene: &Scene, include: impl Fn(&MeshInstance) -> bool + Sync) -> SceneBvh {
         let _span = tracing::info_span!("bvh_build").entered();
         let start = Instant::now();
         let gathered: Vec<Gathered> = scene
             .instances
             .par_iter()
             .enumerate()
+            .filter(|(_, instance)| include(instance))
             .flat_map_iter(|(index, instance)| world_triangles(scene, index as u32, instance))
             .collect();
         // Not `Scene::triangle_count`, which trusts every instance's mesh index.
         let submitted: usize = scene
             .instances
             .iter()
+            .filter(|instance| include(instance))
             .filter_map(|instance| scene.meshes.get(instance.mesh))
             .flat_map(|mesh| &mesh.primitives)
             .map(|primitive| primitive.triangle_count())

@@ -85,7 +85,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
         };
         let c = &report.comparison;
         let why = match result.status[report.light] {
-            ShadowStatus::Mapped => None,
+            ShadowStatus::Mapped | ShadowStatus::MaskOnly => None,
             ShadowStatus::Off => Some("casts no shadows"),
             ShadowStatus::NotShaded => Some("not shaded this frame"),
             ShadowStatus::NoTile => Some("no free atlas tiles: no realtime shadow"),
@@ -97,8 +97,12 @@ pub fn run(args: CompareArgs) -> Result<()> {
             println!("{:<6} {:<24} {:<12} {why}", light.node, light.name.chars().take(24).collect::<String>(), kind);
             continue;
         }
+        let source = match result.status[report.light] {
+            ShadowStatus::MaskOnly => "  shadow mask only (no atlas tile)",
+            _ => "",
+        };
         println!(
-            "{:<6} {:<24} {:<12} {:>9} {:>12.3} {:>9.3} {:>9.3}",
+            "{:<6} {:<24} {:<12} {:>9} {:>12.3} {:>9.3} {:>9.3}{source}",
             light.node,
             light.name.chars().take(24).collect::<String>(),
             kind,

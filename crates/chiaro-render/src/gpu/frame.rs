@@ -26,7 +26,9 @@ pub struct GpuFrame {
     /// The output size in pixels.
     pub width: u32,
     pub height: u32,
-    pub _pad: [u32; 3],
+    /// `MIXED_MODE_*`: how mixed lights' baked and realtime shadows combine.
+    pub mixed_mode: u32,
+    pub _pad: [u32; 2],
 }
 
 #[repr(C)]

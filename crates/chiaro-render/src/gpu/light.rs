@@ -36,7 +36,8 @@ pub struct GpuLight {
     pub cookie_scale: Vec2,
     /// The light's local +X and +Y, which orient its cookie.
     pub axis_x_ws: Vec3,
-    pub _pad0: f32,
+    /// Its shadow mask channel (0 to 3), or `NO_MASK_CHANNEL`.
+    pub shadow_mask_channel: u32,
     pub axis_y_ws: Vec3,
     pub _pad1: f32,
 }

@@ -41,12 +41,14 @@ layouts! {
     GpuFrame {
         clip_from_world, view_from_world, world_from_view, view_from_clip, camera_position_ws, exposure_scale,
         ambient, debug_view, directional_light_count, shadowed_other_light_count, other_light_count, width, height,
+        mixed_mode,
     }
     GpuObject { world_from_local, normal_from_local, flags, lightmap_layer }
     GpuProbeGridHeader { origin, spacing, counts }
     GpuLight {
         color, kind, position_ws, range, direction_ws, shadow_slot, spot_scale, spot_offset,
-        shadow_strength, shadow_first_tile, shadow_filter, cookie_layer, cookie_scale, axis_x_ws, axis_y_ws,
+        shadow_strength, shadow_first_tile, shadow_filter, cookie_layer, cookie_scale, axis_x_ws,
+        shadow_mask_channel, axis_y_ws,
     }
     GpuVolumeLight { world_from_volume, light }
     GpuLightListEntry { light }

@@ -5,8 +5,8 @@
 use super::shadows::ShadowSlot;
 use crate::gpu::GpuLight;
 use crate::shader_constants::{
-    LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, NO_COOKIE, SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE,
-    SHADOW_SLOT_REALTIME,
+    LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, NO_COOKIE, NO_MASK_CHANNEL, SHADOW_SLOT_BAKED_ONLY,
+    SHADOW_SLOT_NONE, SHADOW_SLOT_REALTIME,
 };
 use crate::view::View;
 use chiaro_math::Frustum;
@@ -104,8 +104,14 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
     LightChoice { directional, other, dropped_directional, selection }
 }
 
-/// The light as the shaders read it; `cookie_layer` from `cookies::cookie_slots`.
-pub fn gpu_light(light: &Light, frame_light: &FrameLight, cookie_layer: Option<u32>) -> GpuLight {
+/// The light as the shaders read it; `cookie_layer` from `cookies::cookie_slots`,
+/// `mask_channel` from the scene's bake.
+pub fn gpu_light(
+    light: &Light,
+    frame_light: &FrameLight,
+    cookie_layer: Option<u32>,
+    mask_channel: Option<u8>,
+) -> GpuLight {
     let (kind, (spot_scale, spot_offset)) = match light.kind {
         LightKind::Directional => (LIGHT_KIND_DIRECTIONAL, (0.0, 1.0)),
         // saturate(x * 0 + 1)^2 = 1: a point light is a spot that never fades.
@@ -138,7 +144,7 @@ pub fn gpu_light(light: &Light, frame_light: &FrameLight, cookie_layer: Option<u
             _ => Vec2::ZERO,
         },
         axis_x_ws: light.world_from_light.x_axis.truncate(),
-        _pad0: 0.0,
+        shadow_mask_channel: mask_channel.map_or(NO_MASK_CHANNEL, u32::from),
         axis_y_ws: light.world_from_light.y_axis.truncate(),
         _pad1: 0.0,
     }

@@ -11,11 +11,14 @@ pub mod shadows;
 pub mod volumes;
 
 use crate::gpu::{GpuFrame, GpuLight, GpuVolumeLight};
-use crate::shader_constants::{DEBUG_VIEW_CASCADES, DEBUG_VIEW_NONE, MAX_FRAME_LIGHTS};
+use crate::shader_constants::{
+    DEBUG_VIEW_CASCADES, DEBUG_VIEW_NONE, MAX_FRAME_LIGHTS, MIXED_MODE_BAKED_INDIRECT, MIXED_MODE_DISTANCE_SHADOWMASK,
+    MIXED_MODE_SHADOWMASK,
+};
 use crate::view::View;
 use chiaro_math::light::MAX_OTHER_LIGHTS;
 use chiaro_math::tonemap::exposure_scale;
-use chiaro_scene::{AlphaMode, LightBuffer, RenderPath, Scene, Settings};
+use chiaro_scene::{AlphaMode, LightBuffer, MixedMode, RenderPath, Scene, Settings};
 use cookies::cookie_slots;
 use draws::{Draw, camera_draw_order};
 use glam::Vec3;
@@ -154,8 +157,11 @@ impl FramePlan {
         // transparent surfaces) take the most important point and spot lights.
         for (k, (&(id, range), &shadow)) in choice.other.iter().zip(&slots.other).enumerate() {
             if k < MAX_OTHER_LIGHTS {
+                // A light with a shadow mask channel has a shadow even without tiles.
+                let masked = scene.baked.as_ref().is_some_and(|b| b.channel(id.index()).is_some());
                 let list = match shadow {
                     ShadowSlot::Realtime { .. } => &mut lists.shadowed_other,
+                    _ if masked => &mut lists.shadowed_other,
                     _ => &mut lists.unshadowed_other,
                 };
                 list.push(lights.len() as u32);
@@ -259,7 +265,8 @@ impl FramePlan {
     /// The `k`th light as the shaders read it.
     pub fn gpu_light(&self, scene: &Scene, k: usize) -> GpuLight {
         let l = &self.lights[k];
-        gpu_light(&scene.lights[l.id.index()], l, self.cookie_layers.get(l.id.index()).copied().flatten())
+        let channel = scene.baked.as_ref().and_then(|b| b.channel(l.id.index()));
+        gpu_light(&scene.lights[l.id.index()], l, self.cookie_layers.get(l.id.index()).copied().flatten(), channel)
     }
 
     /// The forward light buffer: the lights the lists index, in the order of `lights`
@@ -295,7 +302,12 @@ impl FramePlan {
             other_light_count: self.other_light_count() as u32,
             width: view.width,
             height: view.height,
-            _pad: [0; 3],
+            mixed_mode: match settings.lighting.mixed_mode {
+                MixedMode::BakedIndirect => MIXED_MODE_BAKED_INDIRECT,
+                MixedMode::Shadowmask => MIXED_MODE_SHADOWMASK,
+                MixedMode::DistanceShadowmask => MIXED_MODE_DISTANCE_SHADOWMASK,
+            },
+            _pad: [0; 2],
         }
     }
 }
