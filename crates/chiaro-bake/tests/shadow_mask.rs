@@ -114,41 +114,70 @@ fn largest_jump(line: &[f32]) -> f32 {
     line.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f32::max)
 }
 
-#[test]
-fn no_seam_where_realtime_shadows_hand_over_to_the_mask() {
-    // A long thin bar above the floor, off to the side, along the view direction; the
-    // sun throws its shadow onto the floor straight ahead of the camera, so the centre
-    // column of the image runs along the shadow from 5.5 to 12 m, across the fade band
-    // (6.3 to 9 m). Dynamic, the bar is missing from the mask and its realtime shadow
-    // fades out; static, both hold its shadow.
-    let mut gpu = renderer();
+/// A long thin bar above the floor, off to the side along the view direction, whose
+/// shadow the sun throws onto the floor straight ahead of the camera; baked in `mode`
+/// with the shadow distance at 9 m (fade band 6.3 to 9 m).
+fn bar_scene(is_static: bool, mode: MixedMode) -> (Scene, Settings) {
     let mut light = sun();
     light.world_from_light = chiaro_math::rigid::looking_along(Vec3::ZERO, Vec3::new(-0.5, -1.0, 0.0));
+    let mut scene = floor_scene(40.0, Vec3::ZERO, vec![light]);
+    scene.cameras[0].world_from_view =
+        glam::Mat4::look_at_rh(Vec3::new(0.0, 2.5, 3.0), Vec3::new(0.0, 0.0, -8.0), Vec3::Y).inverse();
+    add_box(&mut scene, Vec3::new(1.0, 2.0, -8.5), Vec3::new(0.4, 0.1, 13.0), 0.0, CastShadows::On);
+    scene.instances[1].is_static = is_static;
+    let mut s = mask_settings();
+    s.bake.texels_per_metre = 16.0;
+    s.shadows.max_distance = 9.0;
+    s.shadows.distance_fade = 0.3;
+    s.lighting.mixed_mode = mode;
+    (baked_scene(&scene, &s), s)
+}
+
+/// The centre column's shadow term from 5.5 to 12 m, far pixels first.
+fn centre_line(gpu: &mut Renderer, scene: &Scene, s: &Settings) -> Vec<f32> {
+    shadow_column(gpu, scene, s, 80)
+        .into_iter()
+        .filter(|(_, depth)| (5.5..12.0).contains(depth))
+        .map(|(shadow, _)| shadow)
+        .collect()
+}
+
+#[test]
+fn mixed_modes_choose_where_shadows_come_from() {
+    let mut gpu = renderer();
+    // (static caster, mode, expected far end (past 9 m), expected near end (before 6.3 m))
+    for (is_static, mode, far, near) in [
+        (true, MixedMode::Shadowmask, 0.0, 0.0),
+        (false, MixedMode::Shadowmask, 1.0, 0.0),
+        (true, MixedMode::BakedIndirect, 1.0, 0.0),
+        (false, MixedMode::BakedIndirect, 1.0, 0.0),
+        (true, MixedMode::DistanceShadowmask, 0.0, 0.0),
+        (false, MixedMode::DistanceShadowmask, 1.0, 0.0),
+    ] {
+        let (scene, s) = bar_scene(is_static, mode);
+        let has_mask = !scene.baked.as_ref().unwrap().shadow_masks.is_empty();
+        assert_eq!(has_mask, mode != MixedMode::BakedIndirect, "{mode:?} bakes a mask");
+        let line = centre_line(&mut gpu, &scene, &s);
+        let (first, last) = (line[0], line[line.len() - 1]);
+        println!("{} bar, {mode:?}: far {first:.2}, near {last:.2}", if is_static { "static" } else { "dynamic" });
+        assert!((first - far).abs() < 0.02 && (last - near).abs() < 0.02, "{is_static} {mode:?}: {line:?}");
+    }
+}
+
+#[test]
+fn no_seam_where_realtime_shadows_hand_over_to_the_mask() {
+    // The centre column runs along the bar's shadow across the fade band. Dynamic, the
+    // bar is missing from the mask and its realtime shadow fades out; static, both hold
+    // its shadow.
+    let mut gpu = renderer();
     for is_static in [false, true] {
-        let mut scene = floor_scene(40.0, Vec3::ZERO, vec![light.clone()]);
-        scene.cameras[0].world_from_view =
-            glam::Mat4::look_at_rh(Vec3::new(0.0, 2.5, 3.0), Vec3::new(0.0, 0.0, -8.0), Vec3::Y).inverse();
-        add_box(&mut scene, Vec3::new(1.0, 2.0, -8.5), Vec3::new(0.4, 0.1, 13.0), 0.0, CastShadows::On);
-        scene.instances[1].is_static = is_static;
-        let mut s = mask_settings();
-        s.bake.texels_per_metre = 16.0;
-        s.shadows.max_distance = 9.0;
-        s.shadows.distance_fade = 0.3;
-        let baked = baked_scene(&scene, &s);
+        let (baked, s) = bar_scene(is_static, MixedMode::DistanceShadowmask);
         let mut realtime_only = s.clone();
         realtime_only.shadows.max_distance = 1000.0;
         let mut mask_only = s.clone();
         mask_only.shadows.max_distance = 0.1;
-        let columns: Vec<Vec<f32>> = [&s, &realtime_only, &mask_only]
-            .iter()
-            .map(|settings| {
-                shadow_column(&mut gpu, &baked, settings, 80)
-                    .into_iter()
-                    .filter(|(_, depth)| (5.5..12.0).contains(depth))
-                    .map(|(shadow, _)| shadow)
-                    .collect()
-            })
-            .collect();
+        let columns: Vec<Vec<f32>> =
+            [&s, &realtime_only, &mask_only].iter().map(|settings| centre_line(&mut gpu, &baked, settings)).collect();
         let [mixed, realtime, mask] = [&columns[0], &columns[1], &columns[2]];
         let (j_mixed, j_realtime, j_mask) = (largest_jump(mixed), largest_jump(realtime), largest_jump(mask));
         let name = if is_static { "static bar" } else { "dynamic bar" };
