@@ -74,15 +74,19 @@ pub fn probe_layout(scene: &Scene, spacing: f32) -> Result<Option<(Vec3, UVec3)>
         return Ok(None);
     }
     let extent = (bounds.max - bounds.min).max(Vec3::ZERO);
-    let counts = (extent / spacing).floor().as_uvec3() + 1;
-    let total = counts.x as u64 * counts.y as u64 * counts.z as u64;
-    if total > MAX_PROBES {
+    // In f64 so that a huge scene cannot overflow the count before it is checked.
+    let per_axis = extent.as_dvec3() / spacing as f64;
+    let counts_f = per_axis.floor() + 1.0;
+    let total = counts_f.x * counts_f.y * counts_f.z;
+    // NaN (an infinite extent) fails too.
+    if total.is_nan() || total > MAX_PROBES as f64 {
         return Err(BakeError::Invalid(format!(
-            "bake.probe_spacing: {spacing} m gives {} x {} x {} = {total} probes over the scene's bounds, more than \
-             {MAX_PROBES}; use a wider spacing",
-            counts.x, counts.y, counts.z
+            "bake.probe_spacing: {spacing} m gives {} x {} x {} = {total:.0} probes over the scene's bounds, more \
+             than {MAX_PROBES}; use a wider spacing",
+            counts_f.x, counts_f.y, counts_f.z
         )));
     }
+    let counts = counts_f.as_uvec3();
     let used = (counts - 1).as_vec3() * spacing;
     Ok(Some((bounds.min + (extent - used) * 0.5, counts)))
 }
@@ -109,6 +113,16 @@ pub fn bake(
     settings.validate().map_err(BakeError::Invalid)?;
     let probe_grid = probe_layout(scene, b.probe_spacing)?;
     let layout = layout_scene(scene, b.texels_per_metre);
+    if layout.atlas_count as usize > crate::bake_dir::MAX_ATLASES {
+        return Err(BakeError::Invalid(format!(
+            "bake.texels_per_metre: {} gives {} lightmap atlases of {} texels, more than the {} a texture array \
+             holds; use fewer texels per metre",
+            b.texels_per_metre,
+            layout.atlas_count,
+            layout.size,
+            crate::bake_dir::MAX_ATLASES
+        )));
+    }
     // Baked light and shadows come from static objects alone: dynamic ones move, and
     // take their light from the probes and their shadows from the realtime maps.
     let bvh = SceneBvh::build_with(scene, |instance| instance.is_static);

@@ -5,7 +5,8 @@
 //! little-endian f32) and with shadow masks `probe-occlusion.bin` (four f32 per probe). Written into a temporary directory beside the target and
 //! renamed into place, so a failure or an interrupt leaves nothing half-written.
 
-use crate::bake::{BakeError, BakeResult, BakeStats};
+use crate::bake::{BakeError, BakeResult, BakeStats, MAX_PROBES};
+use crate::layout::MAX_ATLAS_SIZE;
 use chiaro_math::sh::{SH_COEFFICIENTS, ShRgb};
 use chiaro_scene::baked::{BakedLighting, InstanceLightmap, Lightmap, ProbeGrid, ShadowMask};
 use chiaro_scene::settings::BakeSettings;
@@ -21,6 +22,18 @@ pub const MANIFEST: &str = "manifest.json";
 const UVS: &str = "lightmap-uvs.bin";
 const PROBES: &str = "probes.bin";
 const PROBE_OCCLUSION: &str = "probe-occlusion.bin";
+/// Most lightmap atlases a bake may have: the texture array layers every device offers.
+pub const MAX_ATLASES: usize = 256;
+
+/// A file's bytes, refusing one longer than `limit` before reading it (a bake directory
+/// is input: a broken or hostile one must not make the reader allocate without bound).
+fn read_at_most(path: &Path, limit: usize) -> Result<Vec<u8>, String> {
+    let len = std::fs::metadata(path).map_err(|e| format!("{}: {e}", path.display()))?.len();
+    if len > limit as u64 {
+        return Err(format!("{}: {len} bytes, more than the manifest accounts for ({limit})", path.display()));
+    }
+    std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))
+}
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Manifest {
@@ -102,6 +115,12 @@ pub fn scene_hash(scene: &Scene) -> Result<String, BakeError> {
     Ok(format!("blake3:{}", hasher.finalize().to_hex()))
 }
 
+/// Whether `dir` holds a bake this Chiaro wrote (its manifest parses as one): the only
+/// kind of directory `write_bake_dir` replaces.
+pub fn is_bake_dir(dir: &Path) -> bool {
+    std::fs::read_to_string(dir.join(MANIFEST)).is_ok_and(|text| serde_json::from_str::<Manifest>(&text).is_ok())
+}
+
 /// `<scene stem>.bake` beside the scene.
 pub fn default_bake_dir(scene_path: &Path) -> PathBuf {
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
@@ -181,6 +200,12 @@ pub fn write_bake_dir(
     let had_old = dir.exists();
     if had_old {
         std::fs::rename(dir, &old).map_err(io_error(dir))?;
+    }
+    // On disk before the rename, so that a crash cannot leave a complete-looking bake of
+    // empty files.
+    for entry in std::fs::read_dir(temp.path()).map_err(io_error(temp.path()))? {
+        let path = entry.map_err(io_error(temp.path()))?.path();
+        std::fs::File::open(&path).and_then(|f| f.sync_all()).map_err(io_error(&path))?;
     }
     let kept = temp.keep();
     if let Err(e) = std::fs::rename(&kept, dir) {
@@ -269,8 +294,15 @@ fn write_exr(path: &Path, lightmap: &Lightmap) -> Result<(), BakeError> {
         .map_err(|e| BakeError::Io { path: path.to_path_buf(), message: e.to_string() })
 }
 
-fn read_exr(path: &Path) -> Result<Lightmap, String> {
+/// Reads an atlas of `size` x `size` texels; the header is checked first, so a file
+/// cannot make the reader allocate more than that.
+fn read_exr(path: &Path, size: u32) -> Result<Lightmap, String> {
     use exr::prelude::*;
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| format!("{}: {e}", path.display()))?;
+    let declared = meta.headers.first().map(|h| h.layer_size);
+    if declared.is_none_or(|s| s.width() != size as usize || s.height() != size as usize) {
+        return Err(format!("{}: not {size}x{size} texels, as the manifest says", path.display()));
+    }
     let image = read_first_rgba_layer_from_file(
         path,
         |resolution, _| (resolution.width(), vec![[0.0f32; 4]; resolution.width() * resolution.height()]),
@@ -337,17 +369,19 @@ pub fn read_bake_dir(dir: &Path, scene: &Scene) -> Result<LoadedBake, String> {
             return Err(format!("{}: light {light} ({name}) does not match the scene", manifest_path.display()));
         }
     }
+    if !(1..=MAX_ATLAS_SIZE).contains(&manifest.lightmap_size) || manifest.lightmaps.len() > MAX_ATLASES {
+        return Err(format!(
+            "{}: {} atlases of {} texels (at most {MAX_ATLASES} of {MAX_ATLAS_SIZE})",
+            manifest_path.display(),
+            manifest.lightmaps.len(),
+            manifest.lightmap_size
+        ));
+    }
     let shadow_masks = manifest
         .shadow_masks
         .iter()
         .map(|file| {
-            let map = read_exr(&dir.join(file))?;
-            if map.width != manifest.lightmap_size || map.height != manifest.lightmap_size {
-                return Err(format!(
-                    "{}: {}x{}, the manifest says {}",
-                    file, map.width, map.height, manifest.lightmap_size
-                ));
-            }
+            let map = read_exr(&dir.join(file), manifest.lightmap_size)?;
             Ok(ShadowMask { width: map.width, height: map.height, texels: map.texels })
         })
         .collect::<Result<Vec<_>, String>>()?;
@@ -362,21 +396,13 @@ pub fn read_bake_dir(dir: &Path, scene: &Scene) -> Result<LoadedBake, String> {
     let lightmaps = manifest
         .lightmaps
         .iter()
-        .map(|file| {
-            let map = read_exr(&dir.join(file))?;
-            if map.width != manifest.lightmap_size || map.height != manifest.lightmap_size {
-                return Err(format!(
-                    "{}: {}x{}, the manifest says {}",
-                    file, map.width, map.height, manifest.lightmap_size
-                ));
-            }
-            Ok(map)
-        })
+        .map(|file| read_exr(&dir.join(file), manifest.lightmap_size))
         .collect::<Result<Vec<_>, String>>()?;
     let uv_path = dir.join(UVS);
-    let bytes = std::fs::read(&uv_path).map_err(|e| format!("{}: {e}", uv_path.display()))?;
-    let floats: Vec<f32> = bytes.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+    // The corner counts were checked against the scene above, so this bound is the scene's.
     let wanted: usize = manifest.instances.iter().flat_map(|m| &m.corners).sum::<usize>() * 2;
+    let bytes = read_at_most(&uv_path, wanted * 4)?;
+    let floats: Vec<f32> = bytes.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
     if floats.len() != wanted || bytes.len() % 4 != 0 {
         return Err(format!("{}: {} values, the manifest needs {wanted}", uv_path.display(), floats.len()));
     }
@@ -392,10 +418,24 @@ pub fn read_bake_dir(dir: &Path, scene: &Scene) -> Result<LoadedBake, String> {
         .collect();
     let probes = match &manifest.probes {
         Some(p) => {
-            let path = dir.join(PROBES);
-            let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
             let counts = UVec3::from_array(p.counts);
-            let n = counts.x as usize * counts.y as usize * counts.z as usize;
+            // u128: three u32 counts cannot overflow it.
+            let n = counts.x as u128 * counts.y as u128 * counts.z as u128;
+            let spacing = Vec3::from_array(p.spacing);
+            if counts.min_element() == 0
+                || n > MAX_PROBES as u128
+                || !(spacing.is_finite() && spacing.min_element() > 0.0)
+            {
+                return Err(format!(
+                    "{}: a probe grid of {:?} probes {:?} m apart (1 to {MAX_PROBES} probes, positive spacing)",
+                    manifest_path.display(),
+                    p.counts,
+                    p.spacing
+                ));
+            }
+            let n = n as usize;
+            let path = dir.join(PROBES);
+            let bytes = read_at_most(&path, n * SH_COEFFICIENTS * 12)?;
             if bytes.len() != n * SH_COEFFICIENTS * 12 {
                 return Err(format!(
                     "{}: {} bytes, {n} probes need {}",
@@ -413,10 +453,10 @@ pub fn read_bake_dir(dir: &Path, scene: &Scene) -> Result<LoadedBake, String> {
                 })
                 .collect();
             let occlusion_path = dir.join(PROBE_OCCLUSION);
-            let occlusion = if manifest.shadow_masks.is_empty() {
+            let occlusion = if manifest.channels.is_empty() {
                 Vec::new()
             } else {
-                let bytes = std::fs::read(&occlusion_path).map_err(|e| format!("{}: {e}", occlusion_path.display()))?;
+                let bytes = read_at_most(&occlusion_path, n * 16)?;
                 if bytes.len() != n * 16 {
                     return Err(format!(
                         "{}: {} bytes, {n} probes need {}",
@@ -434,13 +474,7 @@ pub fn read_bake_dir(dir: &Path, scene: &Scene) -> Result<LoadedBake, String> {
                     })
                     .collect()
             };
-            Some(ProbeGrid {
-                origin: Vec3::from_array(p.origin),
-                spacing: Vec3::from_array(p.spacing),
-                counts,
-                probes,
-                occlusion,
-            })
+            Some(ProbeGrid { origin: Vec3::from_array(p.origin), spacing, counts, probes, occlusion })
         }
         None => None,
     };

@@ -102,15 +102,16 @@ fn rect_of(chart: &Chart) -> (u32, u32) {
     (side(chart.size.x), side(chart.size.y))
 }
 
-/// Lays out every lightmapped instance of `scene` at `texels_per_metre`.
+/// Lays out every lightmapped instance of `scene` at `texels_per_metre`. An instance too
+/// big for one atlas is laid out at a lower density, with a warning; one that fits at no
+/// density (hundreds of thousands of charts) gets no lightmap and is lit by the probes.
 pub fn layout_scene(scene: &Scene, texels_per_metre: f32) -> AtlasLayout {
     let mut charts: Vec<(usize, f32, Vec<Chart>, UvSource)> = Vec::new();
     for instance in lightmapped_instances(scene) {
         let mut density = texels_per_metre;
         loop {
             let (c, source) = charts_of(scene, instance, density);
-            let rects: Vec<(u32, u32)> = sorted_by_height(&c).iter().map(|&k| rect_of(&c[k])).collect();
-            if ShelfPacker::new(MAX_ATLAS_SIZE).place_all(&rects).is_some() || density < 1e-3 {
+            if fits(&c, MAX_ATLAS_SIZE) {
                 if density < texels_per_metre {
                     tracing::warn!(
                         "{}: lowered to {density} texels per metre to fit one {MAX_ATLAS_SIZE}-texel atlas",
@@ -120,17 +121,23 @@ pub fn layout_scene(scene: &Scene, texels_per_metre: f32) -> AtlasLayout {
                 charts.push((instance, density, c, source));
                 break;
             }
+            if density < 1e-3 {
+                tracing::warn!(
+                    "{}: {} lightmap charts fit no {MAX_ATLAS_SIZE}-texel atlas: lit by the probes instead",
+                    scene.instances[instance].name,
+                    c.len()
+                );
+                break;
+            }
             density *= 0.5;
         }
     }
     let area: u64 = charts.iter().flat_map(|(_, _, c, _)| c).map(rect_of).map(|(w, h)| w as u64 * h as u64).sum();
-    let size = ((area as f64 * 1.3).sqrt().ceil() as u32).next_power_of_two().clamp(16, MAX_ATLAS_SIZE);
-    let size = charts
-        .iter()
-        .flat_map(|(_, _, c, _)| c)
-        .map(rect_of)
-        .fold(size, |s, (w, h)| s.max(w.max(h).next_power_of_two()))
-        .min(MAX_ATLAS_SIZE);
+    let mut size = ((area as f64 * 1.3).sqrt().ceil() as u32).next_power_of_two().clamp(16, MAX_ATLAS_SIZE);
+    // Shelves waste space: grow the atlas until every instance fits an empty one.
+    while size < MAX_ATLAS_SIZE && !charts.iter().all(|(_, _, c, _)| fits(c, size)) {
+        size *= 2;
+    }
 
     let mut packers = vec![ShelfPacker::new(size)];
     let mut instances = Vec::new();
@@ -142,7 +149,7 @@ pub fn layout_scene(scene: &Scene, texels_per_metre: f32) -> AtlasLayout {
             Some(placed) => (packers.len() - 1, placed),
             None => {
                 let mut packer = ShelfPacker::new(size);
-                let placed = packer.place_all(&rects).unwrap_or_default();
+                let placed = packer.place_all(&rects).expect("every instance fits an empty atlas of this size");
                 packers.push(packer);
                 (packers.len() - 1, placed)
             }
@@ -169,6 +176,12 @@ pub fn layout_scene(scene: &Scene, texels_per_metre: f32) -> AtlasLayout {
         });
     }
     AtlasLayout { size, atlas_count: if instances.is_empty() { 0 } else { packers.len() as u32 }, instances }
+}
+
+/// Whether an instance's charts fit one empty atlas of `size`.
+fn fits(charts: &[Chart], size: u32) -> bool {
+    let rects: Vec<(u32, u32)> = sorted_by_height(charts).iter().map(|&k| rect_of(&charts[k])).collect();
+    ShelfPacker::new(size).place_all(&rects).is_some()
 }
 
 /// Chart indices, tallest first (ties by index, so the layout is deterministic).
@@ -254,6 +267,23 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_slab_whose_faces_outgrow_the_estimated_atlas_still_gets_its_texels() {
+        // Two 69x69 faces: more than the area estimate's 128-texel atlas holds on shelves.
+        let mut scene = floor_scene(1.0, Vec3::new(0.0, 4.0, 3.0), Vec::new());
+        scene.meshes[0].primitives[0] = shapes::cuboid(Vec3::new(8.0, 0.1, 8.0));
+        let layout = layout_scene(&scene, 8.0);
+        assert_eq!(layout.instances.len(), 1);
+        assert_eq!(layout.instances[0].triangles.len(), 12);
+        assert!(layout.size >= 256, "{}", layout.size);
+        for t in &layout.instances[0].triangles {
+            for c in t.corners {
+                assert!(c.cmpge(glam::Vec2::ZERO).all() && c.cmple(glam::Vec2::splat(layout.size as f32)).all());
+            }
+        }
+        chart_texels(&layout);
     }
 
     #[test]

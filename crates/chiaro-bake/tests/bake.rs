@@ -192,9 +192,31 @@ fn a_bake_directory_is_read_back_for_its_scene_and_refused_for_another() {
     assert!(apply_bake_dir(&out, &mut untouched).is_err());
     assert!(untouched.baked.is_none());
 
-    // Another format version is refused with its number.
+    // Broken or hostile numbers in the manifest are refused, never trusted.
     bytes[0] ^= 1;
     std::fs::write(&bin, &bytes).unwrap();
+    let manifest = out.join("manifest.json");
+    let original = std::fs::read_to_string(&manifest).unwrap();
+    let mut doc: serde_json::Value = serde_json::from_str(&original).unwrap();
+    doc["probes"]["counts"] = serde_json::json!([4194304, 2097152, 2097152]);
+    std::fs::write(&manifest, doc.to_string()).unwrap();
+    let e = read_bake_dir(&out, &scene).err().unwrap();
+    assert!(e.contains("probe grid"), "{e}");
+    doc["probes"]["counts"] = serde_json::json!([0, 1, 1]);
+    std::fs::write(&manifest, doc.to_string()).unwrap();
+    assert!(read_bake_dir(&out, &scene).err().unwrap().contains("probe grid"));
+    let mut doc: serde_json::Value = serde_json::from_str(&original).unwrap();
+    doc["lightmap_size"] = serde_json::json!(1 << 20);
+    std::fs::write(&manifest, doc.to_string()).unwrap();
+    assert!(read_bake_dir(&out, &scene).err().unwrap().contains("atlases"));
+    let mut doc: serde_json::Value = serde_json::from_str(&original).unwrap();
+    doc["lightmap_size"] = serde_json::json!(doc["lightmap_size"].as_u64().unwrap() * 2);
+    std::fs::write(&manifest, doc.to_string()).unwrap();
+    assert!(read_bake_dir(&out, &scene).err().unwrap().contains("as the manifest says"));
+    std::fs::write(&manifest, &original).unwrap();
+    assert!(read_bake_dir(&out, &scene).is_ok());
+
+    // Another format version is refused with its number.
     let manifest = out.join("manifest.json");
     let text = std::fs::read_to_string(&manifest).unwrap().replace("\"format_version\": 1", "\"format_version\": 99");
     std::fs::write(&manifest, text).unwrap();

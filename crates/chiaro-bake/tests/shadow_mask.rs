@@ -161,6 +161,13 @@ fn mixed_modes_choose_where_shadows_come_from() {
         let (first, last) = (line[0], line[line.len() - 1]);
         println!("{} bar, {mode:?}: far {first:.2}, near {last:.2}", if is_static { "static" } else { "dynamic" });
         assert!((first - far).abs() < 0.02 && (last - near).abs() < 0.02, "{is_static} {mode:?}: {line:?}");
+        // A bake with masks rendered as baked-indirect: its masks are not used.
+        if is_static && mode == MixedMode::DistanceShadowmask {
+            let mut indirect = s.clone();
+            indirect.lighting.mixed_mode = MixedMode::BakedIndirect;
+            let line = centre_line(&mut gpu, &scene, &indirect);
+            assert!((line[0] - 1.0).abs() < 0.02, "masks ignored in baked-indirect: {line:?}");
+        }
     }
 }
 

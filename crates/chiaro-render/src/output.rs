@@ -125,7 +125,7 @@ impl FrameOutput {
                 None if scene.skips_baked_lights() && scene.lights[i].mode == LightMode::Baked => ShadowStatus::Baked,
                 None => ShadowStatus::NotShaded,
                 Some(ShadowSlot::Realtime { .. }) => ShadowStatus::Mapped,
-                Some(ShadowSlot::BakedOnly) if scene.baked.as_ref().is_some_and(|b| b.channel(i).is_some()) => {
+                Some(ShadowSlot::BakedOnly) if self.plan.mask_channel(LightId(i as u32)).is_some() => {
                     ShadowStatus::MaskOnly
                 }
                 Some(ShadowSlot::BakedOnly) => ShadowStatus::NoTile,

@@ -128,13 +128,21 @@ pub fn run(args: BakeArgs) -> Result<()> {
     if output.is_file() {
         bail!("{}: is a file, not a bake directory", output.display());
     }
-    // A bake replaces the directory it is written to: only ever an older bake.
+    // A bake replaces the directory it is written to: only ever an older bake, never a
+    // folder holding the scene or anything else.
+    if let Some(input) = inputs.inside(&output) {
+        bail!(
+            "{}: holds {}, an input of this command; choose another bake directory",
+            output.display(),
+            input.display()
+        );
+    }
     if output.is_dir()
-        && !output.join(chiaro_bake::bake_dir::MANIFEST).is_file()
+        && !chiaro_bake::bake_dir::is_bake_dir(&output)
         && std::fs::read_dir(&output).is_ok_and(|mut entries| entries.next().is_some())
     {
         bail!(
-            "{}: exists and is not a bake directory (no {}); refusing to replace it",
+            "{}: exists and is not a bake directory (no bake {}); refusing to replace it",
             output.display(),
             chiaro_bake::bake_dir::MANIFEST
         );

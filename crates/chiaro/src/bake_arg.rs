@@ -5,7 +5,7 @@
 
 use anyhow::{Result, bail};
 use chiaro_bake::{apply_bake_dir, default_bake_dir};
-use chiaro_scene::{LightMode, Scene};
+use chiaro_scene::{LightMode, Scene, Settings};
 use clap::Args;
 use std::path::{Path, PathBuf};
 
@@ -23,7 +23,7 @@ pub struct BakeUseArgs {
 impl BakeUseArgs {
     /// Attaches the bake to `scene` (read from `scene_path`, if from a file). Returns the
     /// directory used.
-    pub fn apply(&self, scene: &mut Scene, scene_path: Option<&Path>) -> Result<Option<PathBuf>> {
+    pub fn apply(&self, scene: &mut Scene, scene_path: Option<&Path>, settings: &Settings) -> Result<Option<PathBuf>> {
         if self.no_bake {
             return Ok(None);
         }
@@ -42,6 +42,23 @@ impl BakeUseArgs {
         }
         match apply_bake_dir(&dir, scene) {
             Ok(manifest) => {
+                let mode = settings.lighting.mixed_mode;
+                let has_masks = !manifest.shadow_masks.is_empty();
+                if manifest.mixed_mode != mode && (has_masks || mode.uses_shadow_mask()) {
+                    tracing::warn!(
+                        "{}: baked for lighting.mixed_mode {}, rendering with {}: {}",
+                        dir.display(),
+                        manifest.mixed_mode.name(),
+                        mode.name(),
+                        if mode.uses_shadow_mask() && !has_masks {
+                            "the bake has no shadow masks, so mixed lights have realtime shadows only"
+                        } else if !mode.uses_shadow_mask() {
+                            "its shadow masks are not used"
+                        } else {
+                            "its shadow masks are mixed the new way"
+                        }
+                    );
+                }
                 tracing::info!(
                     "{}: lit by {} lightmap atlases and {} probes",
                     dir.display(),

@@ -58,7 +58,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     args.shadow.apply(&mut settings)?;
     args.path.apply(&mut settings)?;
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
-    args.bake.apply(&mut scene, args.scene.as_deref())?;
+    args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;

@@ -53,7 +53,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
     args.shadow.apply(&mut settings)?;
     args.path.apply(&mut settings)?;
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
-    args.bake.apply(&mut scene, args.scene.as_deref())?;
+    args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let diff_path = |node: usize| args.diff.as_ref().map(|diff| sibling_path(diff, &format!("{node}.png")));
     let outputs: Vec<PathBuf> = scene.lights.iter().filter_map(|l| diff_path(l.node)).collect();

@@ -91,6 +91,15 @@ impl Inputs {
     pub fn contains(&self, path: &Path) -> bool {
         self.files.iter().any(|(input, _)| same_file(path, input))
     }
+
+    /// An input that lies inside the folder `dir`, at any depth.
+    pub fn inside(&self, dir: &Path) -> Option<&Path> {
+        let dir = dir.canonicalize().ok()?;
+        self.files
+            .iter()
+            .map(|(input, _)| input.as_path())
+            .find(|input| input.canonicalize().is_ok_and(|p| p.starts_with(&dir)))
+    }
 }
 
 /// Checks, before any work, that each of `outputs` can be written and replaces no input.

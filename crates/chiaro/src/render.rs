@@ -141,7 +141,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let width = args.width.unwrap_or(settings.render.width);
     let height = args.height.unwrap_or(settings.render.height);
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
-    args.bake.apply(&mut scene, args.scene.as_deref())?;
+    args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
     check_outputs(&planned_outputs(&args, &scene), &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;

@@ -113,15 +113,21 @@ fn bad_bake_input_gets_one_line_naming_it() {
     expect_failure(files, &["render", "scene.gltf", "--bake", "missing.bake"], &[], &["missing.bake", "not a bake"]);
     expect_usage_error(&["render", "scene.gltf", "--bake", "a", "--no-bake"], &["--no-bake"]);
 
-    // A folder that is not a bake is never replaced.
+    // A folder that is not a bake is never replaced, even with a manifest.json of its
+    // own, nor the folder holding the scene.
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("scene.gltf"), &triangle).unwrap();
     std::fs::create_dir(dir.path().join("photos")).unwrap();
     std::fs::write(dir.path().join("photos/holiday.jpg"), b"precious").unwrap();
+    std::fs::write(dir.path().join("photos/manifest.json"), br#"{"name": "a web app"}"#).unwrap();
     let run = chiaro(&["bake", "scene.gltf", "--output", "photos"], &[], dir.path());
     assert_ne!(run.code, 0);
     assert!(error_lines(&run)[0].contains("not a bake directory"), "{}", run.stderr);
     assert_eq!(std::fs::read(dir.path().join("photos/holiday.jpg")).unwrap(), b"precious");
+    let run = chiaro(&["bake", "scene.gltf", "--output", "."], &[], dir.path());
+    assert_ne!(run.code, 0);
+    assert!(error_lines(&run)[0].contains("an input of this command"), "{}", run.stderr);
+    assert!(dir.path().join("scene.gltf").exists());
 }
 
 #[cfg(unix)]

@@ -50,7 +50,9 @@ pub struct GpuObject {
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuProbeGridHeader {
     pub origin: Vec3,
-    pub _pad0: f32,
+    /// The lightmaps hold irradiance divided by this, so that bright bakes (a 100,000 lux
+    /// sun) stay within half floats.
+    pub lightmap_scale: f32,
     pub spacing: Vec3,
     pub _pad1: f32,
     pub counts: [u32; 3],

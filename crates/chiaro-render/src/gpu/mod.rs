@@ -44,7 +44,7 @@ layouts! {
         mixed_mode,
     }
     GpuObject { world_from_local, normal_from_local, flags, lightmap_layer }
-    GpuProbeGridHeader { origin, spacing, counts }
+    GpuProbeGridHeader { origin, lightmap_scale, spacing, counts }
     GpuLight {
         color, kind, position_ws, range, direction_ws, shadow_slot, spot_scale, spot_offset,
         shadow_strength, shadow_first_tile, shadow_filter, cookie_layer, cookie_scale, axis_x_ws,

@@ -125,6 +125,9 @@ pub struct FramePlan {
     pub volumes: Vec<VolumeDraw>,
     /// Per scene light, its cookie's layer.
     cookie_layers: Vec<Option<u32>>,
+    /// Per scene light, the shadow mask channel it reads: the bake's, unless the mixed
+    /// mode (baked-indirect) uses no masks.
+    mask_channels: Vec<Option<u8>>,
     pub passes: Vec<PassId>,
     /// Per scene light (by `LightId`), its index in `lights`, if the frame shades it.
     frame_index: Vec<Option<u32>>,
@@ -146,6 +149,12 @@ impl FramePlan {
         request: PlanRequest,
     ) -> FramePlan {
         let choice = choose_lights(scene, view, settings);
+        let mask_channels: Vec<Option<u8>> = (0..scene.lights.len())
+            .map(|i| {
+                let used = settings.lighting.mixed_mode.uses_shadow_mask();
+                scene.baked.as_ref().and_then(|b| b.channel(i)).filter(|_| used)
+            })
+            .collect();
         let (shadows, slots) = plan_shadows(scene, draws, view, settings, &choice.directional, &choice.other, atlases);
         let mut lights = Vec::with_capacity(choice.directional.len() + choice.other.len());
         let mut lists = LightLists::default();
@@ -158,7 +167,7 @@ impl FramePlan {
         for (k, (&(id, range), &shadow)) in choice.other.iter().zip(&slots.other).enumerate() {
             if k < MAX_OTHER_LIGHTS {
                 // A light with a shadow mask channel has a shadow even without tiles.
-                let masked = scene.baked.as_ref().is_some_and(|b| b.channel(id.index()).is_some());
+                let masked = mask_channels[id.index()].is_some();
                 let list = match shadow {
                     ShadowSlot::Realtime { .. } => &mut lists.shadowed_other,
                     _ if masked => &mut lists.shadowed_other,
@@ -230,11 +239,17 @@ impl FramePlan {
             transparent_from,
             volumes,
             cookie_layers: cookie_slots(scene).into_iter().map(|slot| slot.map(|(_, layer)| layer)).collect(),
+            mask_channels,
             passes,
             frame_index,
             dropped_directional: choice.dropped_directional,
             dropped_other: choice.selection.dropped,
         }
+    }
+
+    /// The shadow mask channel the light with `id` reads this frame.
+    pub fn mask_channel(&self, id: LightId) -> Option<u8> {
+        self.mask_channels.get(id.index()).copied().flatten()
     }
 
     /// Where the light with `id` sits in `lights`, if the frame shades it.
@@ -265,7 +280,7 @@ impl FramePlan {
     /// The `k`th light as the shaders read it.
     pub fn gpu_light(&self, scene: &Scene, k: usize) -> GpuLight {
         let l = &self.lights[k];
-        let channel = scene.baked.as_ref().and_then(|b| b.channel(l.id.index()));
+        let channel = self.mask_channel(l.id);
         gpu_light(&scene.lights[l.id.index()], l, self.cookie_layers.get(l.id.index()).copied().flatten(), channel)
     }
 

@@ -16,6 +16,15 @@ pub struct BakedTextures {
     pub probes: wgpu::Buffer,
 }
 
+/// Brightest irradiance the lightmap array stores as it is; brighter bakes are stored
+/// divided by a scale (half floats stop at 65504, and filtering wants headroom).
+const LIGHTMAP_HEADROOM: f32 = 16384.0;
+
+/// What the lightmaps are divided by for upload (and multiplied by in the shader).
+pub fn lightmap_scale(brightest: f32) -> f32 {
+    if brightest.is_finite() && brightest > LIGHTMAP_HEADROOM { brightest / LIGHTMAP_HEADROOM } else { 1.0 }
+}
+
 /// Vec4s per probe in the probe buffer: nine coefficients, then the occlusion.
 pub const PROBE_STRIDE: usize = SH_COEFFICIENTS + 1;
 
@@ -69,10 +78,19 @@ impl BakedTextures {
     pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, baked: Option<&BakedLighting>) -> BakedTextures {
         let maps = baked.map(|b| b.lightmaps.as_slice()).unwrap_or_default();
         let size = maps.first().map_or((1, 1), |m| (m.width, m.height));
+        let brightest = maps.iter().flat_map(|m| &m.texels).flat_map(|t| &t[..3]).fold(0.0f32, |a, &v| a.max(v));
+        let lightmap_scale = lightmap_scale(brightest);
         let halves: Vec<Vec<u8>> = maps
             .iter()
             .map(|m| {
-                let h: Vec<u16> = m.texels.iter().flat_map(|t| t.map(|v| half::f16::from_f32(v).to_bits())).collect();
+                let h: Vec<u16> = m
+                    .texels
+                    .iter()
+                    .flat_map(|t| {
+                        [t[0] / lightmap_scale, t[1] / lightmap_scale, t[2] / lightmap_scale, t[3]]
+                            .map(|v| half::f16::from_f32(v).to_bits())
+                    })
+                    .collect();
                 bytemuck::cast_slice(&h).to_vec()
             })
             .collect();
@@ -91,13 +109,18 @@ impl BakedTextures {
         let header = match grid {
             Some(g) => GpuProbeGridHeader {
                 origin: g.origin,
-                _pad0: 0.0,
+                lightmap_scale,
                 spacing: g.spacing,
                 _pad1: 0.0,
                 counts: g.counts.to_array(),
                 _pad2: 0,
             },
-            None => GpuProbeGridHeader { counts: [1; 3], spacing: glam::Vec3::ONE, ..bytemuck::Zeroable::zeroed() },
+            None => GpuProbeGridHeader {
+                counts: [1; 3],
+                spacing: glam::Vec3::ONE,
+                lightmap_scale,
+                ..bytemuck::Zeroable::zeroed()
+            },
         };
         let mut bytes = bytemuck::bytes_of(&header).to_vec();
         let coefficients: Vec<Vec4> = match grid {
@@ -119,5 +142,20 @@ impl BakedTextures {
             usage: wgpu::BufferUsages::STORAGE,
         });
         BakedTextures { lightmaps, shadow_masks, probes }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bright_bakes_are_scaled_into_half_float_range() {
+        assert_eq!(lightmap_scale(10.0), 1.0);
+        assert_eq!(lightmap_scale(f32::NAN), 1.0);
+        let sun = 1.0e5;
+        let scale = lightmap_scale(sun);
+        let stored = half::f16::from_f32(sun / scale).to_f32();
+        assert!(stored.is_finite() && (stored * scale - sun).abs() / sun < 1e-3);
     }
 }
