@@ -151,3 +151,32 @@ fn lights_that_do_not_fit_get_no_realtime_shadow() {
     let unmapped = result.status.iter().position(|s| *s == ShadowStatus::NoTile).unwrap();
     assert!(result.rendered[unmapped].iter().filter(|v| v.is_finite()).all(|&v| v == 1.0));
 }
+
+#[test]
+fn a_light_inside_a_closed_box_stays_inside_with_two_sided_casters() {
+    // A point light inside a single-sided box (faces out, as glTF exporters write closed
+    // meshes): the light sees only back faces. Two-sided casting (glTF nodes' default)
+    // blocks it, as the reference does; the seeds' casting ("on") lets it light the floor
+    // around the box.
+    let mut point = point_light(Vec3::new(0.0, 0.6, 0.0), 20.0, Some(8.0));
+    point.shadow = LightShadow::default();
+    for (cast, leaks) in [(CastShadows::TwoSided, false), (CastShadows::On, true)] {
+        let mut scene = floor_scene(10.0, Vec3::ZERO, vec![point.clone()]);
+        add_box(&mut scene, Vec3::new(0.0, 0.6, 0.0), Vec3::new(1.0, 1.0, 1.0), 0.3, cast);
+        look_from(&mut scene, Vec3::new(2.5, 2.5, 3.0), Vec3::new(0.0, 0.0, 0.0));
+        let result = compare(&scene, &unlit_settings(), 160);
+        let c = &result.reports[0].comparison;
+        println!(
+            "{cast:?}: {:.3}% of {} compared pixels disagree ({} false, {} missed)",
+            100.0 * c.disagreement(),
+            c.compared,
+            c.false_shadow,
+            c.missed_shadow
+        );
+        if leaks {
+            assert!(c.missed_shadow > 1000, "the seeds' casting leaks light out of the box: {c:?}");
+        } else {
+            assert!(c.compared > 1000 && c.disagreement() < 0.005, "{c:?}");
+        }
+    }
+}

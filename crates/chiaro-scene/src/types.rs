@@ -39,14 +39,15 @@ pub struct Mesh {
     pub primitives: Vec<Primitive>,
 }
 
-/// Whether and how an object casts shadows (node `extras.castShadows`).
+/// Whether and how an object casts shadows (node `extras.castShadows`; glTF nodes
+/// without it cast two-sided, as the reference does).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum CastShadows {
     Off,
-    /// Casts with the faces its material draws.
+    /// Casts with the faces its material draws (the seeds' casting).
     #[default]
     On,
-    /// Casts with both faces, whatever its material says.
+    /// Casts with both faces, whatever its material says: what glTF nodes do by default.
     TwoSided,
     /// Casts shadows but is not drawn.
     ShadowsOnly,

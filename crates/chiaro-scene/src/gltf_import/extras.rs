@@ -125,9 +125,12 @@ pub(super) fn node_static(node: &json::scene::Node) -> Result<Option<bool>, Stri
 /// A mesh node's (cast, receive) shadow flags.
 pub(super) fn node_shadows(node: &json::scene::Node) -> Result<(CastShadows, bool), String> {
     let e: NodeExtras = parse(node.extras.as_deref())?;
+    // By default casters block light with both faces, as the ray-traced reference (and
+    // physics) does: a light inside a single-sided box must not light the room around
+    // it. "on" keeps the seeds' casting with the material's faces.
     let cast = match e.cast_shadows {
-        None => CastShadows::On,
-        Some(serde_json::Value::Bool(true)) => CastShadows::On,
+        None => CastShadows::TwoSided,
+        Some(serde_json::Value::Bool(true)) => CastShadows::TwoSided,
         Some(serde_json::Value::Bool(false)) => CastShadows::Off,
         Some(serde_json::Value::String(s)) => match s.as_str() {
             "on" => CastShadows::On,
@@ -207,6 +210,8 @@ mod tests {
             node_shadows(&node(r#"{"castShadows": false, "receiveShadows": false}"#)).unwrap(),
             (CastShadows::Off, false)
         );
+        assert_eq!(node_shadows(&node(r#"{}"#)).unwrap().0, CastShadows::TwoSided, "both faces by default");
+        assert_eq!(node_shadows(&node(r#"{"castShadows": "on"}"#)).unwrap().0, CastShadows::On);
         assert_eq!(node_shadows(&node(r#"{"castShadows": "two-sided"}"#)).unwrap().0, CastShadows::TwoSided);
         assert!(node_shadows(&node(r#"{"castShadows": "sometimes"}"#)).unwrap_err().contains("castShadows"));
     }
