@@ -180,3 +180,26 @@ fn a_light_inside_a_closed_box_stays_inside_with_two_sided_casters() {
         }
     }
 }
+
+#[test]
+fn a_caster_three_centimetres_from_a_point_light_still_casts() {
+    // A thin plate 2.5 to 3.5 cm below the light, wholly inside the old 5 cm near plane:
+    // it was clipped away and its shadow on the floor vanished.
+    let light_position = Vec3::new(0.0, 1.0, 0.0);
+    let mut point = point_light(light_position, 20.0, Some(8.0));
+    point.shadow = LightShadow::default();
+    let mut scene = floor_scene(10.0, Vec3::ZERO, vec![point]);
+    add_box(&mut scene, Vec3::new(0.0, 0.97, 0.0), Vec3::new(0.2, 0.01, 0.2), 0.0, CastShadows::TwoSided);
+    look_from(&mut scene, Vec3::new(1.5, 2.5, 2.0), Vec3::new(0.0, 0.0, 0.0));
+    let result = compare(&scene, &unlit_settings(), 160);
+    let c = &result.reports[0].comparison;
+    let shadowed = verdicts(&scene, &result).iter().filter(|v| **v == PixelVerdict::AgreeShadowed).count();
+    println!(
+        "caster 3 cm from the light: {:.3}% of {} disagree ({} missed), {shadowed} agreeing shadowed pixels",
+        100.0 * c.disagreement(),
+        c.compared,
+        c.missed_shadow
+    );
+    assert_agrees("caster at 3 cm", &result);
+    assert!(shadowed > 1000, "the plate shadows the floor under it: {shadowed}");
+}

@@ -32,7 +32,8 @@ pub enum Debug {
     /// Tint the image by directional shadow cascade.
     Cascades,
     /// Also write the shadow atlases as `<stem>.shadow-atlas.png` (directional) and
-    /// `<stem>.other-shadow-atlas.png` (point and spot).
+    /// `<stem>.other-shadow-atlas.png` (point and spot), depth as grey stretched from the
+    /// nearest caster (black) to the far plane (white).
     ShadowAtlas,
     /// The deferred path's G-buffer base colour, instead of the image.
     GbufferAlbedo,
@@ -163,14 +164,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         .shadow_atlases
         .iter()
         .map(|atlas| {
-            let grey = atlas
-                .depths
-                .iter()
-                .flat_map(|d| {
-                    let v = (d.clamp(0.0, 1.0) * 255.0).round() as u8;
-                    [v, v, v, 255]
-                })
-                .collect();
+            let grey = atlas_grey(&atlas.depths);
             let file = if atlas.name == "directional" {
                 "shadow-atlas.png".to_string()
             } else {
@@ -216,6 +210,21 @@ pub fn run(args: RenderArgs) -> Result<()> {
         frame.timings.wall_ms.unwrap_or_default()
     );
     Ok(())
+}
+
+/// An atlas's depths as grey RGBA8, stretched over the range the casters wrote (from the
+/// nearest depth to 1, the cleared far plane): perspective depth crowds towards 1 with a
+/// near plane of a centimetre, and would otherwise print all white.
+fn atlas_grey(depths: &[f32]) -> Vec<u8> {
+    let nearest = depths.iter().copied().filter(|d| d.is_finite() && *d < 1.0).fold(1.0f32, f32::min);
+    let span = (1.0 - nearest).max(1e-6);
+    depths
+        .iter()
+        .flat_map(|d| {
+            let v = (((d.clamp(0.0, 1.0) - nearest) / span).clamp(0.0, 1.0) * 255.0).round() as u8;
+            [v, v, v, 255]
+        })
+        .collect()
 }
 
 /// The HDR target holds half floats: pre-exposed radiance stops at 65504. Says so when
