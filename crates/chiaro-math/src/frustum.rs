@@ -26,6 +26,19 @@ impl Frustum {
         Frustum { planes }
     }
 
+    /// Whether the box reaches inside the four side planes (left, right, bottom, top),
+    /// near and far ignored. For a perspective frustum these planes meet at the eye, so
+    /// the test is exact for boxes behind it too: they lie outside.
+    pub fn sides_hold_aabb(&self, bounds: &crate::Aabb) -> bool {
+        !bounds.is_empty()
+            && self.planes[..4].iter().all(|p| {
+                let n = p.truncate();
+                // The corner furthest along the plane's normal.
+                let far_corner = Vec3::select(n.cmpge(Vec3::ZERO), bounds.max, bounds.min);
+                n.dot(far_corner) + p.w >= 0.0
+            })
+    }
+
     pub fn intersects_sphere(&self, sphere: &Sphere) -> bool {
         self.planes.iter().all(|p| p.truncate().dot(sphere.center) + p.w >= -sphere.radius)
     }
@@ -54,6 +67,21 @@ pub fn cone_bounding_sphere(apex: Vec3, axis: Vec3, outer_rad: f32, range: f32) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn side_planes_keep_boxes_in_front_and_cull_boxes_beside_or_behind_the_eye() {
+        // A 90 degree face looking down -Z from the origin, as a point light's cube face.
+        let clip = Mat4::perspective_rh(90f32.to_radians(), 1.0, 0.01, 10.0)
+            * Mat4::look_to_rh(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
+        let f = Frustum::from_clip_from_world(&clip);
+        let cube = |c: Vec3| crate::Aabb::from_points([c - 0.25, c + 0.25]);
+        assert!(f.sides_hold_aabb(&cube(Vec3::new(0.0, 0.0, -2.0))));
+        assert!(f.sides_hold_aabb(&cube(Vec3::new(1.9, 0.0, -2.0))), "straddles the side plane");
+        assert!(!f.sides_hold_aabb(&cube(Vec3::new(3.0, 0.0, -2.0))), "beside the face");
+        assert!(!f.sides_hold_aabb(&cube(Vec3::new(0.0, 0.0, 2.0))), "behind the eye");
+        assert!(f.sides_hold_aabb(&cube(Vec3::new(0.0, 0.0, -0.1))), "touching the eye");
+        assert!(f.sides_hold_aabb(&cube(Vec3::new(0.0, 0.0, -50.0))), "far is ignored");
+    }
 
     fn camera() -> Mat4 {
         let proj = Mat4::perspective_rh(60f32.to_radians(), 1.0, 0.1, 100.0);

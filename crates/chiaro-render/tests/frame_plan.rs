@@ -139,9 +139,14 @@ fn each_tile_draws_only_the_casters_that_reach_it() {
     add_box(&mut scene, Vec3::new(-1.0, 0.5, 0.0), Vec3::ONE, 0.0, CastShadows::Off); // draw 3: casts none
     let plan = first_plan(&scene, PlanRequest { aovs: true, ..Default::default() });
     assert_eq!(plan.shadows.tiles.len(), 6);
+    // The floor reaches every cube face; the box beside the light (all of it at x > 0.5)
+    // only the faces it lies in front of: +X, not -X; the others never.
     for tile in &plan.shadows.tiles {
-        assert_eq!(tile.casters, vec![0, 1], "tile {}", tile.tile);
+        assert_eq!(tile.casters[0], 0, "tile {}", tile.tile);
+        assert!(tile.casters.iter().all(|&c| c <= 1), "tile {}: {:?}", tile.tile, tile.casters);
     }
+    assert_eq!(plan.shadows.tiles[0].casters, vec![0, 1], "+X face");
+    assert_eq!(plan.shadows.tiles[1].casters, vec![0], "-X face");
     assert_eq!(
         plan.passes,
         vec![PassId::Shadows, PassId::GBuffer, PassId::DeferredLights, PassId::Aov, PassId::Tonemap]

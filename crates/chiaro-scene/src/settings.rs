@@ -201,6 +201,10 @@ pub struct ShadowSettings {
     /// Metres from the camera beyond which no shadow is sampled (0.1 to 10000). Too short
     /// loses distant shadows; too long spreads the cascades' texels thin and blurs them.
     pub max_distance: f32,
+    /// Keep shadow tiles from frame to frame and draw a tile again only when its light,
+    /// its projection or a caster in it changed (true, the default); false draws every
+    /// tile every frame.
+    pub cache: bool,
     /// Fraction of `max_distance` over which shadows fade out (0.001 to 1). Too small
     /// shows a hard line where shadows end; too large fades shadows that should be there.
     pub distance_fade: f32,
@@ -212,6 +216,7 @@ impl Default for ShadowSettings {
     fn default() -> Self {
         ShadowSettings {
             max_distance: 100.0,
+            cache: true,
             distance_fade: 0.1,
             directional: DirectionalShadowSettings::default(),
             other: OtherShadowSettings::default(),

@@ -1,5 +1,7 @@
 //! The shadow pass: casters drawn into their tiles of both atlases, depth only, from the
-//! tiles and caster lists the plan made. Pipelines vary by slope bias, cull mode, winding,
+//! tiles and caster lists the plan made. With `shadows.cache`, a tile is drawn only when
+//! what it would hold changed (its light's projection, bias, tile, or any caster's
+//! `caster_key`); the others keep last frame's depths. Pipelines vary by slope bias, cull mode, winding,
 //! depth clamping and how the material casts (solid, alpha-tested or dithered: the last
 //! two sample the material's base colour alpha), since those are pipeline state in wgpu.
 
@@ -12,6 +14,7 @@ use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, 
 use crate::shaders;
 use chiaro_scene::{CastShadows, ShadowCasting};
 use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
 
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const TOTAL_TILES: u64 = (MAX_DIRECTIONAL_SHADOW_TILES + MAX_OTHER_SHADOW_TILES) as u64;
@@ -41,6 +44,28 @@ pub struct ShadowPass {
     bind_group: Option<wgpu::BindGroup>,
     /// Depth clamping by the rasterizer (DEPTH_CLIP_CONTROL); else in the vertex shader.
     unclipped_depth: bool,
+    /// Writes the far plane over one tile: a cleared tile inside a pass that keeps the rest.
+    clear_tile: wgpu::RenderPipeline,
+    /// Per (atlas, tile index), the content key of what the atlas holds there, and where.
+    cached: HashMap<(ShadowAtlas, u32), CachedTile>,
+    /// Per tile of this frame's plan, whether it is drawn.
+    dirty: Vec<bool>,
+    /// Each atlas's size when last drawn: a new size is a new texture, holding nothing.
+    atlas_sizes: HashMap<ShadowAtlas, u32>,
+}
+
+/// The content key of a cached tile, and its viewport (x, y, size).
+type CachedTile = (u64, (u32, u32, u32));
+
+/// What a tile holds: equal keys, equal depths.
+fn tile_key(tile: &CasterTile, atlas_size: u32, draws: &[crate::plan::draws::Draw]) -> u64 {
+    let mut h = std::hash::DefaultHasher::new();
+    (tile.viewport, atlas_size, tile.slope_bias.to_bits()).hash(&mut h);
+    tile.clip_from_world.to_cols_array().map(f32::to_bits).hash(&mut h);
+    for &d in &tile.casters {
+        draws[d as usize].caster_key.hash(&mut h);
+    }
+    h.finish()
 }
 
 fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
@@ -93,8 +118,39 @@ impl ShadowPass {
             bind_group_layouts: &[Some(&layout), Some(material_layout)],
             immediate_size: 0,
         });
+        let module = shaders::module(device, "shadow caster", shaders::SHADOW_CASTER);
+        let clear_tile = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("clear shadow tile"),
+            layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("clear shadow tile layout"),
+                bind_group_layouts: &[],
+                immediate_size: 0,
+            })),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_clear_tile"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: SHADOW_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
         ShadowPass {
-            module: shaders::module(device, "shadow caster", shaders::SHADOW_CASTER),
+            module,
+            clear_tile,
+            cached: HashMap::new(),
+            dirty: Vec::new(),
+            atlas_sizes: HashMap::new(),
             views: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("caster views"),
                 size: stride * TOTAL_TILES,
@@ -167,6 +223,40 @@ impl FramePass for ShadowPass {
 
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         let tiles = &cx.plan.shadows.tiles;
+        let shadows = &cx.plan.shadows;
+        if !cx.plan.shadow_cache {
+            // The atlases are cleared whole: only this frame's tiles will hold anything.
+            self.cached.clear();
+        }
+        for (atlas, size) in
+            [(ShadowAtlas::Directional, shadows.directional_atlas_size), (ShadowAtlas::Other, shadows.other_atlas_size)]
+        {
+            if size > 0 && self.atlas_sizes.insert(atlas, size).is_some_and(|old| old != size) {
+                self.cached.retain(|&(a, _), _| a != atlas);
+            }
+        }
+        self.dirty = tiles
+            .iter()
+            .map(|tile| {
+                let size = match tile.atlas {
+                    ShadowAtlas::Directional => shadows.directional_atlas_size,
+                    ShadowAtlas::Other => shadows.other_atlas_size,
+                };
+                let key = tile_key(tile, size, &cx.scene.draws);
+                let kept = self.cached.insert((tile.atlas, tile.tile), (key, tile.viewport)).map(|c| c.0) == Some(key);
+                !(kept && cx.plan.shadow_cache)
+            })
+            .collect();
+        // A tile drawn now overwrites whatever other tiles (of an older layout) held there.
+        for (tile, _) in tiles.iter().zip(&self.dirty).filter(|(_, dirty)| **dirty) {
+            let overlaps = |(x, y, s): (u32, u32, u32)| {
+                let (tx, ty, ts) = tile.viewport;
+                x < tx + ts && tx < x + s && y < ty + ts && ty < y + s
+            };
+            self.cached.retain(|&(atlas, index), &mut (_, viewport)| {
+                atlas != tile.atlas || index == tile.tile || !overlaps(viewport)
+            });
+        }
         debug_assert!(tiles.len() as u64 <= TOTAL_TILES);
         let mut bytes = vec![0u8; (self.stride * tiles.len() as u64) as usize];
         for (i, tile) in tiles.iter().enumerate() {
@@ -206,8 +296,10 @@ impl FramePass for ShadowPass {
         }));
     }
 
-    /// One wgpu pass per atlas that has tiles this frame, each cleared first: every tile
-    /// of the plan is drawn anew. The first carries the start timestamp, the last the end.
+    /// One wgpu pass per atlas that has tiles this frame. Without the cache, each is
+    /// cleared and every tile drawn; with it, the atlas is kept and only the tiles whose
+    /// content changed are cleared and drawn. The first carries the start timestamp, the
+    /// last the end.
     fn record(&self, cx: &mut PassContext<'_>) {
         let tiles = &cx.plan.shadows.tiles;
         let bind_group = self.bind_group.as_ref().expect("prepared");
@@ -228,7 +320,10 @@ impl FramePass for ShadowPass {
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: cx.targets.view(resource),
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: if cx.plan.shadow_cache { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(1.0) },
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes,
@@ -237,11 +332,15 @@ impl FramePass for ShadowPass {
             });
             pass.set_vertex_buffer(0, cx.scene.vertices.slice(..));
             pass.set_index_buffer(cx.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-            for (i, tile) in tiles.iter().enumerate().filter(|(_, t)| t.atlas == atlas) {
+            for (i, tile) in tiles.iter().enumerate().filter(|(i, t)| t.atlas == atlas && self.dirty[*i]) {
                 let (x, y, size) = tile.viewport;
                 pass.push_debug_group(&format!("shadow tile {} of light {}", tile.tile, tile.light.0));
                 pass.set_viewport(x as f32, y as f32, size as f32, size as f32, 0.0, 1.0);
                 pass.set_scissor_rect(x, y, size, size);
+                if cx.plan.shadow_cache {
+                    pass.set_pipeline(&self.clear_tile);
+                    pass.draw(0..3, 0..1);
+                }
                 pass.set_bind_group(0, bind_group, &[(i as u64 * self.stride) as u32]);
                 let mut bound = None;
                 let mut bound_material = usize::MAX;

@@ -4,8 +4,9 @@
 //! draws by their index in `scene_draws`.
 
 use chiaro_math::Aabb;
-use chiaro_scene::{AlphaMode, CastShadows, Scene, ShadowCasting};
+use chiaro_scene::{AlphaMode, CastShadows, Primitive, Scene, ShadowCasting};
 use glam::Vec3;
+use std::hash::{Hash, Hasher};
 
 /// Where one primitive's indices and vertices start in the shared buffers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,6 +67,11 @@ pub struct Draw {
     pub cast_shadows: CastShadows,
     /// How its material casts: solid, alpha-tested, dithered or not at all.
     pub shadow_casting: ShadowCasting,
+    /// A hash of everything that decides what it writes into a shadow map: its geometry,
+    /// transform, casting modes and, for alpha-tested and dithered casters, its material.
+    /// Equal keys draw equal depths, so a cached tile whose casters' keys are unchanged
+    /// need not be drawn again.
+    pub caster_key: u64,
 }
 
 impl Draw {
@@ -81,16 +87,50 @@ impl Draw {
 }
 
 /// The scene's draws in instance order, skipping empty primitives.
+/// A hash of a primitive's positions, indices and texture coordinates.
+fn geometry_hash(p: &Primitive) -> u64 {
+    let mut h = std::hash::DefaultHasher::new();
+    for v in &p.positions {
+        v.to_array().map(f32::to_bits).hash(&mut h);
+    }
+    p.indices.hash(&mut h);
+    for uv in p.uv0.iter().chain(&p.uv1) {
+        uv.to_array().map(f32::to_bits).hash(&mut h);
+    }
+    h.finish()
+}
+
 pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
     let default_material = scene.materials.len();
+    let geometry: Vec<Vec<u64>> =
+        scene.meshes.iter().map(|m| m.primitives.iter().map(geometry_hash).collect()).collect();
+    // Images alpha-tested casters read, hashed once each.
+    let mut image_hashes: Vec<Option<u64>> = vec![None; scene.images.len()];
+    let mut image_hash = |index: usize| -> Option<u64> {
+        let image = scene.images.get(index)?;
+        Some(*image_hashes[index].get_or_insert_with(|| {
+            let mut h = std::hash::DefaultHasher::new();
+            (image.width, image.height, &image.rgba8).hash(&mut h);
+            h.finish()
+        }))
+    };
     let mut draws = Vec::new();
     for (object, inst) in scene.instances.iter().enumerate() {
-        for (p, range) in scene.meshes[inst.mesh].primitives.iter().zip(&layout.ranges[inst.mesh]) {
+        for (k, (p, range)) in scene.meshes[inst.mesh].primitives.iter().zip(&layout.ranges[inst.mesh]).enumerate() {
             if range.index_count == 0 {
                 continue;
             }
             let material = p.material.filter(|&m| m < scene.materials.len()).unwrap_or(default_material);
             let m = scene.materials.get(material).cloned().unwrap_or_default();
+            let mut h = std::hash::DefaultHasher::new();
+            geometry[inst.mesh][k].hash(&mut h);
+            inst.world_from_local.to_cols_array().map(f32::to_bits).hash(&mut h);
+            (inst.cast_shadows, m.shadow_casting, m.double_sided).hash(&mut h);
+            if m.shadow_casting == ShadowCasting::Clip || m.shadow_casting == ShadowCasting::Dither {
+                // What the alpha test reads.
+                let texture = m.base_color_texture.map(|t| (image_hash(t.image), t.tex_coord, format!("{t:?}")));
+                (m.base_color.w.to_bits(), m.alpha_cutoff.to_bits(), texture).hash(&mut h);
+            }
             draws.push(Draw {
                 first_index: range.first_index,
                 index_count: range.index_count,
@@ -104,6 +144,7 @@ pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
                 bounds_ws: p.bounds.transformed(&inst.world_from_local),
                 cast_shadows: inst.cast_shadows,
                 shadow_casting: m.shadow_casting,
+                caster_key: h.finish(),
             });
         }
     }

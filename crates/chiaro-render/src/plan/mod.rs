@@ -135,6 +135,8 @@ pub struct FramePlan {
     /// `max_other_lights`, not shaded.
     pub dropped_directional: usize,
     pub dropped_other: usize,
+    /// `shadows.cache`: tiles whose content is unchanged keep last frame's depths.
+    pub shadow_cache: bool,
 }
 
 impl FramePlan {
@@ -244,6 +246,7 @@ impl FramePlan {
             frame_index,
             dropped_directional: choice.dropped_directional,
             dropped_other: choice.selection.dropped,
+            shadow_cache: settings.shadows.cache,
         }
     }
 

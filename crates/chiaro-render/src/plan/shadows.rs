@@ -11,7 +11,6 @@ use crate::shader_constants::{
     CASCADE_BLEND_DITHER, CASCADE_BLEND_HARD, CASCADE_BLEND_SOFT, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES,
 };
 use crate::view::View;
-use chiaro_math::Sphere;
 use chiaro_math::shadow::bias::{cascade_texel_size_ws, normal_bias_ws};
 use chiaro_math::shadow::culling::{caster_in_range, caster_in_tile};
 use chiaro_math::shadow::fade::distance_fade_params;
@@ -21,6 +20,7 @@ use chiaro_math::shadow::other::{
 use chiaro_math::shadow::{
     AtlasLayout, ShadowFilter, TileAllocator, cascade_splits, fit_cascade, slice_culling_sphere,
 };
+use chiaro_math::{Frustum, Sphere};
 use chiaro_scene::{CascadeBlend, Light, LightKind, Scene, Settings, ShadowMode};
 use glam::Mat4;
 
@@ -334,10 +334,12 @@ fn atlas_params(size: u32) -> GpuAtlas {
 }
 
 /// The casters that can draw into `tile`: those overlapping a perspective tile's light
-/// range, or a cascade tile's box (with pancaking).
+/// range and its pyramid (each cube face of a point light draws only what lies in front
+/// of that face), or a cascade tile's box (with pancaking).
 fn tile_casters(draws: &[Draw], tile: &CasterTile) -> Vec<u32> {
+    let pyramid = Frustum::from_clip_from_world(&tile.clip_from_world);
     let reaches = |d: &Draw| match &tile.light_range {
-        Some(sphere) => caster_in_range(&d.bounds_ws, sphere),
+        Some(sphere) => caster_in_range(&d.bounds_ws, sphere) && pyramid.sides_hold_aabb(&d.bounds_ws),
         None => caster_in_tile(&tile.clip_from_world, &d.bounds_ws, true),
     };
     (0..draws.len() as u32).filter(|&i| draws[i as usize].casts_shadows() && reaches(&draws[i as usize])).collect()
