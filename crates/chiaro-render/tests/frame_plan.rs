@@ -118,7 +118,20 @@ fn lights_that_find_no_tiles_are_baked_only() {
     // Three shadowed points want 18 tiles of 16.
     let lights = (0..3).map(|i| point_light(Vec3::new(i as f32 - 1.0, 1.0, 0.0), 10.0 + i as f32, Some(4.0))).collect();
     let scene = floor_scene(10.0, Vec3::new(0.0, 6.0, 0.01), lights);
-    let plan = first_plan(&scene, PlanRequest::default());
+    let all_fit = first_plan(&scene, PlanRequest::default());
+    assert_eq!(all_fit.lists.shadowed_other.len(), 3, "the default 64 tiles hold all three");
+    assert_eq!(all_fit.shadows.tiles.len(), 18);
+    let mut settings = unlit_settings();
+    settings.shadows.other.max_tiles = 16;
+    let view = View::from_camera(&scene, 0, 64, 64);
+    let plan = FramePlan::new(
+        &scene,
+        &draws(&scene),
+        &view,
+        &settings,
+        &mut ShadowAtlasTiles::default(),
+        PlanRequest::default(),
+    );
     let slots: Vec<ShadowSlot> = (0..3).map(|i| slot_of(&plan, i)).collect();
     // The brightest two fit; the dimmest (light 0) does not.
     assert_eq!(slots[0], ShadowSlot::BakedOnly);

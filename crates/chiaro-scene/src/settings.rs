@@ -224,8 +224,8 @@ impl Default for ShadowSettings {
     }
 }
 
-/// The second atlas, for point and spot lights: 16 tiles in the uniform layout, a spot
-/// taking one and a point six (one per cube face).
+/// The second atlas, for point and spot lights: up to `max_tiles` tiles in the uniform
+/// layout, a spot taking one and a point six (one per cube face).
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct OtherShadowSettings {
@@ -234,11 +234,16 @@ pub struct OtherShadowSettings {
     pub atlas_size: u32,
     /// "pcf2x2", "tent3x3", "tent5x5" or "tent7x7", for lights whose shadows are soft.
     pub filter: String,
+    /// Most tiles (1 to 64) the atlas is split into: a spot takes one, a point six. Up to
+    /// 16 the seeds' layout (4 a side, 512 texels each at 2048); more shrink every tile to
+    /// 256 texels (8 a side). Lights that do not fit get no realtime shadow (their baked
+    /// shadow mask, if any).
+    pub max_tiles: u32,
 }
 
 impl Default for OtherShadowSettings {
     fn default() -> Self {
-        OtherShadowSettings { atlas_size: 2048, filter: "pcf2x2".into() }
+        OtherShadowSettings { atlas_size: 2048, filter: "pcf2x2".into(), max_tiles: 64 }
     }
 }
 
@@ -397,6 +402,12 @@ impl Settings {
         }
         check_range("shadows.directional.cascade_fade", d.cascade_fade, 0.001, 1.0)?;
         check_atlas_and_filter("shadows.other", sh.other.atlas_size, &sh.other.filter)?;
+        check_range(
+            "shadows.other.max_tiles",
+            sh.other.max_tiles as f32,
+            1.0,
+            chiaro_math::shadow::other::MAX_OTHER_SHADOW_TILES as f32,
+        )?;
         let b = &self.bake;
         check_range("bake.samples", b.samples as f32, 1.0, 65536.0)?;
         check_range("bake.bounces", b.bounces as f32, 0.0, 64.0)?;

@@ -1,5 +1,5 @@
-//! The shadow atlas: a square depth texture split into 1, 2 or 4 tiles per side, and the
-//! matrix that takes a tile's clip space to atlas texture coordinates.
+//! The shadow atlas: a square depth texture split into 1, 2, 4 or 8 tiles per side, and
+//! the matrix that takes a tile's clip space to atlas texture coordinates.
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -7,18 +7,19 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct AtlasLayout {
     pub atlas_size: u32,
-    /// Tiles per side: 1, 2 or 4.
+    /// Tiles per side: 1, 2, 4 or 8.
     pub split: u32,
 }
 
 impl AtlasLayout {
-    /// The tutorial's uniform layout: the fewest tiles per side that hold `tiles`
-    /// (1 -> 1, 2..4 -> 2, 5..16 -> 4).
+    /// The tutorial's uniform layout, grown past it where more tiles are wanted: the
+    /// fewest tiles per side that hold `tiles` (1 -> 1, 2..4 -> 2, 5..16 -> 4, 17..64 -> 8).
     pub fn for_tiles(atlas_size: u32, tiles: usize) -> AtlasLayout {
         let split = match tiles {
             0 | 1 => 1,
             2..=4 => 2,
-            _ => 4,
+            5..=16 => 4,
+            _ => 8,
         };
         AtlasLayout { atlas_size, split }
     }
@@ -83,6 +84,8 @@ mod tests {
         assert_eq!(AtlasLayout::for_tiles(2048, 5).split, 4);
         assert_eq!(AtlasLayout::for_tiles(2048, 16).split, 4);
         assert_eq!(AtlasLayout::for_tiles(2048, 16).tile_size(), 512);
+        assert_eq!(AtlasLayout::for_tiles(2048, 17).split, 8);
+        assert_eq!(AtlasLayout::for_tiles(2048, 64).tile_size(), 256);
     }
 
     #[test]

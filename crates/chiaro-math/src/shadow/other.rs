@@ -8,7 +8,7 @@ use super::filter::ShadowFilter;
 use glam::{Mat4, Vec3};
 
 /// Tiles of the other-light atlas.
-pub const MAX_OTHER_SHADOW_TILES: usize = 16;
+pub const MAX_OTHER_SHADOW_TILES: usize = 64;
 /// Cube faces of a point light, one tile each.
 pub const POINT_LIGHT_FACES: usize = 6;
 

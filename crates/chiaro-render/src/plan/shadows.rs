@@ -255,6 +255,9 @@ fn plan_other(
         .filter(|(_, light)| light.shadow.casts())
         .map(|(id, light)| (id, tiles_wanted(light)))
         .collect();
+    if atlases.other.capacity() != os.max_tiles as usize {
+        atlases.other = TileAllocator::new(os.max_tiles as usize);
+    }
     let allocation = atlases.other.allocate(&requests);
     plan.tiles_kept &= allocation.kept;
     if requests.is_empty() {
@@ -318,9 +321,10 @@ fn plan_other(
         .collect();
     if !overflow.is_empty() {
         tracing::warn!(
-            "{} point/spot lights get no realtime shadow, the {MAX_OTHER_SHADOW_TILES} tiles of the other-light \
-             atlas being taken: {}",
+            "{} point/spot lights get no realtime shadow, the {} tiles of the other-light atlas being taken \
+             (shadows.other.max_tiles): {}",
             overflow.len(),
+            os.max_tiles,
             overflow.join(", ")
         );
     }
