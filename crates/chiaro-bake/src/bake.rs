@@ -139,10 +139,6 @@ pub fn bake(
             scene.lights[light].name
         );
     }
-    // Each channel's light, in channel order for a texel's four values.
-    let channel_lights: Vec<(usize, usize)> =
-        assignment.channels.iter().map(|&(light, channel)| (channel as usize, light)).collect();
-    let masks = !channel_lights.is_empty();
     let tracer = Tracer::new(
         scene,
         &modes,
@@ -151,6 +147,13 @@ pub fn bake(
         b.bounces,
         settings.lights.range_threshold_lux,
     );
+    // Each channel's (channel, scene light, tracer slot): mixed lights are all traced.
+    let channel_lights: Vec<(usize, usize, usize)> = assignment
+        .channels
+        .iter()
+        .filter_map(|&(light, channel)| Some((channel as usize, light, tracer.light_slot(light)?)))
+        .collect();
+    let masks = !channel_lights.is_empty();
     let surfaces = Surfaces::new(scene);
     let rays = AtomicU64::new(0);
     let texel_count = AtomicU64::new(0);
@@ -198,14 +201,14 @@ pub fn bake(
                             if masks {
                                 // The same supersampled points: the mask's edges are as
                                 // soft as the texel, no softer.
-                                for &(channel, light) in &channel_lights {
-                                    mask[channel] += tracer.mask_visibility(light, p, wt.normal, &mut row_rays);
+                                for &(channel, _, slot) in &channel_lights {
+                                    mask[channel] += tracer.mask_visibility(slot, p, wt.normal, &mut row_rays);
                                 }
                             }
                         }
                         let e = sum / b.samples as f32;
                         let mut texel_mask = [1.0f32; 4];
-                        for &(channel, _) in &channel_lights {
+                        for &(channel, _, _) in &channel_lights {
                             texel_mask[channel] = mask[channel] / b.samples as f32;
                         }
                         ([e.x, e.y, e.z, covered as f32 / b.samples as f32], texel_mask, true)
@@ -257,13 +260,13 @@ pub fn bake(
                     let sh = trace_probe(&tracer, p, b, index as u64, &mut probe_rays);
                     // Probe occlusion: what the probe itself sees of each channel's light.
                     let mut occlusion = [1.0f32; 4];
-                    for &(channel, light) in &channel_lights {
-                        let towards = scene.lights[light].position() - p;
-                        let side = match scene.lights[light].kind {
-                            LightKind::Directional => -scene.lights[light].direction(),
-                            _ => towards.normalize_or_zero(),
+                    for &(channel, light, slot) in &channel_lights {
+                        let light = &scene.lights[light];
+                        let side = match light.kind {
+                            LightKind::Directional => -light.direction(),
+                            _ => (light.position() - p).normalize_or_zero(),
                         };
-                        occlusion[channel] = tracer.mask_visibility(light, p, side, &mut probe_rays);
+                        occlusion[channel] = tracer.mask_visibility(slot, p, side, &mut probe_rays);
                     }
                     rays.fetch_add(probe_rays, Ordering::Relaxed);
                     progress.advance(1);

@@ -151,16 +151,13 @@ pub fn write_bake_dir(
     let mut lightmap_files = Vec::new();
     for (layer, lightmap) in result.lighting.lightmaps.iter().enumerate() {
         let file = format!("lightmap-{layer}.exr");
-        write_exr(&temp.path().join(&file), lightmap)?;
+        write_exr(&temp.path().join(&file), lightmap.width, lightmap.height, &lightmap.texels)?;
         lightmap_files.push(file);
     }
     let mut mask_files = Vec::new();
     for (layer, mask) in result.lighting.shadow_masks.iter().enumerate() {
         let file = format!("shadowmask-{layer}.exr");
-        write_exr(
-            &temp.path().join(&file),
-            &Lightmap { width: mask.width, height: mask.height, texels: mask.texels.clone() },
-        )?;
+        write_exr(&temp.path().join(&file), mask.width, mask.height, &mask.texels)?;
         mask_files.push(file);
     }
     let mut uvs: Vec<u8> = Vec::new();
@@ -281,14 +278,15 @@ fn manifest_of(scene: &Scene, settings: &Settings, result: &BakeResult) -> Resul
     })
 }
 
-fn write_exr(path: &Path, lightmap: &Lightmap) -> Result<(), BakeError> {
+/// An atlas of four float channels (a lightmap or a shadow mask) as RGBA float32 EXR.
+fn write_exr(path: &Path, width: u32, height: u32, texels: &[[f32; 4]]) -> Result<(), BakeError> {
     use exr::prelude::*;
-    let w = lightmap.width as usize;
+    let w = width as usize;
     let pixels = SpecificChannels::rgba(|p: Vec2<usize>| {
-        let t = lightmap.texels[p.1 * w + p.0];
+        let t = texels[p.1 * w + p.0];
         (t[0], t[1], t[2], t[3])
     });
-    Image::from_channels((w, lightmap.height as usize), pixels)
+    Image::from_channels((w, height as usize), pixels)
         .write()
         .to_file(path)
         .map_err(|e| BakeError::Io { path: path.to_path_buf(), message: e.to_string() })

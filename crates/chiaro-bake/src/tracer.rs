@@ -156,11 +156,17 @@ impl<'a> Tracer<'a> {
         e
     }
 
-    /// How much of scene light `index` (a mixed light) reaches `p` unblocked, from the
+    /// Where scene light `index` sits among the tracer's lights (those baked or mixed),
+    /// for `mask_visibility`: found once, not per sample.
+    pub fn light_slot(&self, index: usize) -> Option<usize> {
+        self.lights.iter().position(|l| l.index == index)
+    }
+
+    /// How much of the light in `slot` (from `light_slot`) reaches `p` unblocked, from the
     /// side `side` faces: the raw visibility a shadow mask stores (1 out of its range or
     /// cone, where the mask does not matter).
-    pub fn mask_visibility(&self, index: usize, p: Vec3, side: Vec3, rays: &mut RayCount) -> f32 {
-        let Some(l) = self.lights.iter().find(|l| l.index == index) else { return 1.0 };
+    pub fn mask_visibility(&self, slot: usize, p: Vec3, side: Vec3, rays: &mut RayCount) -> f32 {
+        let l = &self.lights[slot];
         if self.arriving(l, p).is_none() {
             return 1.0;
         }

@@ -50,23 +50,33 @@ impl ProbeGrid {
         self.origin + self.spacing * Vec3::new(x as f32, y as f32, z as f32)
     }
 
-    /// The trilinear blend of the eight probes around `p` (clamped to the grid), as the
-    /// shader samples it.
-    pub fn sample(&self, p: Vec3) -> ShRgb {
+    /// The eight probes around `p` (clamped to the grid) with their trilinear weights, as
+    /// the shader blends them.
+    fn corners(&self, p: Vec3) -> [(usize, f32); 8] {
         let max = (self.counts.as_vec3() - 1.0).max(Vec3::ZERO);
         let cell = ((p - self.origin) / self.spacing).clamp(Vec3::ZERO, max);
         let base = cell.floor().min((max - 1.0).max(Vec3::ZERO));
         let t = cell - base;
         let b = base.as_uvec3();
-        let at = |dx: u32, dy: u32, dz: u32| {
-            let c = (b + UVec3::new(dx, dy, dz)).min(self.counts - 1);
-            self.probes[self.index(c.x, c.y, c.z)]
-        };
-        let x00 = at(0, 0, 0).lerp(&at(1, 0, 0), t.x);
-        let x10 = at(0, 1, 0).lerp(&at(1, 1, 0), t.x);
-        let x01 = at(0, 0, 1).lerp(&at(1, 0, 1), t.x);
-        let x11 = at(0, 1, 1).lerp(&at(1, 1, 1), t.x);
-        x00.lerp(&x10, t.y).lerp(&x01.lerp(&x11, t.y), t.z)
+        std::array::from_fn(|corner| {
+            let corner = corner as u32;
+            let offset = UVec3::new(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+            let f = Vec3::select(offset.cmpeq(UVec3::ONE), t, Vec3::ONE - t);
+            let c = (b + offset).min(self.counts - 1);
+            (self.index(c.x, c.y, c.z), f.x * f.y * f.z)
+        })
+    }
+
+    /// The trilinear blend of the eight probes around `p` (clamped to the grid), as the
+    /// shader samples it.
+    pub fn sample(&self, p: Vec3) -> ShRgb {
+        let mut out = ShRgb::default();
+        for (index, weight) in self.corners(p) {
+            for (o, c) in out.coefficients.iter_mut().zip(self.probes[index].coefficients) {
+                *o += c * weight;
+            }
+        }
+        out
     }
 
     /// The trilinear blend of probe occlusion at `p`, as the shader samples it; all ones
@@ -75,19 +85,10 @@ impl ProbeGrid {
         if self.occlusion.len() != self.probes.len() {
             return [1.0; 4];
         }
-        let max = (self.counts.as_vec3() - 1.0).max(Vec3::ZERO);
-        let cell = ((p - self.origin) / self.spacing).clamp(Vec3::ZERO, max);
-        let base = cell.floor().min((max - 1.0).max(Vec3::ZERO));
-        let t = cell - base;
-        let b = base.as_uvec3();
         let mut out = [0.0; 4];
-        for corner in 0..8u32 {
-            let offset = UVec3::new(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
-            let f = Vec3::select(offset.cmpeq(UVec3::ONE), t, Vec3::ONE - t);
-            let c = (b + offset).min(self.counts - 1);
-            let o = self.occlusion[self.index(c.x, c.y, c.z)];
-            for k in 0..4 {
-                out[k] += f.x * f.y * f.z * o[k];
+        for (index, weight) in self.corners(p) {
+            for (o, v) in out.iter_mut().zip(self.occlusion[index]) {
+                *o += v * weight;
             }
         }
         out
