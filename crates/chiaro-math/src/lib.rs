@@ -6,6 +6,7 @@
 pub mod bounds;
 pub mod brdf;
 pub mod camera;
+pub mod culling;
 pub mod frustum;
 pub mod light;
 pub mod rigid;

@@ -11,9 +11,11 @@ use glam::Vec3;
 
 /// Most directional lights shaded per frame.
 pub const MAX_DIRECTIONAL_LIGHTS: usize = 4;
-/// Most point and spot lights the forward path shades per frame.
+/// Most point and spot lights the forward path shades per frame when every pixel loops
+/// over all of them (light culling "none"): the seeds' limit.
 pub const MAX_OTHER_LIGHTS: usize = 64;
-/// Most point and spot lights the deferred path shades per frame, one volume each.
+/// Most point and spot lights shaded per frame with culled lists (clustered or per
+/// object) or by the deferred path's volumes.
 pub const MAX_DEFERRED_OTHER_LIGHTS: usize = 4096;
 
 /// Brightest light Chiaro shades, candela (point, spot) or lux (directional): ten billion

@@ -1,0 +1,406 @@
+//! Light culling for forward shading: which point and spot lights a pixel loops over.
+//!
+//! - Clustered: the view is cut into a froxel grid (screen tiles x depth slices that grow
+//!   exponentially with distance); each cluster lists the lights whose range sphere
+//!   touches its view-space bounds.
+//! - Per object: each object gets the few lights that matter most to it (the seeds'
+//!   "lights per object").
+//!
+//! Both produce `LightLists`: one record per cluster or object, pointing into one flat
+//! index list where the shadowed lights come first, so the shader keeps the shadow lookup
+//! out of the loop over unshadowed lights.
+
+use crate::bounds::{Aabb, Sphere};
+use glam::{Mat4, Vec3, Vec4Swizzles};
+
+/// Screen tiles across and down, and depth slices: Bevy's default grid, which keeps the
+/// record count small (3456) at any resolution.
+pub const CLUSTER_TILES_X: u32 = 16;
+pub const CLUSTER_TILES_Y: u32 = 9;
+pub const CLUSTER_SLICES: u32 = 24;
+/// Most lights one object is shaded with under per-object culling.
+pub const MAX_LIGHTS_PER_OBJECT: usize = 8;
+
+/// A point or spot light as culling sees it: its range sphere, whether its loop needs a
+/// shadow lookup, and how bright it is at 1 m (for ranking per object).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CullLight {
+    pub sphere: Sphere,
+    pub shadowed: bool,
+    pub peak_intensity: f32,
+}
+
+/// Lists of light indices, one per cluster or object.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LightLists {
+    /// Per list: where it starts in `indices`, how many shadowed lights lead it, and its
+    /// length.
+    pub records: Vec<ListRecord>,
+    pub indices: Vec<u32>,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ListRecord {
+    pub offset: u32,
+    pub shadowed: u32,
+    pub count: u32,
+}
+
+impl LightLists {
+    /// The light indices of list `k`.
+    pub fn list(&self, k: usize) -> &[u32] {
+        let r = self.records[k];
+        &self.indices[r.offset as usize..(r.offset + r.count) as usize]
+    }
+
+    /// Appends a list: the shadowed lights of `lights` (indices into `all`) first.
+    fn push(&mut self, lights: &[u32], all: &[CullLight]) {
+        let offset = self.indices.len() as u32;
+        let shadowed = lights.iter().filter(|&&i| all[i as usize].shadowed);
+        self.indices.extend(shadowed);
+        let shadowed_count = self.indices.len() as u32 - offset;
+        self.indices.extend(lights.iter().filter(|&&i| !all[i as usize].shadowed));
+        self.records.push(ListRecord { offset, shadowed: shadowed_count, count: lights.len() as u32 });
+    }
+}
+
+/// The froxel grid of one view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClusterGrid {
+    pub width: u32,
+    pub height: u32,
+    /// Pixels per tile, across and down.
+    pub tile_width: u32,
+    pub tile_height: u32,
+    /// View depths (metres, positive) the slices span; depths beyond `far` fall in the
+    /// last slice, depths before `near` in the first.
+    pub near: f32,
+    pub far: f32,
+}
+
+impl ClusterGrid {
+    /// The grid for a `width` x `height` image whose lights reach no further than view
+    /// depth `far`.
+    pub fn new(width: u32, height: u32, near: f32, far: f32) -> ClusterGrid {
+        ClusterGrid {
+            width,
+            height,
+            tile_width: width.div_ceil(CLUSTER_TILES_X).max(1),
+            tile_height: height.div_ceil(CLUSTER_TILES_Y).max(1),
+            near,
+            far: far.max(near * 1.01),
+        }
+    }
+
+    pub fn cluster_count(&self) -> usize {
+        (CLUSTER_TILES_X * CLUSTER_TILES_Y * CLUSTER_SLICES) as usize
+    }
+
+    /// `(scale, bias)` with `slice = floor(log2(depth) * scale + bias)`.
+    pub fn slice_params(&self) -> (f32, f32) {
+        let scale = CLUSTER_SLICES as f32 / (self.far / self.near).log2();
+        (scale, -self.near.log2() * scale)
+    }
+
+    /// The slice a view depth falls in.
+    pub fn slice_of(&self, depth: f32) -> u32 {
+        let (scale, bias) = self.slice_params();
+        let s = (depth.max(self.near).log2() * scale + bias).floor();
+        (s.max(0.0) as u32).min(CLUSTER_SLICES - 1)
+    }
+
+    /// View depth where slice `s` begins (`s = CLUSTER_SLICES` gives `far`).
+    pub fn slice_start(&self, s: u32) -> f32 {
+        self.near * (self.far / self.near).powf(s as f32 / CLUSTER_SLICES as f32)
+    }
+
+    /// The cluster of pixel `(x, y)` at view depth `depth`, as the shader finds it.
+    pub fn cluster_at(&self, x: f32, y: f32, depth: f32) -> usize {
+        let tx = ((x / self.tile_width as f32) as u32).min(CLUSTER_TILES_X - 1);
+        let ty = ((y / self.tile_height as f32) as u32).min(CLUSTER_TILES_Y - 1);
+        self.index(tx, ty, self.slice_of(depth))
+    }
+
+    pub fn index(&self, tx: u32, ty: u32, slice: u32) -> usize {
+        ((slice * CLUSTER_TILES_Y + ty) * CLUSTER_TILES_X + tx) as usize
+    }
+
+    /// View-space bounds of every cluster, in `index` order. `view_from_clip` inverts a
+    /// projection with clip-space depth 1 at the near plane (reverse-Z) or 0 (standard);
+    /// either works, as only rays through pixel corners are taken from it.
+    pub fn cluster_bounds(&self, view_from_clip: &Mat4) -> Vec<Aabb> {
+        // The ray through each tile corner, as (origin, direction) in view space.
+        let corner_ray = |tx: u32, ty: u32| {
+            let px = (tx * self.tile_width).min(self.width) as f32;
+            let py = (ty * self.tile_height).min(self.height) as f32;
+            let ndc_x = px / self.width as f32 * 2.0 - 1.0;
+            let ndc_y = 1.0 - py / self.height as f32 * 2.0;
+            let a = view_from_clip.project_point3(Vec3::new(ndc_x, ndc_y, 1.0));
+            let b = view_from_clip.project_point3(Vec3::new(ndc_x, ndc_y, 0.5));
+            (a, b - a)
+        };
+        let at_depth = |(origin, dir): (Vec3, Vec3), depth: f32| {
+            // Where the ray meets the plane z = -depth (the camera looks along -Z).
+            if dir.z.abs() < 1e-12 { origin } else { origin + dir * ((-depth - origin.z) / dir.z) }
+        };
+        let mut rays = Vec::with_capacity(((CLUSTER_TILES_X + 1) * (CLUSTER_TILES_Y + 1)) as usize);
+        for ty in 0..=CLUSTER_TILES_Y {
+            for tx in 0..=CLUSTER_TILES_X {
+                rays.push(corner_ray(tx, ty));
+            }
+        }
+        let ray = |tx: u32, ty: u32| rays[(ty * (CLUSTER_TILES_X + 1) + tx) as usize];
+        let mut bounds = Vec::with_capacity(self.cluster_count());
+        for s in 0..CLUSTER_SLICES {
+            let (z0, z1) = (self.slice_start(s), self.slice_start(s + 1));
+            for ty in 0..CLUSTER_TILES_Y {
+                for tx in 0..CLUSTER_TILES_X {
+                    let corners = [ray(tx, ty), ray(tx + 1, ty), ray(tx, ty + 1), ray(tx + 1, ty + 1)];
+                    bounds.push(Aabb::from_points(corners.iter().flat_map(|&r| [at_depth(r, z0), at_depth(r, z1)])));
+                }
+            }
+        }
+        bounds
+    }
+
+    /// Per cluster, the lights (indices into `lights`, whose spheres are in view space)
+    /// whose range touches it.
+    pub fn assign(&self, view_from_clip: &Mat4, clip_from_view: &Mat4, lights: &[CullLight]) -> LightLists {
+        let bounds = self.cluster_bounds(view_from_clip);
+        let mut per_cluster: Vec<Vec<u32>> = vec![Vec::new(); self.cluster_count()];
+        for (i, light) in lights.iter().enumerate() {
+            let Sphere { center, radius } = light.sphere;
+            let (near_depth, far_depth) = (-center.z - radius, -center.z + radius);
+            if far_depth < self.near {
+                continue;
+            }
+            let (s0, s1) = (self.slice_of(near_depth), self.slice_of(far_depth));
+            let ((tx0, ty0), (tx1, ty1)) = self.tile_range(clip_from_view, &light.sphere);
+            for s in s0..=s1 {
+                for ty in ty0..=ty1 {
+                    for tx in tx0..=tx1 {
+                        let k = self.index(tx, ty, s);
+                        if sphere_touches_aabb(center, radius, &bounds[k]) {
+                            per_cluster[k].push(i as u32);
+                        }
+                    }
+                }
+            }
+        }
+        let mut lists = LightLists::default();
+        for list in &per_cluster {
+            lists.push(list, lights);
+        }
+        lists
+    }
+
+    /// The tiles a view-space sphere may cover: those under the projection of its
+    /// bounding box, or every tile when the box reaches behind the near plane.
+    fn tile_range(&self, clip_from_view: &Mat4, sphere: &Sphere) -> ((u32, u32), (u32, u32)) {
+        let all = ((0, 0), (CLUSTER_TILES_X - 1, CLUSTER_TILES_Y - 1));
+        let r = Vec3::splat(sphere.radius);
+        let corners = Aabb { min: sphere.center - r, max: sphere.center + r }.corners();
+        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
+        for c in corners {
+            let clip = *clip_from_view * c.extend(1.0);
+            if clip.w <= self.near * 0.5 {
+                return all;
+            }
+            let ndc = clip.xy() / clip.w;
+            lo = lo.min(ndc);
+            hi = hi.max(ndc);
+        }
+        let tile = |ndc_x: f32, ndc_y: f32| {
+            let px = (ndc_x * 0.5 + 0.5) * self.width as f32;
+            let py = (0.5 - ndc_y * 0.5) * self.height as f32;
+            let tx = (px / self.tile_width as f32).floor().clamp(0.0, (CLUSTER_TILES_X - 1) as f32);
+            let ty = (py / self.tile_height as f32).floor().clamp(0.0, (CLUSTER_TILES_Y - 1) as f32);
+            (tx as u32, ty as u32)
+        };
+        // Screen y grows downwards while NDC y grows upwards.
+        let (tx0, ty0) = tile(lo.x, hi.y);
+        let (tx1, ty1) = tile(hi.x, lo.y);
+        ((tx0, ty0), (tx1, ty1))
+    }
+}
+
+/// The smallest sphere around what a spot light can reach: the spherical sector with
+/// apex `position`, axis `direction` (unit), radius `range` and half-angle `outer_rad`.
+/// Narrow cones get a sphere through the apex and the cap's rim; from 60 degrees on,
+/// the range sphere is no larger.
+pub fn spot_bounding_sphere(position: Vec3, direction: Vec3, range: f32, outer_rad: f32) -> Sphere {
+    let cos = outer_rad.cos();
+    if cos <= 0.5 {
+        return Sphere { center: position, radius: range };
+    }
+    // Equidistant from the apex and the rim: c^2 = (R cos - c)^2 + (R sin)^2.
+    let radius = range / (2.0 * cos);
+    Sphere { center: position + direction * radius, radius }
+}
+
+fn sphere_touches_aabb(center: Vec3, radius: f32, b: &Aabb) -> bool {
+    let nearest = center.clamp(b.min, b.max);
+    nearest.distance_squared(center) <= radius * radius
+}
+
+/// Per object (by its world bounds), up to `MAX_LIGHTS_PER_OBJECT` of `lights` (world
+/// space) whose range touches it, the brightest at the object first; lights the object
+/// cannot see are never listed, so every index names one of the frame's lights.
+pub fn lights_per_object(objects: &[Aabb], lights: &[CullLight]) -> LightLists {
+    let mut lists = LightLists::default();
+    let mut ranked: Vec<(f32, u32)> = Vec::new();
+    for bounds in objects {
+        ranked.clear();
+        if !bounds.is_empty() {
+            for (i, light) in lights.iter().enumerate() {
+                let Sphere { center, radius } = light.sphere;
+                let nearest = center.clamp(bounds.min, bounds.max);
+                let d2 = nearest.distance_squared(center);
+                if d2 <= radius * radius {
+                    // Inverse-square brightness at the object's nearest point, with a
+                    // floor so that lights inside it rank by intensity alone.
+                    ranked.push((light.peak_intensity / d2.max(0.01), i as u32));
+                }
+            }
+            ranked.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+            ranked.truncate(MAX_LIGHTS_PER_OBJECT);
+        }
+        let chosen: Vec<u32> = ranked.iter().map(|&(_, i)| i).collect();
+        lists.push(&chosen, lights);
+    }
+    lists
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::perspective_reverse_z;
+
+    fn light(center: Vec3, radius: f32, shadowed: bool) -> CullLight {
+        CullLight { sphere: Sphere { center, radius }, shadowed, peak_intensity: 1.0 }
+    }
+
+    fn projection() -> Mat4 {
+        perspective_reverse_z(1.0, 16.0 / 9.0, 0.1, None)
+    }
+
+    /// A view-space point seen at pixel (x, y), depth `depth`.
+    fn point_at(grid: &ClusterGrid, proj: &Mat4, x: f32, y: f32, depth: f32) -> Vec3 {
+        let ndc = Vec3::new(x / grid.width as f32 * 2.0 - 1.0, 1.0 - y / grid.height as f32 * 2.0, 0.5);
+        let p = proj.inverse().project_point3(ndc);
+        p * (depth / -p.z)
+    }
+
+    #[test]
+    fn slices_cover_near_to_far_exponentially() {
+        let grid = ClusterGrid::new(1280, 720, 0.1, 100.0);
+        assert_eq!(grid.slice_of(0.05), 0);
+        assert_eq!(grid.slice_of(0.1001), 0);
+        assert_eq!(grid.slice_of(99.9), CLUSTER_SLICES - 1);
+        assert_eq!(grid.slice_of(1e6), CLUSTER_SLICES - 1);
+        for s in 0..CLUSTER_SLICES {
+            let mid = (grid.slice_start(s) * grid.slice_start(s + 1)).sqrt();
+            assert_eq!(grid.slice_of(mid), s);
+        }
+        assert!((grid.slice_start(CLUSTER_SLICES) - 100.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn every_pixel_a_light_reaches_lists_it() {
+        // Brute force: sample pixels and depths; wherever a point lies inside a light's
+        // sphere, that pixel's cluster must list the light.
+        let proj = projection();
+        let grid = ClusterGrid::new(320, 180, 0.1, 40.0);
+        let lights = vec![
+            light(Vec3::new(0.0, 0.0, -5.0), 1.0, false),
+            light(Vec3::new(3.0, -1.0, -12.0), 4.0, true),
+            light(Vec3::new(-0.2, 0.1, -0.3), 0.5, false),
+            light(Vec3::new(-20.0, 5.0, -30.0), 6.0, true),
+            light(Vec3::new(0.0, 0.0, 2.0), 3.0, false),
+        ];
+        let lists = grid.assign(&proj.inverse(), &proj, &lights);
+        let mut checked = 0;
+        for y in (0..180).step_by(7) {
+            for x in (0..320).step_by(7) {
+                for k in 0..60 {
+                    let depth = 0.1 * 1.12f32.powi(k);
+                    let p = point_at(&grid, &proj, x as f32 + 0.5, y as f32 + 0.5, depth);
+                    let listed = lists.list(grid.cluster_at(x as f32 + 0.5, y as f32 + 0.5, depth));
+                    for (i, l) in lights.iter().enumerate() {
+                        if p.distance(l.sphere.center) < l.sphere.radius {
+                            assert!(listed.contains(&(i as u32)), "light {i} missing at ({x}, {y}, {depth})");
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 1000, "the lights must cover many samples ({checked})");
+    }
+
+    #[test]
+    fn clusters_far_from_a_light_do_not_list_it() {
+        let proj = projection();
+        let grid = ClusterGrid::new(320, 180, 0.1, 40.0);
+        let lists = grid.assign(&proj.inverse(), &proj, &[light(Vec3::new(0.0, 0.0, -5.0), 0.5, false)]);
+        let listed = lists.records.iter().filter(|r| r.count > 0).count();
+        assert!(listed > 0 && listed < 40, "a small light touches a few clusters, not {listed}");
+        // A light behind the camera touches none.
+        let behind = grid.assign(&proj.inverse(), &proj, &[light(Vec3::new(0.0, 0.0, 5.0), 1.0, false)]);
+        assert!(behind.indices.is_empty());
+    }
+
+    #[test]
+    fn shadowed_lights_lead_each_list() {
+        let proj = projection();
+        let grid = ClusterGrid::new(64, 64, 0.1, 20.0);
+        let lights = [
+            light(Vec3::new(0.0, 0.0, -5.0), 3.0, false),
+            light(Vec3::new(0.0, 0.0, -5.0), 3.0, true),
+            light(Vec3::new(0.0, 0.0, -5.0), 3.0, false),
+        ];
+        let lists = grid.assign(&proj.inverse(), &proj, &lights);
+        let k = grid.cluster_at(32.0, 32.0, 5.0);
+        assert_eq!(lists.list(k), &[1, 0, 2]);
+        assert_eq!(lists.records[k].shadowed, 1);
+    }
+
+    #[test]
+    fn spot_spheres_hold_their_cone() {
+        let apex = Vec3::new(1.0, 2.0, 3.0);
+        let dir = Vec3::new(0.0, -1.0, 0.0);
+        for outer_deg in [5.0f32, 20.0, 35.0, 59.0, 60.0, 80.0] {
+            let outer = outer_deg.to_radians();
+            let s = spot_bounding_sphere(apex, dir, 10.0, outer);
+            assert!(s.radius <= 10.0 + 1e-4, "never larger than the range sphere");
+            // Points of the sector: the apex, along the axis, and over the cap and sides.
+            for i in 0..=20 {
+                for j in 0..16 {
+                    let angle = outer * i as f32 / 20.0;
+                    let around = std::f32::consts::TAU * j as f32 / 16.0;
+                    let off_axis = Vec3::new(around.cos(), 0.0, around.sin());
+                    for r in [0.0, 2.5, 5.0, 7.5, 10.0] {
+                        let p = apex + (dir * angle.cos() + off_axis * angle.sin()) * r;
+                        assert!(p.distance(s.center) <= s.radius * (1.0 + 1e-4), "{outer_deg} deg: {p} outside");
+                    }
+                }
+            }
+        }
+        let narrow = spot_bounding_sphere(apex, dir, 25.0, 35f32.to_radians());
+        assert!(narrow.radius < 16.0, "a 35 degree cone needs far less than its range: {}", narrow.radius);
+    }
+
+    #[test]
+    fn objects_get_their_brightest_lights_first() {
+        let object = Aabb { min: Vec3::splat(-1.0), max: Vec3::splat(1.0) };
+        let far_object = Aabb { min: Vec3::splat(50.0), max: Vec3::splat(51.0) };
+        let mut lights: Vec<CullLight> =
+            (0..12).map(|i| light(Vec3::new(2.0 + i as f32, 0.0, 0.0), 20.0, i == 5)).collect();
+        lights[7].peak_intensity = 1000.0;
+        let lists = lights_per_object(&[object, far_object], &lights);
+        // Light 7 is brightest at the object; 5 is shadowed, so it leads; then by distance.
+        assert_eq!(lists.list(0), &[5, 7, 0, 1, 2, 3, 4, 6]);
+        assert_eq!(lists.records[0].shadowed, 1);
+        assert!(lists.list(1).is_empty(), "no light reaches the far object");
+    }
+}
