@@ -11,6 +11,8 @@ pub struct GpuContext {
     pub has_timestamps: bool,
     /// The scene depth target's format: depth with stencil.
     pub depth_format: wgpu::TextureFormat,
+    /// Samples per pixel the forward path's HDR and depth targets can have (MSAA).
+    pub msaa_sample_counts: Vec<u32>,
     /// Validation errors the device reported outside an error scope, oldest first.
     errors: Arc<Mutex<Vec<String>>>,
 }
@@ -50,6 +52,19 @@ impl GpuContext {
         } else {
             wgpu::TextureFormat::Depth24PlusStencil8
         };
+        // WebGPU guarantees 1 and 4 samples; 2 and 8 need the adapter's format features.
+        let format_features = wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
+        let msaa_sample_counts: Vec<u32> = if adapter.features().contains(format_features) {
+            required_features |= format_features;
+            let hdr = adapter.get_texture_format_features(crate::passes::forward::HDR_FORMAT).flags;
+            let depth = adapter.get_texture_format_features(depth_format).flags;
+            [1, 2, 4, 8]
+                .into_iter()
+                .filter(|&n| n == 1 || (hdr.sample_count_supported(n) && depth.sample_count_supported(n)))
+                .collect()
+        } else {
+            vec![1, 4]
+        };
         let adapter_limits = adapter.limits();
         let required_limits = wgpu::Limits {
             max_texture_dimension_2d: adapter_limits.max_texture_dimension_2d,
@@ -78,7 +93,7 @@ impl GpuContext {
             device_type = ?adapter_info.device_type,
             "GPU ready"
         );
-        Ok(GpuContext { device, queue, adapter_info, has_timestamps, depth_format, errors })
+        Ok(GpuContext { device, queue, adapter_info, has_timestamps, depth_format, msaa_sample_counts, errors })
     }
 
     /// Returns the first GPU error reported since the last call, if any.

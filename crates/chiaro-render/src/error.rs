@@ -15,4 +15,6 @@ pub enum RenderError {
     Gpu(String),
     #[error("frame graph: {0}")]
     FrameGraph(String),
+    #[error("{0}")]
+    Unsupported(String),
 }

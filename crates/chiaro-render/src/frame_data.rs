@@ -1,28 +1,65 @@
 //! Group 0 of every scene pass: the frame uniform, the light buffer and its light lists,
 //! the objects, the shadow uniform, the two atlases with their comparison sampler, and
 //! the cookie arrays with their samplers, the lightmap array (sampled with the clamping
-//! cookie sampler: one mip, bilinear), the light probes and the shadow mask array.
+//! cookie sampler: one mip, bilinear), the light probes and the shadow mask array, and
+//! the culled light lists: every light in a storage buffer, the list records and the
+//! lists' light indices.
 //! A frame plan flows in and is uploaded; a bind group over this frame's buffers and
 //! atlases flows out.
 
-use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuShadows};
+use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuListRecord, GpuShadows};
 use crate::graph::{Resource, Targets};
 use crate::plan::FramePlan;
 use crate::scene::GpuScene;
-use crate::shader_constants::MAX_FRAME_LIGHTS;
+use crate::shader_constants::{MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS};
 use chiaro_scene::{Scene, Settings};
 
 pub struct FrameData {
     pub layout: wgpu::BindGroupLayout,
     frame: wgpu::Buffer,
-    /// `MAX_FRAME_LIGHTS` lights, and as many list entries.
+    /// `MAX_UNIFORM_LIGHTS` lights, and `MAX_FRAME_LIGHTS` list entries.
     lights: wgpu::Buffer,
     light_list: wgpu::Buffer,
     shadows: wgpu::Buffer,
+    /// Every light of the frame, and the culled lists; grown when a frame needs more.
+    all_lights: GrowingBuffer,
+    list_records: GrowingBuffer,
+    list_indices: GrowingBuffer,
     shadow_sampler: wgpu::Sampler,
     /// Directional cookies tile; spot cookies stop at the cone's edge.
     cookie_repeat: wgpu::Sampler,
     cookie_clamp: wgpu::Sampler,
+}
+
+/// A storage buffer that is made again, twice as large, when a frame needs more.
+struct GrowingBuffer {
+    label: &'static str,
+    buffer: wgpu::Buffer,
+}
+
+impl GrowingBuffer {
+    fn new(device: &wgpu::Device, label: &'static str, size: u64) -> GrowingBuffer {
+        GrowingBuffer { label, buffer: Self::make(device, label, size) }
+    }
+
+    fn make(device: &wgpu::Device, label: &'static str, size: u64) -> wgpu::Buffer {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
+    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) {
+        let needed = bytes.len() as u64;
+        if needed > self.buffer.size() {
+            self.buffer = Self::make(device, self.label, needed.next_power_of_two());
+        }
+        if !bytes.is_empty() {
+            queue.write_buffer(&self.buffer, 0, bytes);
+        }
+    }
 }
 
 fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
@@ -84,6 +121,9 @@ impl FrameData {
                 entry(12, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
                 entry(13, S::FRAGMENT, buffer(storage)),
                 entry(14, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
+                entry(15, S::FRAGMENT, buffer(storage)),
+                entry(16, S::FRAGMENT, buffer(storage)),
+                entry(17, S::FRAGMENT, buffer(storage)),
             ],
         });
         let uniform_buffer = |label, size| {
@@ -97,12 +137,15 @@ impl FrameData {
         FrameData {
             layout,
             frame: uniform_buffer("frame uniform", size_of::<GpuFrame>() as u64),
-            lights: uniform_buffer("frame lights", (size_of::<GpuLight>() * MAX_FRAME_LIGHTS as usize) as u64),
+            lights: uniform_buffer("frame lights", (size_of::<GpuLight>() * MAX_UNIFORM_LIGHTS as usize) as u64),
             light_list: uniform_buffer(
                 "frame light lists",
                 (size_of::<GpuLightListEntry>() * MAX_FRAME_LIGHTS as usize) as u64,
             ),
             shadows: uniform_buffer("shadows uniform", size_of::<GpuShadows>() as u64),
+            all_lights: GrowingBuffer::new(device, "all frame lights", size_of::<GpuLight>() as u64 * 64),
+            list_records: GrowingBuffer::new(device, "light list records", size_of::<GpuListRecord>() as u64 * 64),
+            list_indices: GrowingBuffer::new(device, "light list indices", 4 * 1024),
             shadow_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("shadow comparison sampler"),
                 mag_filter: wgpu::FilterMode::Linear,
@@ -115,12 +158,33 @@ impl FrameData {
         }
     }
 
-    pub fn upload(&self, queue: &wgpu::Queue, plan: &FramePlan, scene: &Scene, settings: &Settings) {
+    pub fn upload(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        plan: &FramePlan,
+        scene: &Scene,
+        settings: &Settings,
+    ) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&plan.gpu_frame(settings)));
-        let lights = plan.gpu_lights(scene);
+        let mut lights = plan.gpu_all_lights(scene);
+        let culled = &plan.culled.lists;
+        if !culled.records.is_empty() {
+            let records: Vec<GpuListRecord> = culled
+                .records
+                .iter()
+                .map(|r| GpuListRecord { offset: r.offset, shadowed: r.shadowed, count: r.count, _pad: 0 })
+                .collect();
+            if plan.lights_in_storage() {
+                self.all_lights.write(device, queue, bytemuck::cast_slice(&lights));
+            }
+            self.list_records.write(device, queue, bytemuck::cast_slice(&records));
+            self.list_indices.write(device, queue, bytemuck::cast_slice(&culled.indices));
+        }
+        lights.truncate(MAX_UNIFORM_LIGHTS as usize);
         let list: Vec<GpuLightListEntry> =
             plan.lists.concatenated().into_iter().map(|light| GpuLightListEntry { light, _pad: [0; 3] }).collect();
-        debug_assert!(lights.len() <= MAX_FRAME_LIGHTS as usize, "the plan keeps to the light limits");
+        debug_assert!(list.len() <= MAX_FRAME_LIGHTS as usize, "the plan keeps to the light limits");
         if !lights.is_empty() {
             queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
             queue.write_buffer(&self.light_list, 0, bytemuck::cast_slice(&list));
@@ -155,6 +219,9 @@ impl FrameData {
                     binding: 14,
                     resource: wgpu::BindingResource::TextureView(&scene.baked.shadow_masks),
                 },
+                wgpu::BindGroupEntry { binding: 15, resource: self.all_lights.buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 16, resource: self.list_records.buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 17, resource: self.list_indices.buffer.as_entire_binding() },
             ],
         })
     }

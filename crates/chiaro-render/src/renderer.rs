@@ -12,6 +12,7 @@ use crate::output::{Aovs, AtlasImage, FrameOptions, FrameOutput, FrameTimings, G
 use crate::passes::aov::{AOV_FORMAT, AovPass};
 use crate::passes::debug_view::DebugViewPass;
 use crate::passes::deferred_lights::DeferredLightsPass;
+use crate::passes::depth_prepass::DepthPrepassPass;
 use crate::passes::forward::{ForwardPass, HDR_FORMAT};
 use crate::passes::gbuffer::{
     GBUFFER_ALBEDO_METALLIC_FORMAT, GBUFFER_PACKED_FORMAT, GBufferPass, LIGHT_BUFFER_LDR_FORMAT,
@@ -73,6 +74,7 @@ impl Renderer {
         };
         let passes: Vec<Box<dyn FramePass>> = vec![
             Box::new(ShadowPass::new(&ctx, &material_layout)),
+            Box::new(DepthPrepassPass::new(device, scene_layout(), ctx.depth_format)),
             Box::new(ForwardPass::new(device, scene_layout(), ctx.depth_format)),
             Box::new(AovPass::new(device, &scene_layout(), ctx.depth_format)),
             Box::new(TonemapPass::new(device)),
@@ -116,8 +118,12 @@ impl Renderer {
         settings: &Settings,
         options: FrameOptions,
     ) -> FramePlan {
-        let request =
-            PlanRequest { aovs: options.aovs, debug_cascades: options.debug_cascades, debug_view: options.debug_view };
+        let request = PlanRequest {
+            aovs: options.aovs,
+            debug_cascades: options.debug_cascades,
+            debug_view: options.debug_view,
+            shadow_aovs: options.shadow_aovs,
+        };
         FramePlan::new(scene, &prepared.gpu.draws, view, settings, &mut self.atlas_tiles, request)
     }
 
@@ -203,13 +209,23 @@ impl Renderer {
                     height: size.max(1),
                     format: SHADOW_FORMAT,
                     usage: attach | sampled,
+                    samples: 1,
                 };
                 self.targets.ensure(device, resource, desc);
             }
         }
         for &resource in written {
+            let mut samples = 1;
             let (format, usage) = match resource {
                 Resource::Depth => (self.ctx.depth_format, wgpu::TextureUsages::RENDER_ATTACHMENT),
+                Resource::DepthMultisampled => {
+                    samples = plan.msaa;
+                    (self.ctx.depth_format, wgpu::TextureUsages::RENDER_ATTACHMENT)
+                }
+                Resource::HdrMultisampled => {
+                    samples = plan.msaa;
+                    (HDR_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT)
+                }
                 Resource::Hdr => (HDR_FORMAT, attach | sampled),
                 Resource::GBufferAlbedoMetallic => (GBUFFER_ALBEDO_METALLIC_FORMAT, attach | sampled),
                 Resource::GBufferPacked => (GBUFFER_PACKED_FORMAT, attach | sampled),
@@ -219,7 +235,7 @@ impl Renderer {
                 Resource::Output if !external_output => (OUTPUT_FORMAT, attach),
                 _ => continue,
             };
-            self.targets.ensure(device, resource, TargetDesc { width, height, format, usage });
+            self.targets.ensure(device, resource, TargetDesc { width, height, format, usage, samples });
         }
     }
 
@@ -246,6 +262,15 @@ impl Renderer {
         self.next_frame += 1;
         let plan = self.plan(scene, prepared, view, settings, options);
         tracing::debug!("{plan}");
+        if !self.ctx.msaa_sample_counts.contains(&plan.msaa) {
+            let counts: Vec<String> = self.ctx.msaa_sample_counts.iter().map(u32::to_string).collect();
+            return Err(RenderError::Unsupported(format!(
+                "render.msaa = {}: this device ({}) supports {} samples per pixel",
+                plan.msaa,
+                self.ctx.adapter_info.name,
+                counts.join(", ")
+            )));
+        }
 
         let mut order = Vec::with_capacity(plan.passes.len() + 1);
         for &id in &plan.passes {
@@ -260,7 +285,7 @@ impl Renderer {
         let output_format = output.map_or(OUTPUT_FORMAT, |(_, format)| format);
 
         let (device, queue) = (&self.ctx.device, &self.ctx.queue);
-        self.frame_data.upload(queue, &plan, scene, settings);
+        self.frame_data.upload(device, queue, &plan, scene, settings);
         let frame_bind_group = self.frame_data.bind_group(device, &prepared.gpu, &self.targets);
         let prepare = PrepareContext { device, queue, plan: &plan, scene: &prepared.gpu, source: scene, output_format };
         for &id in &plan.passes {

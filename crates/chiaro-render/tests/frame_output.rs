@@ -75,7 +75,7 @@ fn frames_nobody_waits_for_report_their_gpu_times_later() {
         frames.push(out.timings.frame);
         planned = out.plan.passes.iter().map(|p| p.name()).collect::<Vec<_>>();
     }
-    assert_eq!(planned, ["shadows", "gbuffer", "deferred lights", "tonemap"]);
+    assert_eq!(planned, ["shadows", "depth prepass", "forward", "tonemap"]);
     assert_eq!(frames, vec![0, 1, 2, 3]);
     let times = renderer.gpu_times(true).unwrap();
     let numbers: Vec<u64> = times.iter().map(|t| t.frame).collect();

@@ -75,10 +75,10 @@ fn the_demo_plans_lists_with_shadowed_lights_apart() {
     assert_eq!((frame.directional_light_count, frame.shadowed_other_light_count, frame.other_light_count), (1, 6, 8));
     // Sixteen point/spot tiles and four cascades: every tile has a light and a viewport.
     assert_eq!(plan.shadows.tiles.len(), 4 + 16);
-    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::GBuffer, PassId::DeferredLights, PassId::Tonemap]);
+    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::DepthPrepass, PassId::Forward, PassId::Tonemap]);
     let printed = plan.to_string();
     assert!(
-        printed.contains("9 lights") && printed.contains("passes: shadows, gbuffer, deferred lights, tonemap"),
+        printed.contains("9 lights") && printed.contains("passes: shadows, depth prepass, forward, tonemap"),
         "{printed}"
     );
 }
@@ -160,16 +160,13 @@ fn each_tile_draws_only_the_casters_that_reach_it() {
     }
     assert_eq!(plan.shadows.tiles[0].casters, vec![0, 1], "+X face");
     assert_eq!(plan.shadows.tiles[1].casters, vec![0], "-X face");
-    assert_eq!(
-        plan.passes,
-        vec![PassId::Shadows, PassId::GBuffer, PassId::DeferredLights, PassId::Aov, PassId::Tonemap]
-    );
+    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::DepthPrepass, PassId::Forward, PassId::Aov, PassId::Tonemap]);
     // With shadows off, no tile and no shadow pass.
     let mut unshadowed = scene.clone();
     unshadowed.lights[0].shadow.mode = ShadowMode::None;
     let plan = first_plan(&unshadowed, PlanRequest::default());
     assert!(plan.shadows.tiles.is_empty());
-    assert_eq!(plan.passes, vec![PassId::GBuffer, PassId::DeferredLights, PassId::Tonemap]);
+    assert_eq!(plan.passes, vec![PassId::DepthPrepass, PassId::Forward, PassId::Tonemap]);
 }
 
 #[test]
@@ -185,9 +182,12 @@ fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
     let mut settings = unlit_settings();
     settings.render.path = RenderPath::Forward;
     let forward = plan_with(&settings, PlanRequest::default());
-    assert_eq!(forward.passes, vec![PassId::Shadows, PassId::Forward, PassId::Tonemap]);
+    assert_eq!(forward.passes, vec![PassId::Shadows, PassId::DepthPrepass, PassId::Forward, PassId::Tonemap]);
     assert!(forward.volumes.is_empty());
-    assert_eq!(forward.shaded_other_lights(), 64, "the forward path's limit");
+    assert!(forward.shaded_other_lights() > 64, "clustered culling shades every visible light");
+    settings.lights.culling = chiaro_scene::LightCulling::None;
+    let unculled = plan_with(&settings, PlanRequest::default());
+    assert_eq!(unculled.shaded_other_lights(), 64, "the limit without culling");
 
     settings.render.path = RenderPath::Deferred;
     let deferred = plan_with(&settings, PlanRequest::default());

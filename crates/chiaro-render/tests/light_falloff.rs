@@ -149,9 +149,14 @@ fn lights_over_the_limit_are_dropped_by_importance() {
     let scene = floor_scene(12.0, EYE, lights);
     let mut forward = unlit_settings();
     forward.render.path = chiaro_scene::RenderPath::Forward;
+    forward.lights.culling = chiaro_scene::LightCulling::None;
     let frame = render(&mut renderer(), &scene, &forward, 64);
     assert_eq!(frame.other_lights_shaded(), 64);
     assert_eq!(frame.other_lights_dropped(), 6);
+    // Culled lists shade them all.
+    forward.lights.culling = chiaro_scene::LightCulling::Clustered;
+    let frame = render(&mut renderer(), &scene, &forward, 64);
+    assert_eq!((frame.other_lights_shaded(), frame.other_lights_dropped()), (70, 0));
     // The deferred path shades them all, or as many as the setting says.
     let mut deferred = unlit_settings();
     deferred.render.path = chiaro_scene::RenderPath::Deferred;
@@ -172,7 +177,7 @@ fn every_pass_that_ran_reports_its_own_gpu_time() {
     let options = chiaro_render::FrameOptions { aovs: true, readback: true, ..Default::default() };
     let frame = renderer.render(&scene, &prepared, &view, &chiaro_scene::Settings::default(), options).unwrap();
     let passes: Vec<&str> = frame.timings.gpu_pass_ms.iter().map(|(p, _)| *p).collect();
-    assert_eq!(passes, ["shadows", "gbuffer", "deferred lights", "aov", "tonemap"]);
+    assert_eq!(passes, ["shadows", "depth prepass", "forward", "aov", "tonemap"]);
     for (pass, ms) in &frame.timings.gpu_pass_ms {
         assert!(*ms > 0.0 && ms.is_finite(), "{pass} pass timed at {ms} ms");
     }

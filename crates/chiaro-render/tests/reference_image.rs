@@ -23,6 +23,8 @@ fn render_rgb(scene: &Scene) -> Vec<u8> {
 fn render_path(scene: &Scene, path: RenderPath) -> Vec<u8> {
     let mut settings = Settings::default();
     settings.render.path = path;
+    // The references were rendered with one sample per pixel.
+    settings.render.msaa = 1;
     let mut renderer = renderer();
     let view = View::from_camera(scene, 0, SIZE, SIZE);
     let prepared = renderer.prepare(scene).unwrap();

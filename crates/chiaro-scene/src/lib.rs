@@ -17,5 +17,5 @@ pub mod vertex_gen;
 
 pub use error::SceneError;
 pub use gltf_import::{load_gltf, load_gltf_bytes};
-pub use settings::{CascadeBlend, LightBuffer, MixedMode, RenderPath, Settings};
+pub use settings::{CascadeBlend, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
 pub use types::*;

@@ -106,22 +106,26 @@ pub struct RenderSettings {
     pub ambient: [f32; 3],
     /// Linear RGB radiance behind the scene.
     pub background: [f32; 3],
-    /// "deferred" (a G-buffer, then one light volume per light; the default, since it
-    /// renders the shared benchmark scene 4x faster than forward on the software device,
-    /// see the README) or "forward" (every light in one pass per draw).
+    /// "forward" (a depth prepass, then each draw lit by its culled lights, with MSAA; the
+    /// default, since with 4x MSAA it renders the shared benchmark scene faster than the
+    /// deferred path does with none, see the README) or "deferred" (a G-buffer, then one
+    /// light volume per light; no MSAA).
     pub path: RenderPath,
     /// The deferred path's light accumulation: "hdr" (half floats, the default) or
     /// "ldr-exp2" (the seeds' legacy 8-bit buffer storing exp2(-light)), which bands dark
     /// tones and clips bright ones.
     pub light_buffer: LightBuffer,
+    /// Samples per pixel of the forward path's colour and depth (1, 2, 4 or 8), resolved
+    /// before tone mapping. The deferred path, and frames that report AOVs, render one.
+    pub msaa: u32,
 }
 
 /// How a frame is shaded.
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, Hash)]
 #[serde(rename_all = "lowercase")]
 pub enum RenderPath {
-    Forward,
     #[default]
+    Forward,
     Deferred,
 }
 
@@ -143,8 +147,9 @@ impl Default for RenderSettings {
             exposure_ev100: 0.0,
             ambient: [0.02, 0.02, 0.025],
             background: [0.0, 0.0, 0.0],
-            path: RenderPath::Deferred,
+            path: RenderPath::Forward,
             light_buffer: LightBuffer::Hdr,
+            msaa: 4,
         }
     }
 }
@@ -152,21 +157,39 @@ impl Default for RenderSettings {
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct LightSettings {
-    /// Most point and spot lights shaded per frame: 1 to 64 on the forward path, to 4096
-    /// on the deferred path (where transparent surfaces see the 64 most important); unset,
-    /// the path's most. The most important visible ones are kept; a lower cap is faster
+    /// Most point and spot lights shaded per frame: 1 to 4096, or to 64 on the forward
+    /// path with `culling = "none"` (where transparent surfaces of the deferred path see
+    /// the 64 most important); unset, the most. The most important visible ones are kept; a lower cap is faster
     /// but drops distant lights.
     pub max_other_lights: Option<u32>,
     /// Illuminance (lux, 1e-6 to 1e6) at which a light with no range in its file is cut
     /// off: `range = sqrt(intensity / threshold)`. Too high cuts lights off visibly early;
     /// too low gives huge volumes that touch everything and cost shading time.
     pub range_threshold_lux: f32,
+    /// Which point and spot lights each forward-shaded pixel loops over: "clustered" (a
+    /// froxel grid's lists, the default), "per-object" (each object's eight most
+    /// important lights) or "none" (every light, up to 64).
+    pub culling: LightCulling,
 }
 
 impl Default for LightSettings {
     fn default() -> Self {
-        LightSettings { max_other_lights: None, range_threshold_lux: 0.01 }
+        LightSettings { max_other_lights: None, range_threshold_lux: 0.01, culling: LightCulling::Clustered }
     }
+}
+
+/// How the forward pass finds the point and spot lights that reach a pixel.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, Hash)]
+#[serde(rename_all = "kebab-case")]
+pub enum LightCulling {
+    /// Screen tiles x exponential depth slices, each with the list of lights whose range
+    /// reaches it, built every frame.
+    #[default]
+    Clustered,
+    /// Up to `MAX_LIGHTS_PER_OBJECT` lights per object, the most important first.
+    PerObject,
+    /// Every shaded light at every pixel (up to 64).
+    None,
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -349,9 +372,9 @@ impl Settings {
 
     /// The most point and spot lights the render path can shade in a frame.
     pub fn most_other_lights(&self) -> u32 {
-        (match self.render.path {
-            RenderPath::Forward => chiaro_math::light::MAX_OTHER_LIGHTS,
-            RenderPath::Deferred => chiaro_math::light::MAX_DEFERRED_OTHER_LIGHTS,
+        (match (self.render.path, self.lights.culling) {
+            (RenderPath::Forward, LightCulling::None) => chiaro_math::light::MAX_OTHER_LIGHTS,
+            _ => chiaro_math::light::MAX_DEFERRED_OTHER_LIGHTS,
         }) as u32
     }
 
@@ -371,6 +394,9 @@ impl Settings {
             for v in values {
                 check_range(key, v, 0.0, 1.0e6)?;
             }
+        }
+        if ![1, 2, 4, 8].contains(&r.msaa) {
+            return Err(format!("render.msaa: {} is not one of 1, 2, 4 or 8", r.msaa));
         }
         let l = &self.lights;
         if let Some(most) = l.max_other_lights {
@@ -470,10 +496,19 @@ mod tests {
     fn out_of_range_values_are_named() {
         let e = Settings::parse("[lights]\nmax_other_lights = 4097\n").unwrap_err();
         assert!(e.starts_with("lights.max_other_lights"), "{e}");
-        // The forward path shades at most 64.
-        let e = Settings::parse("[render]\npath = \"forward\"\n[lights]\nmax_other_lights = 65\n").unwrap_err();
+        // The forward path without culling shades at most 64; culled lists up to 4096.
+        let no_culling = "[render]\npath = \"forward\"\n[lights]\nculling = \"none\"\nmax_other_lights = 65\n";
+        let e = Settings::parse(no_culling).unwrap_err();
         assert!(e.starts_with("lights.max_other_lights"), "{e}");
+        let clustered = "[render]\npath = \"forward\"\n[lights]\nmax_other_lights = 4096\n";
+        assert!(Settings::parse(clustered).is_ok(), "clustered forward shades up to 4096");
         assert!(Settings::parse("[lights]\nmax_other_lights = 65\n").is_ok(), "deferred shades up to 4096");
+        for bad in ["[render]\nmsaa = 3\n", "[render]\nmsaa = 16\n", "[render]\nmsaa = 0\n"] {
+            let e = Settings::parse(bad).unwrap_err();
+            assert!(e.starts_with("render.msaa"), "{e}");
+        }
+        let e = Settings::parse("[lights]\nculling = \"tiled\"\n").unwrap_err();
+        assert!(e.starts_with("lights.culling"), "{e}");
         let e = Settings::parse("[render]\nwidth = 0\n").unwrap_err();
         assert!(e.starts_with("render.width"), "{e}");
         let e = Settings::parse("[lights]\nrange_threshold_lux = 0.0\n").unwrap_err();

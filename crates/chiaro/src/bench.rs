@@ -38,12 +38,62 @@ pub struct BenchArgs {
     pub path: PathArgs,
     #[command(flatten)]
     pub bake: BakeUseArgs,
+    /// Print one JSON object (frame_ms, gpu_ms, passes, lights_shaded, width, height,
+    /// msaa, ...) instead of the table.
+    #[arg(long)]
+    pub json: bool,
 }
 
 struct Stats {
     median: f64,
     min: f64,
     max: f64,
+}
+
+/// The `--json` object. Medians over the timed frames; `passes` by the names the table
+/// uses; GPU figures are null on devices without timestamp queries.
+fn json_report(
+    args: &BenchArgs,
+    settings: &chiaro_scene::Settings,
+    frames: &[chiaro_render::FrameOutput],
+    intervals: &[f64],
+    gpu: &[GpuFrameTimes],
+    device: &str,
+) -> serde_json::Value {
+    let first = &frames[0];
+    let median = |v: Vec<f64>| stats(v).median;
+    let passes: serde_json::Map<String, serde_json::Value> = gpu
+        .first()
+        .map(|g| {
+            g.passes
+                .iter()
+                .enumerate()
+                .map(|(i, (pass, _))| (pass.to_string(), median(gpu.iter().map(|f| f.passes[i].1).collect()).into()))
+                .collect()
+        })
+        .unwrap_or_default();
+    serde_json::json!({
+        "scene": args.scene.as_ref().map(|p| p.display().to_string()),
+        "device": device,
+        "path": format!("{:?}", first.plan.path).to_lowercase(),
+        "culling": match settings.lights.culling {
+            chiaro_scene::LightCulling::Clustered => "clustered",
+            chiaro_scene::LightCulling::PerObject => "per-object",
+            chiaro_scene::LightCulling::None => "none",
+        },
+        "width": args.width,
+        "height": args.height,
+        "msaa": first.plan.msaa,
+        "frames": args.frames,
+        "frame_ms": median(intervals.to_vec()),
+        "gpu_ms": (!gpu.is_empty()).then(|| median(gpu.iter().map(GpuFrameTimes::total_ms).collect())),
+        "cpu_prepare_ms": median(frames.iter().map(|f| f.timings.cpu_prepare_ms).collect()),
+        "passes": passes,
+        "lights_shaded": first.plan.lights.len(),
+        "other_lights_shaded": first.other_lights_shaded(),
+        "other_lights_dropped": first.other_lights_dropped(),
+        "shadow_tiles_rendered": frames.iter().map(|f| f.shadow_tiles).collect::<Vec<_>>(),
+    })
 }
 
 fn stats(mut v: Vec<f64>) -> Stats {
@@ -81,12 +131,19 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let first = frames[0].timings.frame;
     let gpu: Vec<GpuFrameTimes> = renderer.gpu_times(true)?.into_iter().filter(|t| t.frame >= first).collect();
     let info = &renderer.ctx.adapter_info;
+    if args.json {
+        println!("{}", json_report(&args, &settings, &frames, &intervals, &gpu, &info.name));
+        return Ok(());
+    }
     let name = args
         .scene
         .as_ref()
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| format!("demo ({} other lights)", args.demo.demo_lights));
-    println!("scene: {name}; {:?} path", settings.render.path);
+    println!(
+        "scene: {name}; {:?} path, {:?} light culling, {}x MSAA",
+        frames[0].plan.path, settings.lights.culling, frames[0].plan.msaa
+    );
     println!(
         "device: {} ({:?}, {:?}); {}x{}; {} frames after {} warm-up; {} triangles; {} point/spot lights shaded",
         info.name,

@@ -1,15 +1,26 @@
-//! `--path forward | deferred`, shared by render, bench and compare.
+//! How a frame is shaded, shared by render, bench and compare: `--path forward |
+//! deferred`, `--msaa N` and `--culling clustered | per-object | none`.
 
 use anyhow::{Result, anyhow};
-use chiaro_scene::{RenderPath, Settings};
+use chiaro_scene::{LightCulling, RenderPath, Settings};
 use clap::{Args, ValueEnum};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PathChoice {
-    /// Every light in one pass per draw (up to 64 point and spot lights).
+    /// Every draw lit in one pass by its culled lights (up to 4096 point and spot lights).
     Forward,
     /// A G-buffer, then one light volume per light (up to 4096 point and spot lights).
     Deferred,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CullingChoice {
+    /// A froxel grid of light lists.
+    Clustered,
+    /// Each object's eight most important lights.
+    PerObject,
+    /// Every light at every pixel (up to 64).
+    None,
 }
 
 #[derive(Args, Clone, Debug, Default)]
@@ -17,17 +28,40 @@ pub struct PathArgs {
     /// Render path (overrides render.path).
     #[arg(long, value_enum)]
     pub path: Option<PathChoice>,
+    /// Samples per pixel on the forward path: 1, 2, 4 or 8 (overrides render.msaa).
+    #[arg(long)]
+    pub msaa: Option<u32>,
+    /// How the forward pass finds its point and spot lights (overrides lights.culling).
+    #[arg(long, value_enum)]
+    pub culling: Option<CullingChoice>,
 }
 
 impl PathArgs {
-    /// Applies the override and validates the result (a light cap may not suit the path).
+    /// Applies the overrides and validates the result, naming the flags (a light cap may
+    /// not suit the path or the culling).
     pub fn apply(&self, settings: &mut Settings) -> Result<()> {
+        let mut flags = Vec::new();
         if let Some(path) = self.path {
             settings.render.path = match path {
                 PathChoice::Forward => RenderPath::Forward,
                 PathChoice::Deferred => RenderPath::Deferred,
             };
-            settings.validate().map_err(|e| anyhow!("--path: {e}"))?;
+            flags.push("--path");
+        }
+        if let Some(msaa) = self.msaa {
+            settings.render.msaa = msaa;
+            flags.push("--msaa");
+        }
+        if let Some(culling) = self.culling {
+            settings.lights.culling = match culling {
+                CullingChoice::Clustered => LightCulling::Clustered,
+                CullingChoice::PerObject => LightCulling::PerObject,
+                CullingChoice::None => LightCulling::None,
+            };
+            flags.push("--culling");
+        }
+        if !flags.is_empty() {
+            settings.validate().map_err(|e| anyhow!("{}: {e}", flags.join(", ")))?;
         }
         Ok(())
     }

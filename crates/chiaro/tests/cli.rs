@@ -252,8 +252,8 @@ fn bench_prints_a_table() {
         "frame (back to back)",
         "gpu frame (timestamps)",
         "gpu shadows pass",
-        "gpu gbuffer pass",
-        "gpu deferred lights pass",
+        "gpu depth prepass pass",
+        "gpu forward pass",
         "gpu tonemap pass",
     ] {
         let line = run
@@ -265,6 +265,54 @@ fn bench_prints_a_table() {
         assert!(median > 0.0, "{line}");
     }
     assert!(run.stdout.contains("cpu prepare"), "{}", run.stdout);
+}
+
+#[test]
+fn bench_json_is_one_object_with_the_named_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["bench", "--width", "64", "--height", "48", "--frames", "3", "--warmup", "1", "--demo-lights", "6"];
+    let run = chiaro(&[&args[..], &["--json", "--msaa", "4"]].concat(), &[], dir.path());
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let report: serde_json::Value =
+        serde_json::from_str(run.stdout.trim()).unwrap_or_else(|e| panic!("{e}: {}", run.stdout));
+    assert_eq!((report["width"].as_u64(), report["height"].as_u64()), (Some(64), Some(48)));
+    assert_eq!(report["msaa"].as_u64(), Some(4));
+    // The demo's sun and its six point and spot lights.
+    assert_eq!(report["lights_shaded"].as_u64(), Some(7));
+    for key in ["frame_ms", "gpu_ms"] {
+        assert!(report[key].as_f64().is_some_and(|ms| ms > 0.0), "{key}: {report}");
+    }
+    let passes = report["passes"].as_object().expect("passes");
+    for pass in ["shadows", "depth prepass", "forward", "tonemap"] {
+        assert!(passes[pass].as_f64().is_some_and(|ms| ms > 0.0), "{pass}: {report}");
+    }
+    // The deferred path has one sample per pixel, and says so.
+    let run = chiaro(&[&args[..], &["--json", "--path", "deferred"]].concat(), &[], dir.path());
+    let report: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert_eq!(report["msaa"].as_u64(), Some(1));
+    assert!(report["passes"]["gbuffer"].as_f64().is_some(), "{report}");
+}
+
+#[test]
+fn msaa_and_culling_flags_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, words) in [
+        (&["render", "--msaa", "3", "-o", "out.png"][..], &["--msaa", "render.msaa", "3"][..]),
+        (&["render", "--culling", "none", "--demo-lights", "100", "-o", "out.png"][..], &[][..]),
+    ] {
+        let run = chiaro(args, &[], dir.path());
+        if words.is_empty() {
+            // 100 lights without culling: the 64 most important are shaded, with a warning.
+            assert_eq!(run.code, 0, "{}", run.stderr);
+            assert!(run.stderr.contains("over the limit of 64"), "{}", run.stderr);
+        } else {
+            assert_ne!(run.code, 0);
+            for w in words {
+                assert!(run.stderr.contains(w), "no '{w}' in: {}", run.stderr);
+            }
+            assert!(!dir.path().join("out.png").exists());
+        }
+    }
 }
 
 #[test]

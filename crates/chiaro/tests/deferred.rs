@@ -99,13 +99,14 @@ fn the_path_comes_from_the_flag_or_the_settings() {
     }
     assert!(!run.stdout.contains("gpu forward pass"), "the demo has nothing transparent: {}", run.stdout);
 
-    let settings = b"[render]\npath = \"deferred\"\nlight_buffer = \"ldr-exp2\"\n[lights]\nmax_other_lights = 1000\n";
+    let settings = b"[render]\npath = \"deferred\"\nlight_buffer = \"ldr-exp2\"\n[lights]\nmax_other_lights = 1000\nculling = \"none\"\n";
     let (_, run) = run_in(
         &[("settings.toml", settings)],
         &["bench", "--settings", "settings.toml", "--width", "48", "--height", "48", "--frames", "2"],
     );
     assert!(run.stdout.contains("gpu ldr decode pass"), "{}", run.stdout);
-    // The flag wins over the file, and a forward path cannot shade 1000 lights.
+    // The flag wins over the file, and a forward path without culling cannot shade 1000
+    // lights.
     expect_failure(
         &[("settings.toml", settings)],
         &["render", "--settings", "settings.toml", "--path", "forward", "-o", "out.png"],

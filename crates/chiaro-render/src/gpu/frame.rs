@@ -28,6 +28,12 @@ pub struct GpuFrame {
     pub height: u32,
     /// `MIXED_MODE_*`: how mixed lights' baked and realtime shadows combine.
     pub mixed_mode: u32,
+    /// Pixels per cluster tile, across and down (clustered light culling).
+    pub cluster_tile_width: u32,
+    pub cluster_tile_height: u32,
+    /// A pixel's depth slice is `floor(log2(view depth) * scale + bias)`.
+    pub cluster_slice_scale: f32,
+    pub cluster_slice_bias: f32,
     pub _pad: [u32; 2],
 }
 

@@ -59,6 +59,17 @@ pub struct GpuLightListEntry {
     pub _pad: [u32; 3],
 }
 
+/// One culled light list (a cluster's or an object's): where its indices into the frame's
+/// lights start, how many shadowed lights lead it, and its length.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct GpuListRecord {
+    pub offset: u32,
+    pub shadowed: u32,
+    pub count: u32,
+    pub _pad: u32,
+}
+
 /// The light the shadow AOV pass reports, at a dynamic offset.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]

@@ -10,7 +10,7 @@ mod shadow;
 mod vertex;
 
 pub use frame::{GpuFrame, GpuObject, GpuProbeGridHeader};
-pub use light::{GpuAovLight, GpuLight, GpuLightListEntry, GpuVolumeLight};
+pub use light::{GpuAovLight, GpuLight, GpuLightListEntry, GpuListRecord, GpuVolumeLight};
 pub use material::{GpuMaterial, GpuTextureTransform};
 pub use shadow::{GpuAtlas, GpuCascade, GpuCasterView, GpuShadowFade, GpuShadowTile, GpuShadows};
 pub use vertex::GpuVertex;
@@ -41,8 +41,9 @@ layouts! {
     GpuFrame {
         clip_from_world, view_from_world, world_from_view, view_from_clip, camera_position_ws, exposure_scale,
         ambient, debug_view, directional_light_count, shadowed_other_light_count, other_light_count, width, height,
-        mixed_mode,
+        mixed_mode, cluster_tile_width, cluster_tile_height, cluster_slice_scale, cluster_slice_bias,
     }
+    GpuListRecord { offset, shadowed, count }
     GpuObject { world_from_local, normal_from_local, flags, lightmap_layer }
     GpuProbeGridHeader { origin, lightmap_scale, spacing, counts }
     GpuLight {

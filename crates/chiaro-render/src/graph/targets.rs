@@ -15,6 +15,10 @@ pub enum Resource {
     Depth,
     /// Pre-exposed linear radiance.
     Hdr,
+    /// The forward path's multisampled depth and radiance (`FramePlan::msaa` samples);
+    /// the radiance resolves into `Hdr`.
+    DepthMultisampled,
+    HdrMultisampled,
     /// The deferred path's base colour and metallic.
     GBufferAlbedoMetallic,
     /// The deferred path's normals, view depth, roughness and flags.
@@ -46,6 +50,7 @@ pub struct TargetDesc {
     pub height: u32,
     pub format: wgpu::TextureFormat,
     pub usage: wgpu::TextureUsages,
+    pub samples: u32,
 }
 
 struct Target {
@@ -72,7 +77,7 @@ impl Targets {
             label: Some(&format!("{resource:?}")),
             size: wgpu::Extent3d { width: desc.width, height: desc.height, depth_or_array_layers: 1 },
             mip_level_count: 1,
-            sample_count: 1,
+            sample_count: desc.samples,
             dimension: wgpu::TextureDimension::D2,
             format: desc.format,
             usage: desc.usage,

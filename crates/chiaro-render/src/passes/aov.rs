@@ -20,7 +20,7 @@ impl AovPass {
         let desc = |label, fragment_entry, color_formats| MeshPipelinesDesc {
             label,
             module: module.clone(),
-            fragment_entry,
+            fragment_entry: Some(fragment_entry),
             layout: layout.clone(),
             color_formats,
             blends: false,
@@ -28,6 +28,7 @@ impl AovPass {
             depth_format,
             marks_stencil: false,
             constants: Vec::new(),
+            alpha_test_override: None,
         };
         AovPass {
             pipelines: MeshPipelines::new(desc("aov", "fs_aov", vec![AOV_FORMAT, AOV_FORMAT])),
@@ -49,8 +50,8 @@ impl FramePass for AovPass {
     }
 
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
-        self.pipelines.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws);
-        self.baked.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws);
+        self.pipelines.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
+        self.baked.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
     }
 
     fn record(&self, cx: &mut PassContext<'_>) {

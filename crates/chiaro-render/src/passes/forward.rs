@@ -1,36 +1,62 @@
-//! The forward pass: every visible draw lit by every light of the frame's lists, into the
-//! pre-exposed HDR target, over a cleared depth and stencil target. On the deferred path
-//! it draws only the transparent draws, over the lit G-buffer's image and depth.
+//! The forward pass: every visible draw lit by the point and spot lights its culling
+//! mode lists (clustered, per object, or all), into the pre-exposed HDR target, over the
+//! depth prepass's depth; with MSAA into multisampled targets resolved into the HDR
+//! target. On the deferred path it draws only the transparent draws, over the lit
+//! G-buffer's image and depth.
 
-use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
+use super::depth_prepass::forward_depth;
+use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, scene_depth};
 use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
+use crate::plan::features::ShaderFeatures;
 use crate::plan::{FramePlan, PassId};
+use crate::shader_constants::{LIGHT_CULLING_CLUSTERED, LIGHT_CULLING_NONE, LIGHT_CULLING_PER_OBJECT};
 use crate::shaders;
 use chiaro_math::tonemap::exposure_scale;
-use chiaro_scene::RenderPath;
+use chiaro_scene::{LightCulling, RenderPath};
+use std::collections::HashMap;
 
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 pub struct ForwardPass {
-    pipelines: MeshPipelines,
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    depth_format: wgpu::TextureFormat,
+    /// One set per shader specialisation, made when first used.
+    pipelines: HashMap<Variant, MeshPipelines>,
 }
 
 impl ForwardPass {
     pub fn new(device: &wgpu::Device, layout: wgpu::PipelineLayout, depth_format: wgpu::TextureFormat) -> ForwardPass {
         ForwardPass {
-            pipelines: MeshPipelines::new(MeshPipelinesDesc {
-                label: "forward",
-                module: shaders::module(device, "forward", shaders::FORWARD),
-                fragment_entry: "fs_main",
-                layout,
-                color_formats: vec![HDR_FORMAT],
-                blends: true,
-                depth_test: DepthTest::Nearest,
-                depth_format,
-                marks_stencil: false,
-                constants: Vec::new(),
-            }),
+            module: shaders::module(device, "forward", shaders::FORWARD),
+            layout,
+            depth_format,
+            pipelines: HashMap::new(),
         }
+    }
+
+    fn pipelines_for(&self, variant: Variant) -> MeshPipelines {
+        let mode = match variant.culling {
+            LightCulling::None => LIGHT_CULLING_NONE,
+            LightCulling::Clustered => LIGHT_CULLING_CLUSTERED,
+            LightCulling::PerObject => LIGHT_CULLING_PER_OBJECT,
+        };
+        MeshPipelines::new(MeshPipelinesDesc {
+            label: "forward",
+            module: self.module.clone(),
+            fragment_entry: Some("fs_main"),
+            layout: self.layout.clone(),
+            color_formats: vec![HDR_FORMAT],
+            blends: true,
+            depth_test: DepthTest::AfterPrepass,
+            depth_format: self.depth_format,
+            marks_stencil: false,
+            constants: [("7", mode as f64), ("8", if variant.lights_in_storage { 1.0 } else { 0.0 })]
+                .into_iter()
+                .chain(variant.features.constants())
+                .collect(),
+            alpha_test_override: Some("13"),
+        })
     }
 }
 
@@ -40,15 +66,25 @@ impl FramePass for ForwardPass {
     }
 
     fn io(&self, plan: &FramePlan) -> PassIo {
-        let mut reads = vec![Resource::DirectionalShadowAtlas, Resource::OtherShadowAtlas];
+        let mut reads = vec![Resource::DirectionalShadowAtlas, Resource::OtherShadowAtlas, forward_depth(plan)];
+        let mut writes = vec![Resource::Hdr, forward_depth(plan)];
         if plan.path == RenderPath::Deferred {
-            reads.extend([Resource::Hdr, Resource::Depth]);
+            reads.push(Resource::Hdr);
         }
-        PassIo { reads, writes: vec![Resource::Hdr, Resource::Depth] }
+        if plan.msaa > 1 {
+            writes.push(Resource::HdrMultisampled);
+        }
+        PassIo { reads, writes }
     }
 
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
-        self.pipelines.prepare(cx.device, &cx.scene.draws, forward_draws(cx.plan));
+        let key = Variant::of(cx.plan);
+        if !self.pipelines.contains_key(&key) {
+            let made = self.pipelines_for(key);
+            self.pipelines.insert(key, made);
+        }
+        let pipelines = self.pipelines.get_mut(&key).expect("made above");
+        pipelines.prepare(cx.device, &cx.scene.draws, forward_draws(cx.plan), cx.plan.msaa);
     }
 
     fn record(&self, cx: &mut PassContext<'_>) {
@@ -56,27 +92,57 @@ impl FramePass for ForwardPass {
             glam::Vec3::from(cx.settings.render.background) * exposure_scale(cx.settings.render.exposure_ev100);
         let clear = wgpu::Color { r: background.x as f64, g: background.y as f64, b: background.z as f64, a: 0.0 };
         let deferred = cx.plan.path == RenderPath::Deferred;
+        let hdr = cx.targets.view(Resource::Hdr);
         let color = if deferred {
-            Some(wgpu::RenderPassColorAttachment {
-                view: cx.targets.view(Resource::Hdr),
+            wgpu::RenderPassColorAttachment {
+                view: hdr,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-            })
+            }
+        } else if cx.plan.msaa > 1 {
+            // The samples are resolved (averaged) into the HDR target, before tone mapping.
+            wgpu::RenderPassColorAttachment {
+                view: cx.targets.view(Resource::HdrMultisampled),
+                depth_slice: None,
+                resolve_target: Some(hdr),
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Discard },
+            }
         } else {
-            cleared(cx.targets.view(Resource::Hdr), clear)
+            wgpu::RenderPassColorAttachment {
+                view: hdr,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+            }
         };
         let timestamp_writes = cx.timestamp_writes();
         let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("forward pass"),
-            color_attachments: &[color],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(Resource::Depth), deferred)),
+            color_attachments: &[Some(color)],
+            // Both paths draw over depth an earlier pass wrote: the prepass or the G-buffer.
+            depth_stencil_attachment: Some(scene_depth(cx.targets.view(forward_depth(cx.plan)), true)),
             timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
         });
         pass.set_bind_group(0, cx.frame_bind_group, &[]);
-        self.pipelines.draw(&mut pass, cx.scene, forward_draws(cx.plan));
+        self.pipelines[&Variant::of(cx.plan)].draw(&mut pass, cx.scene, forward_draws(cx.plan));
+    }
+}
+
+/// The shader's override constants for a frame: how it finds its lights, where it reads
+/// them, and the features it compiles in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct Variant {
+    culling: LightCulling,
+    lights_in_storage: bool,
+    features: ShaderFeatures,
+}
+
+impl Variant {
+    fn of(plan: &FramePlan) -> Variant {
+        Variant { culling: plan.culling, lights_in_storage: plan.lights_in_storage(), features: plan.features }
     }
 }
 

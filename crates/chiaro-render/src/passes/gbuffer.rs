@@ -37,7 +37,7 @@ impl GBufferPass {
             MeshPipelines::new(MeshPipelinesDesc {
                 label: "gbuffer",
                 module: shaders::module(device, "gbuffer", shaders::GBUFFER),
-                fragment_entry: "fs_gbuffer",
+                fragment_entry: Some("fs_gbuffer"),
                 layout: layout.clone(),
                 color_formats: vec![light_format, GBUFFER_ALBEDO_METALLIC_FORMAT, GBUFFER_PACKED_FORMAT],
                 blends: false,
@@ -45,6 +45,7 @@ impl GBufferPass {
                 depth_format,
                 marks_stencil: true,
                 constants: vec![("2", if ldr_exp2 { 1.0 } else { 0.0 })],
+                alpha_test_override: None,
             })
         };
         GBufferPass { hdr: pipelines(HDR_FORMAT, false), ldr: pipelines(LIGHT_BUFFER_LDR_FORMAT, true) }
@@ -85,7 +86,7 @@ impl FramePass for GBufferPass {
             LightBuffer::Hdr => &mut self.hdr,
             LightBuffer::LdrExp2 => &mut self.ldr,
         };
-        pipelines.prepare(cx.device, &cx.scene.draws, opaque_draws(cx.plan));
+        pipelines.prepare(cx.device, &cx.scene.draws, opaque_draws(cx.plan), 1);
     }
 
     fn record(&self, cx: &mut PassContext<'_>) {

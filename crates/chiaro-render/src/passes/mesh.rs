@@ -13,6 +13,11 @@ pub struct MeshPipelineKey {
     cull_back: bool,
     front_cw: bool,
     blend: bool,
+    /// An opaque draw whose depth a prepass already wrote: tests for equality, no write.
+    prepassed: bool,
+    /// An alpha-tested draw, where the pipelines have an `alpha_test_override`.
+    alpha_tested: bool,
+    samples: u32,
 }
 
 /// How a pass tests depth.
@@ -25,12 +30,16 @@ pub enum DepthTest {
     /// depth), so each pixel is shaded once; every draw writes, so the nearest
     /// transparent surface is the one reported.
     SameSurface,
+    /// After a depth prepass of the opaque draws: those pass only where they are the
+    /// surface the prepass kept (shading each pixel once); the others as `Nearest`.
+    AfterPrepass,
 }
 
 pub struct MeshPipelines {
     label: &'static str,
     module: wgpu::ShaderModule,
-    fragment_entry: &'static str,
+    /// None: depth only.
+    fragment_entry: Option<&'static str>,
     layout: wgpu::PipelineLayout,
     color_formats: Vec<wgpu::TextureFormat>,
     /// Transparent draws blend (pre-multiplied) into the targets.
@@ -39,13 +48,17 @@ pub struct MeshPipelines {
     depth_format: wgpu::TextureFormat,
     marks_stencil: bool,
     constants: Vec<(&'static str, f64)>,
+    alpha_test_override: Option<&'static str>,
     pipelines: HashMap<MeshPipelineKey, wgpu::RenderPipeline>,
+    /// Samples per pixel of the targets of the frame being drawn (set by `prepare`).
+    samples: u32,
 }
 
 pub struct MeshPipelinesDesc {
     pub label: &'static str,
     pub module: wgpu::ShaderModule,
-    pub fragment_entry: &'static str,
+    /// None: depth only.
+    pub fragment_entry: Option<&'static str>,
     pub layout: wgpu::PipelineLayout,
     pub color_formats: Vec<wgpu::TextureFormat>,
     pub blends: bool,
@@ -56,6 +69,9 @@ pub struct MeshPipelinesDesc {
     pub marks_stencil: bool,
     /// Pipeline-overridable constants of the module.
     pub constants: Vec<(&'static str, f64)>,
+    /// A boolean override set only for alpha-tested draws' pipelines, so that the others
+    /// run a shader that never discards.
+    pub alpha_test_override: Option<&'static str>,
 }
 
 /// Stencil bit of pixels that hold a surface (set by the G-buffer pass).
@@ -85,7 +101,9 @@ impl MeshPipelines {
             depth_format: desc.depth_format,
             marks_stencil: desc.marks_stencil,
             constants: desc.constants,
+            alpha_test_override: desc.alpha_test_override,
             pipelines: HashMap::new(),
+            samples: 1,
         }
     }
 
@@ -94,11 +112,16 @@ impl MeshPipelines {
             cull_back: !d.double_sided,
             front_cw: d.mirrored,
             blend: self.blends && d.alpha_mode == AlphaMode::Blend,
+            prepassed: self.depth_test == DepthTest::AfterPrepass && d.alpha_mode == AlphaMode::Opaque,
+            alpha_tested: self.alpha_test_override.is_some() && d.alpha_mode == AlphaMode::Mask,
+            samples: self.samples,
         }
     }
 
-    /// Makes the pipelines the draws in `order` need.
-    pub fn prepare(&mut self, device: &wgpu::Device, draws: &[Draw], order: &[u32]) {
+    /// Makes the pipelines the draws in `order` need, for targets of `samples` samples
+    /// per pixel.
+    pub fn prepare(&mut self, device: &wgpu::Device, draws: &[Draw], order: &[u32], samples: u32) {
+        self.samples = samples;
         for &i in order {
             let key = self.key(&draws[i as usize]);
             if !self.pipelines.contains_key(&key) {
@@ -121,9 +144,14 @@ impl MeshPipelines {
             })
             .collect();
         let (depth_compare, depth_write) = match self.depth_test {
-            DepthTest::Nearest => (wgpu::CompareFunction::Greater, !key.blend),
+            _ if key.prepassed => (wgpu::CompareFunction::GreaterEqual, false),
+            DepthTest::Nearest | DepthTest::AfterPrepass => (wgpu::CompareFunction::Greater, !key.blend),
             DepthTest::SameSurface => (wgpu::CompareFunction::GreaterEqual, true),
         };
+        let mut constants = self.constants.clone();
+        if let Some(id) = self.alpha_test_override {
+            constants.push((id, if key.alpha_tested { 1.0 } else { 0.0 }));
+        }
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("{} {key:?}", self.label)),
             layout: Some(&self.layout),
@@ -146,14 +174,11 @@ impl MeshPipelines {
                 stencil: if self.marks_stencil { stencil_marking() } else { Default::default() },
                 bias: Default::default(),
             }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
+            multisample: wgpu::MultisampleState { count: key.samples, ..Default::default() },
+            fragment: self.fragment_entry.map(|entry| wgpu::FragmentState {
                 module: &self.module,
-                entry_point: Some(self.fragment_entry),
-                compilation_options: wgpu::PipelineCompilationOptions {
-                    constants: &self.constants,
-                    ..Default::default()
-                },
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
                 targets: &targets,
             }),
             multiview_mask: None,

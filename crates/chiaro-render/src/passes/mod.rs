@@ -5,6 +5,7 @@
 pub mod aov;
 pub mod debug_view;
 pub mod deferred_lights;
+pub mod depth_prepass;
 pub mod forward;
 pub mod fullscreen;
 pub mod gbuffer;

@@ -51,7 +51,7 @@ impl ShadowAovPass {
             pipelines: MeshPipelines::new(MeshPipelinesDesc {
                 label: "shadow aov",
                 module: shaders::module(device, "shadow aov", shaders::SHADOW_AOV),
-                fragment_entry: "fs_shadow_aov",
+                fragment_entry: Some("fs_shadow_aov"),
                 layout,
                 color_formats: vec![SHADOW_AOV_FORMAT],
                 blends: false,
@@ -59,6 +59,7 @@ impl ShadowAovPass {
                 depth_format,
                 marks_stencil: false,
                 constants: Vec::new(),
+                alpha_test_override: None,
             }),
             light_layout,
             lights: None,
@@ -83,7 +84,7 @@ impl ShadowAovPass {
         scene: &GpuScene,
         list_indices: &[u32],
     ) {
-        self.pipelines.prepare(device, &scene.draws, &plan.camera_draws);
+        self.pipelines.prepare(device, &scene.draws, &plan.camera_draws, 1);
         let size = self.stride * list_indices.len().max(1) as u64;
         if self.lights.as_ref().is_none_or(|(buffer, _)| buffer.size() < size) {
             let buffer = device.create_buffer(&wgpu::BufferDescriptor {

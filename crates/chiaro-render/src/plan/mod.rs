@@ -5,21 +5,24 @@
 //! record what the plan says, and tests inspect plans without a GPU.
 
 pub mod cookies;
+pub mod culling;
 pub mod draws;
+pub mod features;
 pub mod lights;
 pub mod shadows;
 pub mod volumes;
 
 use crate::gpu::{GpuFrame, GpuLight, GpuVolumeLight};
 use crate::shader_constants::{
-    DEBUG_VIEW_CASCADES, DEBUG_VIEW_NONE, MAX_FRAME_LIGHTS, MIXED_MODE_BAKED_INDIRECT, MIXED_MODE_DISTANCE_SHADOWMASK,
-    MIXED_MODE_SHADOWMASK,
+    DEBUG_VIEW_CASCADES, DEBUG_VIEW_NONE, MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS, MIXED_MODE_BAKED_INDIRECT,
+    MIXED_MODE_DISTANCE_SHADOWMASK, MIXED_MODE_SHADOWMASK,
 };
 use crate::view::View;
 use chiaro_math::light::MAX_OTHER_LIGHTS;
 use chiaro_math::tonemap::exposure_scale;
-use chiaro_scene::{AlphaMode, LightBuffer, MixedMode, RenderPath, Scene, Settings};
+use chiaro_scene::{AlphaMode, LightBuffer, LightCulling, MixedMode, RenderPath, Scene, Settings};
 use cookies::cookie_slots;
+use culling::{CulledLights, cull_lights};
 use draws::{Draw, camera_draw_order};
 use glam::Vec3;
 use lights::{FrameLight, LightId, choose_lights, gpu_light};
@@ -32,6 +35,9 @@ use volumes::{VolumeDraw, light_volume};
 pub enum PassId {
     /// Casters into both shadow atlases.
     Shadows,
+    /// The forward path's opaque draws into depth alone, so that the forward pass shades
+    /// each pixel once.
+    DepthPrepass,
     /// Every light over every visible draw into the HDR target.
     Forward,
     /// World position, normal and view depth.
@@ -54,6 +60,7 @@ impl PassId {
     pub fn name(self) -> &'static str {
         match self {
             PassId::Shadows => "shadows",
+            PassId::DepthPrepass => "depth prepass",
             PassId::Forward => "forward",
             PassId::Aov => "aov",
             PassId::Tonemap => "tonemap",
@@ -86,6 +93,8 @@ pub struct PlanRequest {
     pub debug_cascades: bool,
     /// A debug view of the deferred path (which it implies).
     pub debug_view: Option<DebugView>,
+    /// Per-light shadow AOVs, which (like `aovs`) test against single-sampled depth.
+    pub shadow_aovs: bool,
 }
 
 /// The frame's lights as index lists into `FramePlan::lights`; the shaders loop over
@@ -120,6 +129,9 @@ pub struct FramePlan {
     /// and masked ones, then from `transparent_from` the alpha-blended ones.
     pub camera_draws: Vec<u32>,
     pub transparent_from: usize,
+    /// The forward path's opaque (not alpha-tested) draws, which a depth prepass draws
+    /// first; empty on the deferred path.
+    pub prepass_draws: Vec<u32>,
     /// The deferred path's light volumes: one full-screen draw for every directional
     /// light, then one volume per point and spot light.
     pub volumes: Vec<VolumeDraw>,
@@ -137,6 +149,14 @@ pub struct FramePlan {
     pub dropped_other: usize,
     /// `shadows.cache`: tiles whose content is unchanged keep last frame's depths.
     pub shadow_cache: bool,
+    /// How the forward pass finds its point and spot lights, and the lists it reads.
+    pub culling: LightCulling,
+    pub culled: CulledLights,
+    /// Samples per pixel of the forward path's colour and depth (1 on the deferred path
+    /// and with AOVs).
+    pub msaa: u32,
+    /// What the forward pass's shader needs compiled in.
+    pub features: features::ShaderFeatures,
 }
 
 impl FramePlan {
@@ -160,24 +180,25 @@ impl FramePlan {
         let (shadows, slots) = plan_shadows(scene, draws, view, settings, &choice.directional, &choice.other, atlases);
         let mut lights = Vec::with_capacity(choice.directional.len() + choice.other.len());
         let mut lists = LightLists::default();
+        // Per light, whether its loop needs a shadow lookup.
+        let mut shadowed = Vec::with_capacity(lights.capacity());
         for (&id, &shadow) in choice.directional.iter().zip(&slots.directional) {
             lists.directional.push(lights.len() as u32);
             lights.push(FrameLight { id, range: f32::INFINITY, shadow });
+            shadowed.push(true);
         }
         // The forward lists (all of the forward path's lights; the deferred path's
         // transparent surfaces) take the most important point and spot lights.
         for (k, (&(id, range), &shadow)) in choice.other.iter().zip(&slots.other).enumerate() {
+            // A light with a shadow mask channel has a shadow even without tiles.
+            let masked = mask_channels[id.index()].is_some();
+            let has_shadow = matches!(shadow, ShadowSlot::Realtime { .. }) || masked;
             if k < MAX_OTHER_LIGHTS {
-                // A light with a shadow mask channel has a shadow even without tiles.
-                let masked = mask_channels[id.index()].is_some();
-                let list = match shadow {
-                    ShadowSlot::Realtime { .. } => &mut lists.shadowed_other,
-                    _ if masked => &mut lists.shadowed_other,
-                    _ => &mut lists.unshadowed_other,
-                };
+                let list = if has_shadow { &mut lists.shadowed_other } else { &mut lists.unshadowed_other };
                 list.push(lights.len() as u32);
             }
             lights.push(FrameLight { id, range, shadow });
+            shadowed.push(has_shadow);
         }
         let path = if request.debug_view.is_some() { RenderPath::Deferred } else { settings.render.path };
         let light_buffer = settings.render.light_buffer;
@@ -202,13 +223,34 @@ impl FramePlan {
                 directional.into_iter().chain(others).collect()
             }
         };
+        let prepass_draws = match path {
+            RenderPath::Forward => camera_draws[..transparent_from]
+                .iter()
+                .copied()
+                .filter(|&d| draws[d as usize].alpha_mode == AlphaMode::Opaque)
+                .collect(),
+            RenderPath::Deferred => Vec::new(),
+        };
+        let culling = settings.lights.culling;
+        let forward_draws = match path {
+            RenderPath::Forward => &camera_draws[..],
+            RenderPath::Deferred => &camera_draws[transparent_from..],
+        };
+        let culled = if forward_draws.is_empty() {
+            CulledLights::default()
+        } else {
+            cull_lights(culling, scene, draws, forward_draws, view, &lights, lists.directional.len(), &shadowed)
+        };
+        // AOVs test against single-sampled depth, and the G-buffer has one sample.
+        let single = path == RenderPath::Deferred || request.aovs || request.shadow_aovs;
+        let msaa = if single { 1 } else { settings.render.msaa };
         let mut passes = Vec::new();
         // Debug views show no shading, so they need no shadows.
         if !shadows.tiles.is_empty() && request.debug_view.is_none() {
             passes.push(PassId::Shadows);
         }
         match (path, request.debug_view) {
-            (RenderPath::Forward, _) => passes.push(PassId::Forward),
+            (RenderPath::Forward, _) => passes.extend([PassId::DepthPrepass, PassId::Forward]),
             (RenderPath::Deferred, Some(DebugView::GbufferAlbedo | DebugView::GbufferNormal)) => {
                 passes.push(PassId::GBuffer)
             }
@@ -229,6 +271,7 @@ impl FramePlan {
             passes.push(PassId::Aov);
         }
         passes.push(if request.debug_view.is_some() { PassId::DebugView } else { PassId::Tonemap });
+        let features = features::ShaderFeatures::of(scene, settings, &lights);
         FramePlan {
             view: *view,
             request,
@@ -239,6 +282,7 @@ impl FramePlan {
             shadows,
             camera_draws,
             transparent_from,
+            prepass_draws,
             volumes,
             cookie_layers: cookie_slots(scene).into_iter().map(|slot| slot.map(|(_, layer)| layer)).collect(),
             mask_channels,
@@ -247,6 +291,10 @@ impl FramePlan {
             dropped_directional: choice.dropped_directional,
             dropped_other: choice.selection.dropped,
             shadow_cache: settings.shadows.cache,
+            culling,
+            culled,
+            msaa,
+            features,
         }
     }
 
@@ -293,6 +341,16 @@ impl FramePlan {
         (0..self.lights.len().min(MAX_FRAME_LIGHTS as usize)).map(|k| self.gpu_light(scene, k)).collect()
     }
 
+    /// Culled lists read their lights from the storage buffer: too many for the uniform.
+    pub fn lights_in_storage(&self) -> bool {
+        self.lights.len() > MAX_UNIFORM_LIGHTS as usize
+    }
+
+    /// Every light the frame shades, as the culled lists' storage buffer holds them.
+    pub fn gpu_all_lights(&self, scene: &Scene) -> Vec<GpuLight> {
+        (0..self.lights.len()).map(|k| self.gpu_light(scene, k)).collect()
+    }
+
     /// The light volumes as the deferred light pass reads them.
     pub fn gpu_volumes(&self, scene: &Scene) -> Vec<GpuVolumeLight> {
         self.volumes
@@ -325,6 +383,10 @@ impl FramePlan {
                 MixedMode::Shadowmask => MIXED_MODE_SHADOWMASK,
                 MixedMode::DistanceShadowmask => MIXED_MODE_DISTANCE_SHADOWMASK,
             },
+            cluster_tile_width: self.culled.grid.map_or(1, |g| g.tile_width),
+            cluster_tile_height: self.culled.grid.map_or(1, |g| g.tile_height),
+            cluster_slice_scale: self.culled.grid.map_or(0.0, |g| g.slice_params().0),
+            cluster_slice_bias: self.culled.grid.map_or(0.0, |g| g.slice_params().1),
             _pad: [0; 2],
         }
     }
@@ -366,6 +428,20 @@ impl fmt::Display for FramePlan {
                 t.light.0,
                 t.viewport,
                 t.casters.len()
+            )?;
+        }
+        let lists = &self.culled.lists;
+        if !lists.records.is_empty() {
+            let longest = lists.records.iter().map(|r| r.count).max().unwrap_or(0);
+            let used = lists.records.iter().filter(|r| r.count > 0).count();
+            writeln!(
+                f,
+                "  {:?} light culling: {} lists ({} not empty), {} entries, longest {}",
+                self.culling,
+                lists.records.len(),
+                used,
+                lists.indices.len(),
+                longest
             )?;
         }
         let passes: Vec<&str> = self.passes.iter().map(|p| p.name()).collect();

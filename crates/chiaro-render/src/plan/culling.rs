@@ -1,0 +1,87 @@
+//! The frame's culled light lists for the forward pass: per cluster of the view's froxel
+//! grid, or per object, the point and spot lights (indices into `FramePlan::lights`) that
+//! can reach it. The math lives in chiaro_math::culling; this gathers its input.
+
+use super::draws::Draw;
+use super::lights::FrameLight;
+use crate::view::View;
+use chiaro_math::culling::{ClusterGrid, CullLight, LightLists, lights_per_object, spot_bounding_sphere};
+use chiaro_math::{Aabb, Sphere};
+use chiaro_scene::{LightCulling, LightKind, Scene};
+
+#[derive(Clone, Debug, Default)]
+pub struct CulledLights {
+    /// The froxel grid, under clustered culling.
+    pub grid: Option<ClusterGrid>,
+    /// One list per cluster (clustered) or per object (per-object); empty without culling.
+    pub lists: LightLists,
+}
+
+/// Builds the lists `culling` asks for, for the forward pass's draws (`order`, indices
+/// into `draws`). `lights[first_other..]` are the point and spot lights; `shadowed[k]`
+/// says whether light `k` needs a shadow lookup.
+#[allow(clippy::too_many_arguments)]
+pub fn cull_lights(
+    culling: LightCulling,
+    scene: &Scene,
+    draws: &[Draw],
+    order: &[u32],
+    view: &View,
+    lights: &[FrameLight],
+    first_other: usize,
+    shadowed: &[bool],
+) -> CulledLights {
+    // Culling sees the point and spot lights alone; list indices are moved back into
+    // `lights` at the end.
+    let others = &lights[first_other..];
+    // Spots are bounded by the sphere around their cone, in world space.
+    let cull_light = |(k, l): (usize, &FrameLight)| {
+        let light = &scene.lights[l.id.index()];
+        let sphere = match light.kind {
+            LightKind::Spot { outer_cone_rad, .. } => {
+                spot_bounding_sphere(light.position(), light.direction(), l.range, outer_cone_rad)
+            }
+            _ => Sphere { center: light.position(), radius: l.range },
+        };
+        CullLight {
+            sphere,
+            shadowed: shadowed[first_other + k],
+            peak_intensity: light.intensity * light.color.max_element(),
+        }
+    };
+    let mut culled = match culling {
+        LightCulling::None => return CulledLights::default(),
+        LightCulling::Clustered => {
+            let view_from_world = view.view_from_world();
+            let cull: Vec<CullLight> = others
+                .iter()
+                .enumerate()
+                .map(|kl| {
+                    let mut c = cull_light(kl);
+                    c.sphere.center = view_from_world.transform_point3(c.sphere.center);
+                    c
+                })
+                .collect();
+            // The slices end where the farthest light's range ends.
+            let far = cull.iter().map(|c| -c.sphere.center.z + c.sphere.radius).fold(view.znear, f32::max);
+            let grid = ClusterGrid::new(view.width, view.height, view.znear, far);
+            let lists = grid.assign(&view.clip_from_view.inverse(), &view.clip_from_view, &cull);
+            CulledLights { grid: Some(grid), lists }
+        }
+        LightCulling::PerObject => {
+            // Records are indexed by object; objects the pass does not draw get none.
+            let objects = draws.iter().map(|d| d.object as usize + 1).max().unwrap_or(0);
+            let mut bounds = vec![Aabb::default(); objects];
+            for &i in order {
+                let d = &draws[i as usize];
+                bounds[d.object as usize] = bounds[d.object as usize].union(&d.bounds_ws);
+            }
+            let cull: Vec<CullLight> = others.iter().enumerate().map(cull_light).collect();
+            CulledLights { grid: None, lists: lights_per_object(&bounds, &cull) }
+        }
+    };
+    for i in &mut culled.lists.indices {
+        *i += first_other as u32;
+    }
+    culled
+}

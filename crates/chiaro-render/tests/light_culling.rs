@@ -1,0 +1,216 @@
+//! Light culling on the GPU: with no limit reached, clustered, per-object and no culling
+//! give the same image; a thousand lights under clustered culling add up to the sum of
+//! renders of fifty lights at a time without culling; per-object lists keep the most
+//! important lights of each object.
+
+mod common;
+
+use chiaro_render::plan::FramePlan;
+use chiaro_render::plan::draws::{GeometryLayout, scene_draws};
+use chiaro_render::plan::shadows::ShadowAtlasTiles;
+use chiaro_render::{FrameOptions, FrameOutput, Renderer, View};
+use chiaro_scene::{CastShadows, LightCulling, LightKind, RenderPath, Scene, Settings, ShadowMode, load_gltf};
+use common::*;
+use glam::Vec3;
+
+const SIZE: u32 = 128;
+
+fn render_hdr(renderer: &mut Renderer, scene: &Scene, settings: &Settings) -> FrameOutput {
+    let view = if scene.cameras.is_empty() {
+        View::framing(scene, 45f32.to_radians(), SIZE, SIZE)
+    } else {
+        View::from_camera(scene, 0, SIZE, SIZE)
+    };
+    let prepared = renderer.prepare(scene).expect("prepare");
+    renderer
+        .render(scene, &prepared, &view, settings, FrameOptions { readback: true, ..Default::default() })
+        .expect("render")
+}
+
+fn forward(culling: LightCulling) -> Settings {
+    let mut s = unlit_settings();
+    s.render.path = RenderPath::Forward;
+    s.lights.culling = culling;
+    s
+}
+
+/// Largest difference between two HDR images relative to the brighter of each pixel's
+/// channels, ignoring values under `floor`.
+fn worst_relative_difference(a: &FrameOutput, b: &FrameOutput, floor: f32) -> f32 {
+    a.hdr
+        .iter()
+        .zip(&b.hdr)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c], q[c])))
+        .filter(|(x, y)| x.max(*y) > floor)
+        .map(|(x, y)| (x - y).abs() / x.max(y))
+        .fold(0.0, f32::max)
+}
+
+/// A floor with boxes and seven lights: shadowed and unshadowed points, a shadowed spot.
+fn boxes_scene() -> Scene {
+    let mut lights = Vec::new();
+    for (i, p) in
+        [(-3.0, 1.0, -2.0), (2.5, 1.5, 1.0), (0.0, 0.8, 3.0), (-2.0, 2.0, 2.5), (3.0, 0.6, -3.0), (0.5, 1.2, 0.0)]
+            .into_iter()
+            .enumerate()
+    {
+        let mut l = point_light(Vec3::from(p), 4.0 + i as f32, Some(4.0 + i as f32 * 0.5));
+        if i % 2 == 1 {
+            l.shadow.mode = ShadowMode::None;
+        }
+        lights.push(l);
+    }
+    let spot = chiaro_scene::Light {
+        name: "spot".into(),
+        node: 11,
+        intensity: 30.0,
+        range: Some(9.0),
+        ..chiaro_scene::Light::new(
+            LightKind::Spot { inner_cone_rad: 0.3, outer_cone_rad: 0.5 },
+            Vec3::new(1.0, 4.0, -1.0),
+            Vec3::new(-0.2, -1.0, 0.1).normalize(),
+        )
+    };
+    lights.push(spot);
+    let mut scene = floor_scene(12.0, Vec3::new(0.0, 7.0, 6.0), lights);
+    for (i, p) in [(-1.5, -1.0), (1.0, 1.5), (2.0, -2.0), (-2.5, 1.5)].into_iter().enumerate() {
+        add_box(&mut scene, Vec3::new(p.0, 0.5, p.1), Vec3::new(0.8, 1.0, 0.6), i as f32 * 0.4, CastShadows::On);
+    }
+    scene
+}
+
+#[test]
+fn the_three_culling_modes_give_the_same_image() {
+    let mut r = renderer();
+    let lamp = asset_scenes().into_iter().find(|p| p.ends_with("LightsPunctualLamp.gltf")).expect("the lamp scene");
+    let scenes = [("boxes", boxes_scene()), ("LightsPunctualLamp", load_gltf(&lamp).expect("lamp"))];
+    for (name, scene) in scenes {
+        let none = render_hdr(&mut r, &scene, &forward(LightCulling::None));
+        let lit = none.hdr.iter().filter(|p| p[0].max(p[1]).max(p[2]) > 1e-3).count();
+        assert!(lit * 10 > none.hdr.len(), "{name}: only {lit} pixels lit");
+        for culling in [LightCulling::Clustered, LightCulling::PerObject] {
+            let culled = render_hdr(&mut r, &scene, &forward(culling));
+            assert_eq!(culled.plan.culling, culling);
+            assert_eq!(culled.other_lights_shaded(), none.other_lights_shaded());
+            // Only the order of the sums differs; half floats hold the results.
+            let worst = worst_relative_difference(&none, &culled, 1e-3);
+            println!("{name} {culling:?}: worst relative difference {worst:e}");
+            assert!(worst < 2e-3, "{name}: {culling:?} differs from no culling by {worst}");
+        }
+    }
+}
+
+/// A floor with boxes under `count` small coloured point lights, none casting shadows,
+/// spread over the floor, and two shadowed spots.
+fn many_lights_scene(count: usize) -> Scene {
+    let mut lights = Vec::new();
+    for k in 0..2 {
+        lights.push(chiaro_scene::Light {
+            name: format!("spot {k}"),
+            node: 11 + k,
+            intensity: 40.0,
+            range: Some(10.0),
+            ..chiaro_scene::Light::new(
+                LightKind::Spot { inner_cone_rad: 0.4, outer_cone_rad: 0.6 },
+                Vec3::new(k as f32 * 4.0 - 2.0, 5.0, 0.0),
+                Vec3::new(0.1, -1.0, 0.0).normalize(),
+            )
+        });
+    }
+    // A low-discrepancy spread (golden-ratio steps across, even steps down), so every
+    // run places them alike.
+    let phi = 0.618_034f32;
+    for i in 0..count {
+        let u = (i as f32 * phi).fract();
+        let v = (i as f32 + 0.5) / count as f32;
+        let position = Vec3::new(u * 18.0 - 9.0, 0.2 + (i % 7) as f32 * 0.2, v * 18.0 - 9.0);
+        let mut l = point_light(position, 2.0 + (i % 5) as f32, Some(1.5 + (i % 4) as f32 * 0.5));
+        l.color = Vec3::new(0.3 + 0.7 * u, 0.3 + 0.7 * v, 1.0 - 0.6 * u);
+        l.shadow.mode = ShadowMode::None;
+        lights.push(l);
+    }
+    let mut scene = floor_scene(20.0, Vec3::new(0.0, 14.0, 6.0), lights);
+    for (i, p) in [(-4.0, -3.0), (3.0, 3.5), (5.0, -4.0), (-5.0, 4.0), (0.0, 0.0)].into_iter().enumerate() {
+        add_box(&mut scene, Vec3::new(p.0, 0.75, p.1), Vec3::new(1.2, 1.5, 0.9), i as f32 * 0.5, CastShadows::On);
+    }
+    scene
+}
+
+#[test]
+fn a_thousand_clustered_lights_add_up_to_fifty_at_a_time_without_culling() {
+    let scene = many_lights_scene(1000);
+    let mut r = renderer();
+    let mut settings = forward(LightCulling::Clustered);
+    settings.render.msaa = 1;
+    let all = render_hdr(&mut r, &scene, &settings);
+    // Every light in view is shaded (one of the thousand lies outside it).
+    assert_eq!(all.other_lights_dropped(), 0);
+    assert!(all.other_lights_shaded() > 990, "{} lights shaded", all.other_lights_shaded());
+    assert!(all.plan.lights_in_storage(), "a thousand lights are read from the storage buffer");
+
+    // The sum of renders of groups of 50 lights, with no culling; the two shadowed spots
+    // share the first group, so their shadow tiles are laid out as in the full frame.
+    let mut sum = vec![[0.0f32; 3]; all.hdr.len()];
+    let mut group_settings = forward(LightCulling::None);
+    group_settings.render.msaa = 1;
+    for group in scene.lights.chunks(50) {
+        let mut part = scene.clone();
+        part.lights = group.to_vec();
+        let frame = render_hdr(&mut r, &part, &group_settings);
+        assert_eq!(frame.other_lights_dropped(), 0);
+        for (s, p) in sum.iter_mut().zip(&frame.hdr) {
+            for c in 0..3 {
+                s[c] += p[c];
+            }
+        }
+    }
+    let mut worst = 0.0f32;
+    let mut lit = 0;
+    for (p, s) in all.hdr.iter().zip(&sum) {
+        for c in 0..3 {
+            let scale = p[c].max(s[c]);
+            if scale > 1e-3 {
+                lit += 1;
+                worst = worst.max((p[c] - s[c]).abs() / scale);
+            }
+        }
+    }
+    println!("1000 lights: {lit} lit channels, worst relative difference {worst:e}");
+    assert!(lit > all.hdr.len(), "most pixels are lit ({lit} channels)");
+    // Each group's half floats round by 2^-11 of its part; their sum stays within 0.3%.
+    assert!(worst < 3e-3, "clustered render differs from the sum of groups by {worst}");
+}
+
+#[test]
+fn per_object_lists_keep_each_objects_most_important_lights() {
+    // Twelve lights around one box, all in range: its list holds the eight brightest.
+    let lights: Vec<_> = (0..12)
+        .map(|i| {
+            let angle = i as f32 * std::f32::consts::TAU / 12.0;
+            let mut l = point_light(Vec3::new(angle.cos() * 2.0, 1.0, angle.sin() * 2.0), 1.0 + i as f32, Some(6.0));
+            l.shadow.mode = ShadowMode::None;
+            l
+        })
+        .collect();
+    let mut scene = floor_scene(4.0, Vec3::new(0.0, 6.0, 4.0), lights);
+    add_box(&mut scene, Vec3::new(0.0, 0.5, 0.0), Vec3::ONE, 0.0, CastShadows::On);
+    let view = View::from_camera(&scene, 0, 64, 64);
+    let plan = FramePlan::new(
+        &scene,
+        &scene_draws(&scene, &GeometryLayout::of(&scene)),
+        &view,
+        &forward(LightCulling::PerObject),
+        &mut ShadowAtlasTiles::default(),
+        Default::default(),
+    );
+    let lists = &plan.culled.lists;
+    assert_eq!(lists.records.len(), 2, "one list per object: the floor and the box");
+    for k in 0..2 {
+        let list = lists.list(k);
+        assert_eq!(list.len(), 8, "object {k} keeps eight of twelve lights");
+        // Every index names one of the frame's point lights.
+        let mut scene_ids: Vec<u32> = list.iter().map(|&i| plan.lights[i as usize].id.0).collect();
+        scene_ids.sort();
+        assert_eq!(scene_ids, (4..12).collect::<Vec<u32>>(), "object {k}: the eight brightest");
+    }
+}
