@@ -217,3 +217,40 @@ fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
         plan_with(&settings, PlanRequest { debug_view: Some(DebugView::LightOverdraw), ..Default::default() });
     assert_eq!(overdraw.passes, vec![PassId::GBuffer, PassId::DeferredLights, PassId::DebugView]);
 }
+
+#[test]
+fn past_sixteen_tiles_point_lights_get_tiles_by_screen_coverage() {
+    use chiaro_render::plan::shadows::ShadowAtlas;
+    // Four shadowed points (24 tiles): the camera stands in the first one's range; two are
+    // ordinary; the last is small and far.
+    let lights = vec![
+        point_light(Vec3::new(0.0, 1.0, 0.0), 10.0, Some(20.0)),
+        point_light(Vec3::new(3.0, 1.0, -4.0), 10.0, Some(2.5)),
+        point_light(Vec3::new(-3.0, 1.0, -4.0), 10.0, Some(2.5)),
+        point_light(Vec3::new(-4.0, 0.5, -4.0), 10.0, Some(0.3)),
+    ];
+    let scene = floor_scene(12.0, Vec3::new(0.0, 6.0, 5.0), lights);
+    let plan = first_plan(&scene, PlanRequest::default());
+    let size_of = |light: u32| {
+        let sizes: Vec<u32> = plan
+            .shadows
+            .tiles
+            .iter()
+            .filter(|t| t.atlas == ShadowAtlas::Other && t.light == LightId(light))
+            .map(|t| t.viewport.2)
+            .collect();
+        assert_eq!(sizes.len(), 6, "light {light} has its six faces");
+        assert!(sizes.iter().all(|&s| s == sizes[0]));
+        sizes[0]
+    };
+    assert_eq!([size_of(0), size_of(1), size_of(2), size_of(3)], [512, 256, 256, 128]);
+    // No two tiles overlap.
+    let other: Vec<_> = plan.shadows.tiles.iter().filter(|t| t.atlas == ShadowAtlas::Other).collect();
+    for (k, a) in other.iter().enumerate() {
+        for b in &other[k + 1..] {
+            let (ax, ay, as_) = a.viewport;
+            let (bx, by, bs) = b.viewport;
+            assert!(ax + as_ <= bx || bx + bs <= ax || ay + as_ <= by || by + bs <= ay, "{a:?} and {b:?} overlap");
+        }
+    }
+}

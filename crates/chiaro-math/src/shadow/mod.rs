@@ -11,6 +11,7 @@ pub mod culling;
 pub mod fade;
 pub mod filter;
 pub mod other;
+pub mod tiers;
 
 pub use allocator::{TileAllocation, TileAllocator, first_fit_tiles};
 pub use atlas::AtlasLayout;

@@ -17,8 +17,9 @@ use chiaro_math::shadow::fade::distance_fade_params;
 use chiaro_math::shadow::other::{
     POINT_LIGHT_FACES, perspective_normal_bias, point_face_fov_rad, point_face_view, spot_shadow_view,
 };
+use chiaro_math::shadow::tiers::{pack_tiles, screen_coverage, tile_sizes};
 use chiaro_math::shadow::{
-    AtlasLayout, ShadowFilter, TileAllocator, cascade_splits, fit_cascade, slice_culling_sphere,
+    AtlasLayout, ShadowFilter, TileAllocator, cascade_splits, first_fit_tiles, fit_cascade, slice_culling_sphere,
 };
 use chiaro_math::{Frustum, Sphere};
 use chiaro_scene::{CascadeBlend, Light, LightKind, Scene, Settings, ShadowMode};
@@ -68,7 +69,8 @@ pub struct CasterTile {
 #[derive(Clone, Debug)]
 pub struct ShadowAtlasTiles {
     pub directional: TileAllocator<LightId>,
-    pub other: TileAllocator<LightId>,
+    /// Keyed by light and tile size: a light whose tier changes is allocated anew.
+    pub other: TileAllocator<(LightId, u32)>,
 }
 
 impl Default for ShadowAtlasTiles {
@@ -143,7 +145,7 @@ pub fn plan_shadows(
         tiles_kept: true,
     };
     let directional_slots = plan_directional(&mut plan, scene, view, settings, max_distance, directional, atlases);
-    let other_slots = plan_other(&mut plan, scene, settings, other, atlases);
+    let other_slots = plan_other(&mut plan, scene, view, settings, other, atlases);
     for tile in &mut plan.tiles {
         tile.casters = tile_casters(draws, tile);
     }
@@ -239,34 +241,61 @@ fn plan_directional(
 }
 
 /// Tiles in the second atlas for the point and spot lights that cast shadows, in
-/// importance order; a light that does not fit becomes `BakedOnly`.
+/// importance order, sized by how much of the screen each light covers
+/// (chiaro_math::shadow::tiers); a light that does not fit becomes `BakedOnly`.
 fn plan_other(
     plan: &mut ShadowPlan,
     scene: &Scene,
+    view: &View,
     settings: &Settings,
     other: &[(LightId, f32)],
     atlases: &mut ShadowAtlasTiles,
 ) -> Vec<ShadowSlot> {
     let os = &settings.shadows.other;
     let tiles_wanted = |light: &Light| if light.kind == LightKind::Point { POINT_LIGHT_FACES } else { 1 };
-    let requests: Vec<(LightId, usize)> = other
+    let view_from_world = view.view_from_world();
+    let casting: Vec<(LightId, usize, f32)> = other
         .iter()
-        .map(|&(id, _)| (id, &scene.lights[id.index()]))
-        .filter(|(_, light)| light.shadow.casts())
-        .map(|(id, light)| (id, tiles_wanted(light)))
+        .filter(|&&(id, _)| scene.lights[id.index()].shadow.casts())
+        .map(|&(id, range)| {
+            let light = &scene.lights[id.index()];
+            let coverage = screen_coverage(&view_from_world, &view.clip_from_view, light.position(), range);
+            (id, tiles_wanted(light), coverage)
+        })
         .collect();
     if atlases.other.capacity() != os.max_tiles as usize {
         atlases.other = TileAllocator::new(os.max_tiles as usize);
     }
+    // Which lights fit decides the tile sizes; the sizes are part of each request.
+    let counts: Vec<usize> = casting.iter().map(|&(_, n, _)| n).collect();
+    let fits = first_fit_tiles(&counts, os.max_tiles as usize);
+    let fitting: Vec<(usize, f32)> =
+        casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(&(_, n, c), _)| (n, c)).collect();
+    let mut sizes = tile_sizes(os.atlas_size, &fitting).into_iter();
+    let requests: Vec<((LightId, u32), usize)> = casting
+        .iter()
+        .zip(&fits)
+        .map(|(&(id, n, _), fit)| {
+            // Lights that do not fit ask for the smallest tiles; they get none anyway.
+            let size = if fit.is_some() { sizes.next().expect("one size per fitting light") } else { 0 };
+            ((id, size), n)
+        })
+        .collect();
     let allocation = atlases.other.allocate(&requests);
     plan.tiles_kept &= allocation.kept;
     if requests.is_empty() {
         return vec![ShadowSlot::None; other.len()];
     }
-    let first_tiles: std::collections::HashMap<LightId, Option<usize>> =
-        requests.iter().zip(&allocation.first_tiles).map(|(&(id, _), &first)| (id, first)).collect();
-    let layout = AtlasLayout::for_tiles(os.atlas_size, allocation.used_tiles);
-    let tile_size = layout.tile_size();
+    // Tile slot -> size, then their places: packed by slot, so kept slots keep places.
+    let mut slot_sizes = vec![0u32; allocation.used_tiles.max(1)];
+    let mut first_tiles = std::collections::HashMap::new();
+    for (&((id, size), n), &first) in requests.iter().zip(&allocation.first_tiles) {
+        first_tiles.insert(id, first.map(|f| (f, size)));
+        if let Some(f) = first {
+            slot_sizes[f..f + n].fill(size);
+        }
+    }
+    let rects = pack_tiles(os.atlas_size, &slot_sizes[..allocation.used_tiles]).expect("tier sizes fit the atlas");
     let mut overflow = Vec::new();
     let slots = other
         .iter()
@@ -275,7 +304,7 @@ fn plan_other(
             let Some(&first) = first_tiles.get(&id) else {
                 return ShadowSlot::None;
             };
-            let Some(first_tile) = first else {
+            let Some((first_tile, tile_size)) = first else {
                 overflow.push(light.name.clone());
                 return ShadowSlot::BakedOnly;
             };
@@ -297,9 +326,10 @@ fn plan_other(
             };
             for (k, (clip_from_view, clip_from_world)) in views.iter().enumerate() {
                 let tile = first_tile + k;
-                let (uv_min, uv_max) = layout.tile_bounds_uv(tile);
+                let rect = rects[tile];
+                let (uv_min, uv_max) = rect.bounds_uv(os.atlas_size);
                 plan.gpu.other_tiles[tile] = GpuShadowTile {
-                    atlas_from_world: layout.atlas_from_clip(tile) * *clip_from_world,
+                    atlas_from_world: rect.atlas_from_clip(os.atlas_size) * *clip_from_world,
                     uv_min,
                     uv_max,
                     normal_bias: perspective_normal_bias(tile_size, clip_from_view, filter) * light.shadow.normal_bias,
@@ -310,7 +340,7 @@ fn plan_other(
                     light: id,
                     tile: tile as u32,
                     clip_from_world: *clip_from_world,
-                    viewport: layout.tile_viewport(tile),
+                    viewport: rect.viewport(),
                     slope_bias: light.shadow.depth_bias,
                     light_range: Some(Sphere { center: light.position(), radius: range }),
                     casters: Vec::new(),

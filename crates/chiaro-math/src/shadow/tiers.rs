@@ -1,0 +1,206 @@
+//! Tile sizes for the point/spot atlas by importance, and where the tiles go.
+//!
+//! Up to 16 tiles the seeds' uniform layout stands (one tile the whole atlas, up to 4 a
+//! quarter each, up to 16 a sixteenth). Past that, as URP does, each light gets a tier
+//! by how much of the screen its influence covers: a sixteenth of the atlas for lights
+//! over a fifth of the screen, a 64th for most, a 256th for lights under 1% of it. If the
+//! large tiles overfill the atlas, the least important of them step down to the middle
+//! tier, which 64 tiles always fit in.
+//! Tiles are packed largest first along a Z-order curve: with power-of-two sizes in
+//! decreasing order, every tile lands aligned and none overlap.
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+/// Screen coverage (0 to 1) from which a light gets the large tier, and under which it
+/// gets the small one.
+pub const LARGE_TIER_COVERAGE: f32 = 0.2;
+pub const SMALL_TIER_COVERAGE: f32 = 0.01;
+
+/// A tile's place in the atlas, in texels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TileRect {
+    pub x: u32,
+    pub y: u32,
+    pub size: u32,
+}
+
+impl TileRect {
+    /// Atlas-from-clip: clip x, y in [-1, 1] (y up) map to the tile's texture coordinates
+    /// (v down); depth passes through.
+    pub fn atlas_from_clip(&self, atlas_size: u32) -> Mat4 {
+        let scale = self.size as f32 / atlas_size as f32;
+        let offset = Vec2::new(self.x as f32, self.y as f32) / atlas_size as f32;
+        Mat4::from_cols(
+            Vec4::new(0.5 * scale, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, -0.5 * scale, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, 1.0, 0.0),
+            Vec3::new(0.5 * scale + offset.x, 0.5 * scale + offset.y, 0.0).extend(1.0),
+        )
+    }
+
+    /// Bounds in texture coordinates shrunk by half a texel, so that clamped samples
+    /// never read a neighbour: (min, max).
+    pub fn bounds_uv(&self, atlas_size: u32) -> (Vec2, Vec2) {
+        let to_uv = 1.0 / atlas_size as f32;
+        let (x, y, s) = (self.x as f32, self.y as f32, self.size as f32);
+        (Vec2::new(x + 0.5, y + 0.5) * to_uv, Vec2::new(x + s - 0.5, y + s - 0.5) * to_uv)
+    }
+
+    pub fn viewport(&self) -> (u32, u32, u32) {
+        (self.x, self.y, self.size)
+    }
+}
+
+/// How much of the screen (0 to 1) a world-space sphere covers, from the area of its
+/// projected disc; 1 when the eye is inside it.
+pub fn screen_coverage(view_from_world: &Mat4, clip_from_view: &Mat4, center: Vec3, radius: f32) -> f32 {
+    let distance = view_from_world.transform_point3(center).length();
+    if distance <= radius {
+        return 1.0;
+    }
+    let sin = radius / distance;
+    let tan_squared = sin * sin / (1.0 - sin * sin);
+    // The projection's x and y scales are 1 / tan of the half fields of view; the screen
+    // spans 2 x 2 in clip units.
+    let (sx, sy) = (clip_from_view.x_axis.x.abs(), clip_from_view.y_axis.y.abs());
+    (std::f32::consts::PI * tan_squared * sx * sy / 4.0).min(1.0)
+}
+
+/// Per light (in importance order, `(tiles, coverage)`), the side in texels of each of
+/// its tiles, for lights that all fit in `atlas_size` (the caller caps the tile count).
+pub fn tile_sizes(atlas_size: u32, lights: &[(usize, f32)]) -> Vec<u32> {
+    let total: usize = lights.iter().map(|&(n, _)| n).sum();
+    let seeds_split = match total {
+        0 | 1 => Some(1),
+        2..=4 => Some(2),
+        5..=16 => Some(4),
+        _ => None,
+    };
+    if let Some(split) = seeds_split {
+        return vec![atlas_size / split; lights.len()];
+    }
+    let (large, medium, small) = (atlas_size / 4, atlas_size / 8, atlas_size / 16);
+    let mut sizes: Vec<u32> = lights
+        .iter()
+        .map(|&(_, coverage)| {
+            if coverage >= LARGE_TIER_COVERAGE {
+                large
+            } else if coverage >= SMALL_TIER_COVERAGE {
+                medium
+            } else {
+                small
+            }
+        })
+        .collect();
+    let area =
+        |sizes: &[u32]| -> u64 { lights.iter().zip(sizes).map(|(&(n, _), &s)| n as u64 * (s as u64).pow(2)).sum() };
+    let budget = (atlas_size as u64).pow(2);
+    // Over budget: the least important large light steps down to the middle tier, until
+    // it fits (64 middle tiles fill the atlas exactly).
+    while area(&sizes) > budget {
+        match sizes.iter().rposition(|&s| s == large) {
+            Some(k) => sizes[k] = medium,
+            None => break,
+        }
+    }
+    sizes
+}
+
+/// Places `sizes` (powers of two, each at most `atlas_size`) in the atlas; tiles are
+/// packed in order of decreasing size, ties in the given order. Returns `None` when they
+/// do not fit.
+pub fn pack_tiles(atlas_size: u32, sizes: &[u32]) -> Option<Vec<TileRect>> {
+    let unit = *sizes.iter().min()?;
+    let mut order: Vec<usize> = (0..sizes.len()).collect();
+    order.sort_by_key(|&k| std::cmp::Reverse(sizes[k]));
+    let cells_per_side = (atlas_size / unit) as u64;
+    let mut next_cell = 0u64;
+    let mut rects = vec![TileRect { x: 0, y: 0, size: 0 }; sizes.len()];
+    for k in order {
+        let side = (sizes[k] / unit) as u64;
+        if next_cell + side * side > cells_per_side * cells_per_side {
+            return None;
+        }
+        let (cx, cy) = morton_decode(next_cell);
+        rects[k] = TileRect { x: cx * unit, y: cy * unit, size: sizes[k] };
+        next_cell += side * side;
+    }
+    Some(rects)
+}
+
+/// The cell at position `index` of the Z-order curve.
+fn morton_decode(index: u64) -> (u32, u32) {
+    let (mut x, mut y) = (0u32, 0u32);
+    for bit in 0..32 {
+        x |= (((index >> (2 * bit)) & 1) as u32) << bit;
+        y |= (((index >> (2 * bit + 1)) & 1) as u32) << bit;
+    }
+    (x, y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::perspective_reverse_z;
+
+    #[test]
+    fn up_to_sixteen_tiles_keep_the_seeds_layout() {
+        assert_eq!(tile_sizes(2048, &[(1, 0.0)]), vec![2048]);
+        assert_eq!(tile_sizes(2048, &[(1, 0.0), (1, 0.9), (1, 0.1)]), vec![1024; 3]);
+        assert_eq!(tile_sizes(2048, &[(6, 0.9), (6, 0.0), (1, 0.5)]), vec![512; 3]);
+    }
+
+    #[test]
+    fn past_sixteen_tiles_size_follows_screen_coverage_within_the_atlas() {
+        // Five points (30 tiles): one fills the screen, three are ordinary, one is tiny.
+        let lights = [(6, 1.0), (6, 0.05), (6, 0.3), (6, 0.002), (6, 0.1)];
+        let sizes = tile_sizes(2048, &lights);
+        assert_eq!(sizes, vec![512, 256, 512, 128, 256]);
+        let area: u64 = lights.iter().zip(&sizes).map(|(&(n, _), &s)| n as u64 * (s as u64).pow(2)).sum();
+        assert!(area <= 2048 * 2048);
+        // Too many large lights: the least important step down until they fit.
+        let crowded = [(6, 1.0); 6];
+        let sizes = tile_sizes(2048, &crowded);
+        assert_eq!(sizes, vec![512, 256, 256, 256, 256, 256], "the most important keeps its tier");
+        // Ten of them fit only as middle tiles, never smaller.
+        assert_eq!(tile_sizes(2048, &[(6, 1.0); 10]), vec![256; 10]);
+    }
+
+    #[test]
+    fn packed_tiles_are_disjoint_aligned_and_inside() {
+        let sizes: Vec<u32> = [512, 128, 256, 256, 128, 256, 128, 128].iter().flat_map(|&s| [s; 6]).collect();
+        let rects = pack_tiles(2048, &sizes).expect("fits");
+        for (k, r) in rects.iter().enumerate() {
+            assert_eq!(r.size, sizes[k]);
+            assert!(r.x + r.size <= 2048 && r.y + r.size <= 2048);
+            assert_eq!((r.x % r.size, r.y % r.size), (0, 0), "aligned");
+            for q in &rects[k + 1..] {
+                let apart = r.x + r.size <= q.x || q.x + q.size <= r.x || r.y + r.size <= q.y || q.y + q.size <= r.y;
+                assert!(apart, "{r:?} overlaps {q:?}");
+            }
+        }
+        assert!(pack_tiles(2048, &[1024; 5]).is_none(), "five quarters do not fit");
+    }
+
+    #[test]
+    fn rect_matrices_map_clip_corners_to_the_tile() {
+        let r = TileRect { x: 512, y: 1536, size: 256 };
+        let m = r.atlas_from_clip(2048);
+        let top_left = m.transform_point3(Vec3::new(-1.0, 1.0, 0.5));
+        let bottom_right = m.transform_point3(Vec3::new(1.0, -1.0, 0.5));
+        assert!((top_left.truncate() * 2048.0 - Vec2::new(512.0, 1536.0)).length() < 1e-3);
+        assert!((bottom_right.truncate() * 2048.0 - Vec2::new(768.0, 1792.0)).length() < 1e-3);
+    }
+
+    #[test]
+    fn coverage_grows_as_a_light_nears_and_is_whole_inside_it() {
+        let view = Mat4::look_at_rh(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
+        let proj = perspective_reverse_z(60f32.to_radians(), 1.0, 0.1, None);
+        let far = screen_coverage(&view, &proj, Vec3::new(0.0, 0.0, -50.0), 1.0);
+        let near = screen_coverage(&view, &proj, Vec3::new(0.0, 0.0, -5.0), 1.0);
+        assert!(far < near && near < 1.0, "{far} {near}");
+        // A disc of half the screen's height at 60 degrees: pi/4 * ~0.25 of the square screen.
+        assert!((far - std::f32::consts::PI * (1.0f32 / 50.0 / 30f32.to_radians().tan()).powi(2) / 4.0).abs() < 1e-4);
+        assert_eq!(screen_coverage(&view, &proj, Vec3::new(0.0, 0.0, -1.0), 2.0), 1.0);
+    }
+}
