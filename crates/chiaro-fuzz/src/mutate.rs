@@ -202,7 +202,7 @@ pub fn mutate_json(rng: &mut Rng, doc: &Value) -> Vec<u8> {
 }
 
 /// Lines to add to a settings file.
-const TOML_LINES: [&str; 14] = [
+const TOML_LINES: [&str; 17] = [
     "[render]",
     "[shadows.directional]",
     "[[render]]",
@@ -217,6 +217,9 @@ const TOML_LINES: [&str; 14] = [
     "exposure_ev100 = inf",
     "range_threshold_lux = 1e-40",
     "cascade_count = 0",
+    "msaa = 3",
+    "culling = \"tiled\"",
+    "culling = 1",
 ];
 
 /// One to three line-level changes to a settings file.

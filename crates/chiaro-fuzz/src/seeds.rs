@@ -107,6 +107,7 @@ pub fn settings_seeds() -> Vec<Vec<u8>> {
         "[render]\nwidth = 640\nheight = 360\nexposure_ev100 = 1.5\nambient = [0.1, 0.1, 0.1]\nbackground = [0, 0, 0]\n",
         "[lights]\nmax_other_lights = 16\nrange_threshold_lux = 0.05\n[camera]\nauto_yfov_deg = 60\n",
         "[render]\npath = \"forward\"\nlight_buffer = \"ldr-exp2\"\n[lights]\nmax_other_lights = 64\n",
+        "[render]\nmsaa = 4\n[lights]\nculling = \"per-object\"\nmax_other_lights = 4096\n[shadows.other]\nmax_tiles = 40\n",
         "[bake]\nsamples = 16\nbounces = 2\ntexels_per_metre = 4.5\nseed = 7\nprobe_spacing = 1.5\nprobe_samples = 32\n[lighting]\nmixed_mode = \"shadowmask\"\n",
         "[shadows]\nmax_distance = 50\ndistance_fade = 0.2\n[shadows.directional]\natlas_size = 1024\nfilter = \"tent5x5\"\ncascade_count = 3\ncascade_ratios = [0.2, 0.5]\ncascade_fade = 0.1\ncascade_blend = \"soft\"\n[shadows.other]\natlas_size = 512\nfilter = \"tent3x3\"\n",
     ]
