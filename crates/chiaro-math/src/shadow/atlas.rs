@@ -1,7 +1,8 @@
 //! The shadow atlas: a square depth texture split into 1, 2, 4 or 8 tiles per side, and
 //! the matrix that takes a tile's clip space to atlas texture coordinates.
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use super::tiers::TileRect;
+use glam::{Mat4, Vec2};
 
 /// How many tiles a side, and how big each is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,41 +41,32 @@ impl AtlasLayout {
 
     /// The tile's viewport in texels: (x, y, size).
     pub fn tile_viewport(&self, index: usize) -> (u32, u32, u32) {
+        self.tile_rect(index).viewport()
+    }
+
+    pub fn tile_rect(&self, index: usize) -> TileRect {
         let (x, y) = self.tile_offset(index);
         let s = self.tile_size();
-        (x * s, y * s, s)
+        TileRect { x: x * s, y: y * s, size: s }
     }
 
     /// Atlas-from-clip for a tile: clip x, y in [-1, 1] (y up) map to the tile's texture
     /// coordinates (v down), depth passes through.
     pub fn atlas_from_clip(&self, index: usize) -> Mat4 {
-        let (x, y) = self.tile_offset(index);
-        let scale = 1.0 / self.split as f32;
-        let offset = Vec2::new(x as f32, y as f32) * scale;
-        Mat4::from_cols(
-            Vec4::new(0.5 * scale, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, -0.5 * scale, 0.0, 0.0),
-            Vec4::new(0.0, 0.0, 1.0, 0.0),
-            Vec3::new(0.5 * scale + offset.x, 0.5 * scale + offset.y, 0.0).extend(1.0),
-        )
+        self.tile_rect(index).atlas_from_clip(self.atlas_size)
     }
 
     /// The tile's bounds in atlas texture coordinates shrunk by half a texel, so that
     /// clamped samples never read a neighbouring tile: (min, max).
     pub fn tile_bounds_uv(&self, index: usize) -> (Vec2, Vec2) {
-        let (x, y, s) = self.tile_viewport(index);
-        let half_texel = 0.5;
-        let to_uv = 1.0 / self.atlas_size as f32;
-        (
-            Vec2::new(x as f32 + half_texel, y as f32 + half_texel) * to_uv,
-            Vec2::new((x + s) as f32 - half_texel, (y + s) as f32 - half_texel) * to_uv,
-        )
+        self.tile_rect(index).bounds_uv(self.atlas_size)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     #[test]
     fn layouts_follow_the_tutorial() {
