@@ -26,7 +26,7 @@ use crate::plan::shadows::ShadowAtlasTiles;
 use crate::plan::{FramePlan, PassId, PlanRequest};
 use crate::readback::{PendingCopy, copy_texture, finish_copies};
 use crate::scene::{GpuScene, material_layout};
-use crate::shader_constants::NO_LIGHT;
+use crate::shader_constants::{MAX_UNIFORM_LIGHTS, NO_LIGHT};
 use crate::view::View;
 use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::{Scene, Settings};
@@ -433,14 +433,18 @@ impl Renderer {
         encoder: &mut wgpu::CommandEncoder,
     ) -> Vec<PendingCopy> {
         let (device, queue) = (&self.ctx.device, &self.ctx.queue);
-        let positions = plan.list_positions();
-        let list_indices: Vec<u32> = (0..scene.lights.len())
-            .map(|i| plan.light_index(LightId(i as u32)).map_or(NO_LIGHT, |k| positions[k]))
+        // Lights past the uniform light buffer cannot be reported.
+        let light_indices: Vec<u32> = (0..scene.lights.len())
+            .map(|i| {
+                plan.light_index(LightId(i as u32))
+                    .filter(|&k| k < MAX_UNIFORM_LIGHTS as usize)
+                    .map_or(NO_LIGHT, |k| k as u32)
+            })
             .collect();
-        self.shadow_aov.prepare(device, queue, plan, &prepared.gpu, &list_indices);
+        self.shadow_aov.prepare(device, queue, plan, &prepared.gpu, &light_indices);
         let texture = self.targets.texture(Resource::AovShadow).expect("made for shadow AOVs");
         let mut stats = PassStats::default();
-        (0..list_indices.len())
+        (0..light_indices.len())
             .map(|k| {
                 let mut cx = PassContext {
                     device,

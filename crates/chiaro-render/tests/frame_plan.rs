@@ -254,3 +254,22 @@ fn past_sixteen_tiles_point_lights_get_tiles_by_screen_coverage() {
         }
     }
 }
+
+#[test]
+fn an_atlas_too_small_for_any_light_gives_no_tiles_and_no_panic() {
+    // A point light needs six tiles; with four allowed it gets none.
+    let scene = floor_scene(8.0, Vec3::new(0.0, 6.0, 3.0), vec![point_light(Vec3::new(0.0, 1.0, 0.0), 5.0, Some(6.0))]);
+    let mut settings = unlit_settings();
+    settings.shadows.other.max_tiles = 4;
+    let view = View::from_camera(&scene, 0, 64, 64);
+    let plan = FramePlan::new(
+        &scene,
+        &draws(&scene),
+        &view,
+        &settings,
+        &mut ShadowAtlasTiles::default(),
+        PlanRequest::default(),
+    );
+    assert_eq!(slot_of(&plan, 0), ShadowSlot::BakedOnly);
+    assert!(plan.shadows.tiles.is_empty());
+}

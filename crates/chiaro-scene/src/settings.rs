@@ -158,8 +158,8 @@ impl Default for RenderSettings {
 #[serde(default, deny_unknown_fields)]
 pub struct LightSettings {
     /// Most point and spot lights shaded per frame: 1 to 4096, or to 64 on the forward
-    /// path with `culling = "none"` (where transparent surfaces of the deferred path see
-    /// the 64 most important); unset, the most. The most important visible ones are kept; a lower cap is faster
+    /// path with `culling = "none"` (with which the deferred path's transparent surfaces
+    /// see the 64 most important); unset, the most. The most important visible ones are kept; a lower cap is faster
     /// but drops distant lights.
     pub max_other_lights: Option<u32>,
     /// Illuminance (lux, 1e-6 to 1e6) at which a light with no range in its file is cut

@@ -15,6 +15,10 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 /// gets the small one.
 pub const LARGE_TIER_COVERAGE: f32 = 0.2;
 pub const SMALL_TIER_COVERAGE: f32 = 0.01;
+/// A light keeps last frame's tier until its coverage is this factor past the threshold,
+/// so that one hovering at a threshold does not switch (and reallocate every tile) each
+/// frame.
+pub const TIER_HYSTERESIS: f32 = 1.25;
 
 /// A tile's place in the atlas, in texels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -66,9 +70,31 @@ pub fn screen_coverage(view_from_world: &Mat4, clip_from_view: &Mat4, center: Ve
     (std::f32::consts::PI * tan_squared * sx * sy / 4.0).min(1.0)
 }
 
-/// Per light (in importance order, `(tiles, coverage)`), the side in texels of each of
-/// its tiles, for lights that all fit in `atlas_size` (the caller caps the tile count).
-pub fn tile_sizes(atlas_size: u32, lights: &[(usize, f32)]) -> Vec<u32> {
+/// The tile side a light covering `coverage` of the screen asks for, before the atlas's
+/// budget: `atlas_size` / 4, / 8 or / 16. `previous` (last frame's answer) is kept while
+/// the coverage stays within `TIER_HYSTERESIS` of the threshold between them.
+pub fn coverage_tier(atlas_size: u32, coverage: f32, previous: Option<u32>) -> u32 {
+    let tier = |c: f32| {
+        if c >= LARGE_TIER_COVERAGE {
+            atlas_size / 4
+        } else if c >= SMALL_TIER_COVERAGE {
+            atlas_size / 8
+        } else {
+            atlas_size / 16
+        }
+    };
+    // Tiers grow with coverage, so a tier between these two is within the margin.
+    let (smaller, larger) = (tier(coverage / TIER_HYSTERESIS), tier(coverage * TIER_HYSTERESIS));
+    match previous {
+        Some(p) if (smaller..=larger).contains(&p) => p,
+        _ => tier(coverage),
+    }
+}
+
+/// Per light (in importance order, `(tiles, coverage tier)` from `coverage_tier`), the
+/// side in texels of each of its tiles, for lights that all fit in `atlas_size` (the
+/// caller caps the tile count).
+pub fn tile_sizes(atlas_size: u32, lights: &[(usize, u32)]) -> Vec<u32> {
     let total: usize = lights.iter().map(|&(n, _)| n).sum();
     let seeds_split = match total {
         0 | 1 => Some(1),
@@ -79,19 +105,8 @@ pub fn tile_sizes(atlas_size: u32, lights: &[(usize, f32)]) -> Vec<u32> {
     if let Some(split) = seeds_split {
         return vec![atlas_size / split; lights.len()];
     }
-    let (large, medium, small) = (atlas_size / 4, atlas_size / 8, atlas_size / 16);
-    let mut sizes: Vec<u32> = lights
-        .iter()
-        .map(|&(_, coverage)| {
-            if coverage >= LARGE_TIER_COVERAGE {
-                large
-            } else if coverage >= SMALL_TIER_COVERAGE {
-                medium
-            } else {
-                small
-            }
-        })
-        .collect();
+    let (large, medium) = (atlas_size / 4, atlas_size / 8);
+    let mut sizes: Vec<u32> = lights.iter().map(|&(_, tier)| tier).collect();
     let area =
         |sizes: &[u32]| -> u64 { lights.iter().zip(sizes).map(|(&(n, _), &s)| n as u64 * (s as u64).pow(2)).sum() };
     let budget = (atlas_size as u64).pow(2);
@@ -110,7 +125,9 @@ pub fn tile_sizes(atlas_size: u32, lights: &[(usize, f32)]) -> Vec<u32> {
 /// packed in order of decreasing size, ties in the given order. Returns `None` when they
 /// do not fit.
 pub fn pack_tiles(atlas_size: u32, sizes: &[u32]) -> Option<Vec<TileRect>> {
-    let unit = *sizes.iter().min()?;
+    let Some(&unit) = sizes.iter().min() else {
+        return Some(Vec::new());
+    };
     let mut order: Vec<usize> = (0..sizes.len()).collect();
     order.sort_by_key(|&k| std::cmp::Reverse(sizes[k]));
     let cells_per_side = (atlas_size / unit) as u64;
@@ -143,27 +160,47 @@ mod tests {
     use super::*;
     use crate::camera::perspective_reverse_z;
 
+    /// Tiles and tier per light, from coverages, with no previous frame.
+    fn tiered(lights: &[(usize, f32)]) -> Vec<(usize, u32)> {
+        lights.iter().map(|&(n, c)| (n, coverage_tier(2048, c, None))).collect()
+    }
+
     #[test]
     fn up_to_sixteen_tiles_keep_the_seeds_layout() {
-        assert_eq!(tile_sizes(2048, &[(1, 0.0)]), vec![2048]);
-        assert_eq!(tile_sizes(2048, &[(1, 0.0), (1, 0.9), (1, 0.1)]), vec![1024; 3]);
-        assert_eq!(tile_sizes(2048, &[(6, 0.9), (6, 0.0), (1, 0.5)]), vec![512; 3]);
+        assert_eq!(tile_sizes(2048, &tiered(&[(1, 0.0)])), vec![2048]);
+        assert_eq!(tile_sizes(2048, &tiered(&[(1, 0.0), (1, 0.9), (1, 0.1)])), vec![1024; 3]);
+        assert_eq!(tile_sizes(2048, &tiered(&[(6, 0.9), (6, 0.0), (1, 0.5)])), vec![512; 3]);
+    }
+
+    #[test]
+    fn tiers_switch_only_past_the_margin() {
+        assert_eq!(coverage_tier(2048, 0.21, None), 512);
+        assert_eq!(coverage_tier(2048, 0.19, None), 256);
+        // Hovering around the threshold keeps last frame's tier.
+        assert_eq!(coverage_tier(2048, 0.19, Some(512)), 512);
+        assert_eq!(coverage_tier(2048, 0.21, Some(256)), 256);
+        assert_eq!(coverage_tier(2048, 0.009, Some(256)), 256);
+        // Well past it, the tier follows the coverage.
+        assert_eq!(coverage_tier(2048, 0.15, Some(512)), 256);
+        assert_eq!(coverage_tier(2048, 0.3, Some(256)), 512);
+        assert_eq!(coverage_tier(2048, 0.005, Some(256)), 128);
+        assert_eq!(coverage_tier(2048, 0.9, Some(128)), 512);
     }
 
     #[test]
     fn past_sixteen_tiles_size_follows_screen_coverage_within_the_atlas() {
         // Five points (30 tiles): one fills the screen, three are ordinary, one is tiny.
         let lights = [(6, 1.0), (6, 0.05), (6, 0.3), (6, 0.002), (6, 0.1)];
-        let sizes = tile_sizes(2048, &lights);
+        let sizes = tile_sizes(2048, &tiered(&lights));
         assert_eq!(sizes, vec![512, 256, 512, 128, 256]);
         let area: u64 = lights.iter().zip(&sizes).map(|(&(n, _), &s)| n as u64 * (s as u64).pow(2)).sum();
         assert!(area <= 2048 * 2048);
         // Too many large lights: the least important step down until they fit.
         let crowded = [(6, 1.0); 6];
-        let sizes = tile_sizes(2048, &crowded);
+        let sizes = tile_sizes(2048, &tiered(&crowded));
         assert_eq!(sizes, vec![512, 256, 256, 256, 256, 256], "the most important keeps its tier");
         // Ten of them fit only as middle tiles, never smaller.
-        assert_eq!(tile_sizes(2048, &[(6, 1.0); 10]), vec![256; 10]);
+        assert_eq!(tile_sizes(2048, &tiered(&[(6, 1.0); 10])), vec![256; 10]);
     }
 
     #[test]
@@ -180,6 +217,7 @@ mod tests {
             }
         }
         assert!(pack_tiles(2048, &[1024; 5]).is_none(), "five quarters do not fit");
+        assert_eq!(pack_tiles(2048, &[]), Some(Vec::new()));
     }
 
     #[test]

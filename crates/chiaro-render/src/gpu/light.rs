@@ -74,7 +74,7 @@ pub struct GpuListRecord {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuAovLight {
-    /// Where the light sits in the frame's concatenated light lists, or `NO_LIGHT`.
-    pub list_index: u32,
+    /// The light's index in the frame's light buffer (`FramePlan::lights`), or `NO_LIGHT`.
+    pub light_index: u32,
     pub _pad: [u32; 3],
 }

@@ -53,7 +53,7 @@ layouts! {
     }
     GpuVolumeLight { world_from_volume, light }
     GpuLightListEntry { light }
-    GpuAovLight { list_index }
+    GpuAovLight { light_index }
     GpuShadowTile { atlas_from_world, uv_min, uv_max, normal_bias }
     GpuCascade { culling_sphere_center_ws, radius_squared, inverse_radius_squared }
     GpuAtlas { size_texels, texel_uv }

@@ -74,18 +74,18 @@ impl ShadowAovPass {
         }
     }
 
-    /// Uploads the lights to report, one per scene light: where each sits in the frame's
-    /// light lists (`NO_LIGHT` where the frame does not shade it). Makes the pipelines.
+    /// Uploads the lights to report, one per scene light: its index in the frame's light
+    /// buffer (`NO_LIGHT` where the frame does not shade it). Makes the pipelines.
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         plan: &FramePlan,
         scene: &GpuScene,
-        list_indices: &[u32],
+        light_indices: &[u32],
     ) {
         self.pipelines.prepare(device, &scene.draws, &plan.camera_draws, 1);
-        let size = self.stride * list_indices.len().max(1) as u64;
+        let size = self.stride * light_indices.len().max(1) as u64;
         if self.lights.as_ref().is_none_or(|(buffer, _)| buffer.size() < size) {
             let buffer = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("aov lights"),
@@ -109,9 +109,9 @@ impl ShadowAovPass {
         }
         let (buffer, _) = self.lights.as_ref().expect("made above");
         let mut bytes = vec![0u8; size as usize];
-        for (k, &list_index) in list_indices.iter().enumerate() {
+        for (k, &light_index) in light_indices.iter().enumerate() {
             let at = k * self.stride as usize;
-            let value = GpuAovLight { list_index, _pad: [0; 3] };
+            let value = GpuAovLight { light_index, _pad: [0; 3] };
             bytes[at..at + size_of::<GpuAovLight>()].copy_from_slice(bytemuck::bytes_of(&value));
         }
         queue.write_buffer(buffer, 0, &bytes);

@@ -308,15 +308,6 @@ impl FramePlan {
         self.frame_index.get(id.index()).copied().flatten().map(|k| k as usize)
     }
 
-    /// Where each of `lights` sits in the concatenated lists, the order the shaders see.
-    pub fn list_positions(&self) -> Vec<u32> {
-        let mut positions = vec![0; self.lights.len()];
-        for (position, &light) in self.lists.concatenated().iter().enumerate() {
-            positions[light as usize] = position as u32;
-        }
-        positions
-    }
-
     /// The point and spot lights the forward lists shade (all the frame shades on the
     /// forward path; the deferred path's volumes shade every light in `lights`).
     pub fn other_light_count(&self) -> usize {

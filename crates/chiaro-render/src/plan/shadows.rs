@@ -17,7 +17,7 @@ use chiaro_math::shadow::fade::distance_fade_params;
 use chiaro_math::shadow::other::{
     POINT_LIGHT_FACES, perspective_normal_bias, point_face_fov_rad, point_face_view, spot_shadow_view,
 };
-use chiaro_math::shadow::tiers::{pack_tiles, screen_coverage, tile_sizes};
+use chiaro_math::shadow::tiers::{coverage_tier, pack_tiles, screen_coverage, tile_sizes};
 use chiaro_math::shadow::{
     AtlasLayout, ShadowFilter, TileAllocator, cascade_splits, first_fit_tiles, fit_cascade, slice_culling_sphere,
 };
@@ -71,6 +71,8 @@ pub struct ShadowAtlasTiles {
     pub directional: TileAllocator<LightId>,
     /// Keyed by light and tile size: a light whose tier changes is allocated anew.
     pub other: TileAllocator<(LightId, u32)>,
+    /// Each point and spot light's coverage tier last frame (`tiers::coverage_tier`).
+    pub other_tiers: std::collections::HashMap<LightId, u32>,
 }
 
 impl Default for ShadowAtlasTiles {
@@ -78,6 +80,7 @@ impl Default for ShadowAtlasTiles {
         ShadowAtlasTiles {
             directional: TileAllocator::new(MAX_DIRECTIONAL_SHADOW_TILES as usize),
             other: TileAllocator::new(MAX_OTHER_SHADOW_TILES as usize),
+            other_tiers: std::collections::HashMap::new(),
         }
     }
 }
@@ -254,23 +257,25 @@ fn plan_other(
     let os = &settings.shadows.other;
     let tiles_wanted = |light: &Light| if light.kind == LightKind::Point { POINT_LIGHT_FACES } else { 1 };
     let view_from_world = view.view_from_world();
-    let casting: Vec<(LightId, usize, f32)> = other
+    let casting: Vec<(LightId, usize, u32)> = other
         .iter()
         .filter(|&&(id, _)| scene.lights[id.index()].shadow.casts())
         .map(|&(id, range)| {
             let light = &scene.lights[id.index()];
             let coverage = screen_coverage(&view_from_world, &view.clip_from_view, light.position(), range);
-            (id, tiles_wanted(light), coverage)
+            let tier = coverage_tier(os.atlas_size, coverage, atlases.other_tiers.get(&id).copied());
+            (id, tiles_wanted(light), tier)
         })
         .collect();
+    atlases.other_tiers = casting.iter().map(|&(id, _, tier)| (id, tier)).collect();
     if atlases.other.capacity() != os.max_tiles as usize {
         atlases.other = TileAllocator::new(os.max_tiles as usize);
     }
     // Which lights fit decides the tile sizes; the sizes are part of each request.
     let counts: Vec<usize> = casting.iter().map(|&(_, n, _)| n).collect();
     let fits = first_fit_tiles(&counts, os.max_tiles as usize);
-    let fitting: Vec<(usize, f32)> =
-        casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(&(_, n, c), _)| (n, c)).collect();
+    let fitting: Vec<(usize, u32)> =
+        casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(&(_, n, tier), _)| (n, tier)).collect();
     let mut sizes = tile_sizes(os.atlas_size, &fitting).into_iter();
     let requests: Vec<((LightId, u32), usize)> = casting
         .iter()
