@@ -13,6 +13,7 @@ use super::mesh::{STENCIL_SURFACE, scene_depth};
 use crate::gpu::GpuVolumeLight;
 use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
 use crate::plan::volumes::{VolumeMesh, VolumeShape, unit_pyramid, unit_sphere};
+use crate::plan::features::ShaderFeatures;
 use crate::plan::{DebugView, FramePlan, PassId};
 use crate::shaders;
 use chiaro_scene::LightBuffer;
@@ -27,12 +28,14 @@ const STENCIL_INSIDE: u32 = 2;
 struct Variant {
     ldr: bool,
     overdraw: bool,
+    /// What the light shaders compile in (cookies, tent filters, soft cascades).
+    features: ShaderFeatures,
 }
 
 impl Variant {
     fn of(plan: &FramePlan) -> Variant {
         let overdraw = plan.request.debug_view == Some(DebugView::LightOverdraw);
-        Variant { ldr: !overdraw && plan.light_buffer == LightBuffer::LdrExp2, overdraw }
+        Variant { ldr: !overdraw && plan.light_buffer == LightBuffer::LdrExp2, overdraw, features: plan.features }
     }
 
     fn target(self) -> Resource {
@@ -185,7 +188,7 @@ impl DeferredLightsPass {
             depth_format,
             unclipped_depth: device.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             pipelines: HashMap::new(),
-            variant: Variant { ldr: false, overdraw: false },
+            variant: Variant { ldr: false, overdraw: false, features: ShaderFeatures::ALL },
             sphere: MeshBuffers::new(device, "light sphere", unit_sphere()),
             pyramid: MeshBuffers::new(device, "light pyramid", unit_pyramid()),
             volumes,
@@ -233,7 +236,16 @@ impl DeferredLightsPass {
                         stencil: wgpu::StencilState,
                         writes_color: bool| {
             let vertex_constants = [("6", flag(!self.unclipped_depth))];
-            let fragment_constants = [("2", flag(variant.ldr)), ("4", flag(variant.overdraw))];
+            // The light shaders read no baked light (the G-buffer carries the shadow mask),
+            // so every feature but that one applies.
+            let f = variant.features;
+            let fragment_constants = [
+                ("2", flag(variant.ldr)),
+                ("4", flag(variant.overdraw)),
+                ("9", flag(f.cookies)),
+                ("11", flag(f.tent_filters)),
+                ("12", flag(f.soft_cascades)),
+            ];
             let buffers = [Some(vertex_layout.clone())];
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(&format!("deferred {label} {variant:?}")),

@@ -10,6 +10,7 @@ use crate::plan::{FramePlan, PassId};
 use crate::shaders;
 use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::LightBuffer;
+use std::collections::HashMap;
 
 /// Base colour (linear) and metallic.
 pub const GBUFFER_ALBEDO_METALLIC_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -27,36 +28,48 @@ pub fn light_target(light_buffer: LightBuffer) -> Resource {
 }
 
 pub struct GBufferPass {
-    hdr: MeshPipelines,
-    ldr: MeshPipelines,
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    depth_format: wgpu::TextureFormat,
+    /// By light buffer and whether baked light is compiled in; made when first used.
+    pipelines: HashMap<(LightBuffer, bool), MeshPipelines>,
 }
 
 impl GBufferPass {
     pub fn new(device: &wgpu::Device, layout: &wgpu::PipelineLayout, depth_format: wgpu::TextureFormat) -> GBufferPass {
-        let pipelines = |light_format, ldr_exp2: bool| {
-            MeshPipelines::new(MeshPipelinesDesc {
-                label: "gbuffer",
-                module: shaders::module(device, "gbuffer", shaders::GBUFFER),
-                fragment_entry: Some("fs_gbuffer"),
-                layout: layout.clone(),
-                color_formats: vec![light_format, GBUFFER_ALBEDO_METALLIC_FORMAT, GBUFFER_PACKED_FORMAT],
-                blends: false,
-                depth_test: DepthTest::Nearest,
-                depth_format,
-                marks_stencil: true,
-                constants: vec![("2", if ldr_exp2 { 1.0 } else { 0.0 })],
-                alpha_test_override: None,
-            })
-        };
-        GBufferPass { hdr: pipelines(HDR_FORMAT, false), ldr: pipelines(LIGHT_BUFFER_LDR_FORMAT, true) }
-    }
-
-    fn pipelines(&self, light_buffer: LightBuffer) -> &MeshPipelines {
-        match light_buffer {
-            LightBuffer::Hdr => &self.hdr,
-            LightBuffer::LdrExp2 => &self.ldr,
+        GBufferPass {
+            module: shaders::module(device, "gbuffer", shaders::GBUFFER),
+            layout: layout.clone(),
+            depth_format,
+            pipelines: HashMap::new(),
         }
     }
+
+    fn create(&self, (light_buffer, baked): (LightBuffer, bool)) -> MeshPipelines {
+        let ldr_exp2 = light_buffer == LightBuffer::LdrExp2;
+        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        MeshPipelines::new(MeshPipelinesDesc {
+            label: "gbuffer",
+            module: self.module.clone(),
+            fragment_entry: Some("fs_gbuffer"),
+            layout: self.layout.clone(),
+            color_formats: vec![
+                if ldr_exp2 { LIGHT_BUFFER_LDR_FORMAT } else { HDR_FORMAT },
+                GBUFFER_ALBEDO_METALLIC_FORMAT,
+                GBUFFER_PACKED_FORMAT,
+            ],
+            blends: false,
+            depth_test: DepthTest::Nearest,
+            depth_format: self.depth_format,
+            marks_stencil: true,
+            constants: vec![("2", flag(ldr_exp2)), ("10", flag(baked))],
+            alpha_test_override: Some("13"),
+        })
+    }
+}
+
+fn pipeline_key(plan: &FramePlan) -> (LightBuffer, bool) {
+    (plan.light_buffer, plan.features.baked)
 }
 
 /// The opaque and masked draws, which the G-buffer takes.
@@ -82,10 +95,12 @@ impl FramePass for GBufferPass {
     }
 
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
-        let pipelines = match cx.plan.light_buffer {
-            LightBuffer::Hdr => &mut self.hdr,
-            LightBuffer::LdrExp2 => &mut self.ldr,
-        };
+        let key = pipeline_key(cx.plan);
+        if !self.pipelines.contains_key(&key) {
+            let made = self.create(key);
+            self.pipelines.insert(key, made);
+        }
+        let pipelines = self.pipelines.get_mut(&key).expect("made above");
         pipelines.prepare(cx.device, &cx.scene.draws, opaque_draws(cx.plan), 1);
     }
 
@@ -114,6 +129,6 @@ impl FramePass for GBufferPass {
         });
         pass.set_stencil_reference(STENCIL_SURFACE);
         pass.set_bind_group(0, cx.frame_bind_group, &[]);
-        self.pipelines(cx.plan.light_buffer).draw(&mut pass, cx.scene, opaque_draws(cx.plan));
+        self.pipelines[&pipeline_key(cx.plan)].draw(&mut pass, cx.scene, opaque_draws(cx.plan));
     }
 }
