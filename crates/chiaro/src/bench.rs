@@ -110,7 +110,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
-    let mut renderer = Renderer::new(GpuContext::new()?)?;
+    let ctx = GpuContext::new()?;
+    args.path.check_device(&ctx, &settings, args.settings.as_deref())?;
+    let mut renderer = Renderer::new(ctx)?;
     let prepared = renderer.prepare(&scene)?;
     let options = FrameOptions::default();
     for _ in 0..args.warmup {

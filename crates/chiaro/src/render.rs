@@ -145,7 +145,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
     check_outputs(&planned_outputs(&args, &scene), &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
-    let mut renderer = Renderer::new(GpuContext::new()?)?;
+    let ctx = GpuContext::new()?;
+    args.path.check_device(&ctx, &settings, args.settings.as_deref())?;
+    let mut renderer = Renderer::new(ctx)?;
     let prepared = renderer.prepare(&scene)?;
     let wants = |aov: Aov| args.aov.contains(&aov);
     let options = FrameOptions {

@@ -294,6 +294,27 @@ fn bench_json_is_one_object_with_the_named_keys() {
 }
 
 #[test]
+fn an_msaa_count_the_device_lacks_names_its_source() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("eight.toml"), "[render]\nmsaa = 8\n").unwrap();
+    let run = chiaro(
+        &["render", "--settings", "eight.toml", "--width", "32", "--height", "32", "-o", "out.png"],
+        &[],
+        dir.path(),
+    );
+    if run.code == 0 {
+        // A device with 8 samples renders them.
+        assert!(dir.path().join("out.png").exists());
+    } else {
+        // lavapipe offers 1 and 4: the error names the file, the key and what the device has.
+        for w in ["eight.toml", "render.msaa = 8", "4"] {
+            assert!(run.stderr.contains(w), "no '{w}' in: {}", run.stderr);
+        }
+        assert!(!dir.path().join("out.png").exists());
+    }
+}
+
+#[test]
 fn msaa_and_culling_flags_are_checked() {
     let dir = tempfile::tempdir().unwrap();
     for (args, words) in [
