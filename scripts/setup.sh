@@ -18,6 +18,8 @@ command -v cc >/dev/null 2>&1 && command -v c++ >/dev/null 2>&1 || packages+=(bu
 command -v pkg-config >/dev/null 2>&1 || packages+=(pkg-config)
 have_vulkan_driver || packages+=(libvulkan1 mesa-vulkan-drivers)
 command -v curl >/dev/null 2>&1 || packages+=(curl ca-certificates)
+# A virtual X display for the windowed test of `chiaro view`.
+command -v xvfb-run >/dev/null 2>&1 || packages+=(xvfb xauth)
 
 if [ ${#packages[@]} -gt 0 ]; then
     if command -v apt-get >/dev/null 2>&1; then

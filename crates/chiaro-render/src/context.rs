@@ -13,6 +13,8 @@ pub struct GpuContext {
     pub depth_format: wgpu::TextureFormat,
     /// Samples per pixel the forward path's HDR and depth targets can have (MSAA).
     pub msaa_sample_counts: Vec<u32>,
+    /// Formats the surface it was opened for can take (none without one).
+    pub surface_formats: Vec<wgpu::TextureFormat>,
     /// Validation errors the device reported outside an error scope, oldest first.
     errors: Arc<Mutex<Vec<String>>>,
 }
@@ -21,15 +23,33 @@ impl GpuContext {
     /// Opens the best adapter of the primary backends (Vulkan, Metal, DX12). `WGPU_BACKEND`
     /// and `WGPU_ADAPTER_NAME` choose otherwise, as wgpu documents.
     pub fn new() -> Result<GpuContext, RenderError> {
+        Ok(Self::open(None)?.0)
+    }
+
+    /// Opens an adapter that can present to `target` (a window), with the surface for it.
+    pub fn for_surface(
+        target: impl Into<wgpu::SurfaceTarget<'static>>,
+    ) -> Result<(GpuContext, wgpu::Surface<'static>), RenderError> {
+        let (ctx, surface) = Self::open(Some(target.into()))?;
+        Ok((ctx, surface.expect("made for the target")))
+    }
+
+    fn open(
+        target: Option<wgpu::SurfaceTarget<'static>>,
+    ) -> Result<(GpuContext, Option<wgpu::Surface<'static>>), RenderError> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         if std::env::var_os("WGPU_BACKEND").is_none() {
             desc.backends = wgpu::Backends::PRIMARY;
         }
         let instance = wgpu::Instance::new(desc);
+        let surface = match target {
+            Some(t) => Some(instance.create_surface(t).map_err(|e| RenderError::Device(format!("no surface: {e}")))?),
+            None => None,
+        };
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             force_fallback_adapter: false,
-            compatible_surface: None,
+            compatible_surface: surface.as_ref(),
             apply_limit_buckets: false,
         }))
         .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
@@ -93,7 +113,20 @@ impl GpuContext {
             device_type = ?adapter_info.device_type,
             "GPU ready"
         );
-        Ok(GpuContext { device, queue, adapter_info, has_timestamps, depth_format, msaa_sample_counts, errors })
+        let surface_formats = surface.as_ref().map(|s| s.get_capabilities(&adapter).formats).unwrap_or_default();
+        Ok((
+            GpuContext {
+                device,
+                queue,
+                adapter_info,
+                has_timestamps,
+                depth_format,
+                msaa_sample_counts,
+                surface_formats,
+                errors,
+            },
+            surface,
+        ))
     }
 
     /// Returns the first GPU error reported since the last call, if any.

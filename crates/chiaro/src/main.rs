@@ -12,6 +12,7 @@ mod path_arg;
 mod render;
 mod scene_source;
 mod shadow_args;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -35,6 +36,10 @@ enum Command {
     Compare(compare::CompareArgs),
     /// Bake lightmaps and light probes for a scene's static objects (CPU path tracing).
     Bake(bake::BakeArgs),
+    /// Open a window with the live 3D view and a settings panel. Drag with the left mouse
+    /// button to orbit, use the wheel to zoom; `--screenshot FILE --exit-after-frames N`
+    /// writes the 3D view after N frames and exits.
+    View(view::ViewArgs),
 }
 
 /// Mesa's Vulkan drivers load libwayland, which prints "XDG_RUNTIME_DIR is invalid or not
@@ -69,6 +74,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Bake(args) => bake::run(args),
+        Command::View(args) => view::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,84 @@
+//! `chiaro view` in a real window on a virtual X display (Xvfb, which scripts/setup.sh
+//! installs): it opens a shared scene, renders frames, writes `--screenshot`, exits 0, and
+//! the screenshot matches `chiaro render` of the same camera and size.
+
+mod common;
+
+use common::{Run, chiaro};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const WIDTH: u32 = 160;
+const HEIGHT: u32 = 120;
+
+fn shared_scene(name: &str) -> PathBuf {
+    let path = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets")).join(name);
+    assert!(path.exists(), "{} is missing", path.display());
+    path
+}
+
+/// `chiaro view ARGS` under `xvfb-run`.
+fn view_under_xvfb(args: &[&str], dir: &Path) -> Run {
+    let output = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_chiaro"), "view"])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("xvfb-run is missing: install xvfb (scripts/setup.sh does)");
+    Run {
+        code: output.status.code().unwrap_or(-1),
+        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
+        stdout: String::from_utf8_lossy(&output.stdout).into_owned(),
+    }
+}
+
+fn rgb(path: &Path) -> Vec<u8> {
+    image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgb8().into_raw()
+}
+
+fn mean_flip(reference: &[u8], test: &[u8]) -> f32 {
+    let error = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(WIDTH, HEIGHT, reference),
+        nv_flip::FlipImageRgb8::with_data(WIDTH, HEIGHT, test),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    nv_flip::FlipPool::from_image(&error).mean()
+}
+
+#[test]
+fn the_viewer_screenshot_equals_chiaro_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = shared_scene("ShadowsSpot/glTF/shadows-spot.gltf");
+    let scene = scene.to_str().unwrap();
+    let (w, h) = (WIDTH.to_string(), HEIGHT.to_string());
+    let size = ["--width", w.as_str(), "--height", h.as_str()];
+    let shot = view_under_xvfb(
+        &[&[scene][..], &size, &["--screenshot", "shot.png", "--exit-after-frames", "3"]].concat(),
+        dir.path(),
+    );
+    assert_eq!(shot.code, 0, "the viewer failed: {}", shot.stderr);
+    assert!(shot.stderr.contains("after 3 frames"), "{}", shot.stderr);
+    let render = chiaro(&[&["render", scene][..], &size, &["-o", "render.png"]].concat(), &[], dir.path());
+    assert_eq!(render.code, 0, "{}", render.stderr);
+    let (shot, reference) = (rgb(&dir.path().join("shot.png")), rgb(&dir.path().join("render.png")));
+    assert_eq!(shot.len(), reference.len(), "same size");
+    let lit = reference.chunks(3).filter(|p| p.iter().any(|&c| c > 10)).count();
+    assert!(lit * 10 > reference.len() / 3, "the scene is visible: {lit} pixels lit");
+    let flip = mean_flip(&reference, &shot);
+    println!("viewer screenshot against chiaro render: mean FLIP {flip}");
+    assert!(flip < 0.01, "mean FLIP {flip}");
+}
+
+#[test]
+fn viewer_arguments_are_checked_before_a_window_opens() {
+    let dir = tempfile::tempdir().unwrap();
+    // These fail without a display, so no Xvfb is needed.
+    let run = chiaro(&["view", "--screenshot", "shot.png"], &[], dir.path());
+    assert_ne!(run.code, 0);
+    assert!(run.stderr.contains("--exit-after-frames"), "{}", run.stderr);
+    let run =
+        chiaro(&["view", "missing.gltf", "--screenshot", "shot.png", "--exit-after-frames", "1"], &[], dir.path());
+    assert_ne!(run.code, 0);
+    assert!(run.stderr.contains("missing.gltf"), "{}", run.stderr);
+    assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
+}
