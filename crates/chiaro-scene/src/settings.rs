@@ -11,7 +11,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// All settings; `Settings::default()` is what a missing file means.
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct Settings {
     pub render: RenderSettings,
@@ -54,7 +54,7 @@ impl MixedMode {
     }
 }
 
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct LightingSettings {
     /// "distance-shadowmask" (the default), "shadowmask" or "baked-indirect": how mixed
@@ -90,7 +90,7 @@ impl Default for BakeSettings {
     }
 }
 
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct RenderSettings {
     /// Output width in pixels (1 to 16384) when the command line gives none.
@@ -121,7 +121,7 @@ pub struct RenderSettings {
 }
 
 /// How a frame is shaded.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq, Hash)]
 #[serde(rename_all = "lowercase")]
 pub enum RenderPath {
     #[default]
@@ -130,7 +130,7 @@ pub enum RenderPath {
 }
 
 /// Where the deferred path accumulates light.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq, Hash)]
 pub enum LightBuffer {
     #[default]
     #[serde(rename = "hdr")]
@@ -154,13 +154,14 @@ impl Default for RenderSettings {
     }
 }
 
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct LightSettings {
     /// Most point and spot lights shaded per frame: 1 to 4096, or to 64 on the forward
     /// path with `culling = "none"` (with which the deferred path's transparent surfaces
     /// see the 64 most important); unset, the most. The most important visible ones are kept; a lower cap is faster
     /// but drops distant lights.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_other_lights: Option<u32>,
     /// Illuminance (lux, 1e-6 to 1e6) at which a light with no range in its file is cut
     /// off: `range = sqrt(intensity / threshold)`. Too high cuts lights off visibly early;
@@ -179,7 +180,7 @@ impl Default for LightSettings {
 }
 
 /// How the forward pass finds the point and spot lights that reach a pixel.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq, Hash)]
 #[serde(rename_all = "kebab-case")]
 pub enum LightCulling {
     /// Screen tiles x exponential depth slices, each with the list of lights whose range
@@ -192,7 +193,7 @@ pub enum LightCulling {
     None,
 }
 
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct CameraSettings {
     /// Vertical field of view (degrees, 1 to 179) of the camera made when a scene has none.
@@ -206,7 +207,7 @@ impl Default for CameraSettings {
 }
 
 /// How a fragment moves between cascades.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum CascadeBlend {
     /// Switch at the culling sphere's edge.
@@ -218,7 +219,7 @@ pub enum CascadeBlend {
     Dither,
 }
 
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct ShadowSettings {
     /// Metres from the camera beyond which no shadow is sampled (0.1 to 10000). Too short
@@ -249,7 +250,7 @@ impl Default for ShadowSettings {
 
 /// The second atlas, for point and spot lights: up to `max_tiles` tiles in the uniform
 /// layout, a spot taking one and a point six (one per cube face).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct OtherShadowSettings {
     /// Atlas side in texels (256 to 8192, a power of two). Too small blurs and blocks
@@ -278,7 +279,7 @@ impl OtherShadowSettings {
     }
 }
 
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct DirectionalShadowSettings {
     /// Atlas side in texels (256 to 8192, a power of two). Too small gives blocky,
@@ -294,6 +295,7 @@ pub struct DirectionalShadowSettings {
     /// `cascade_count - 1` of them (the last cascade ends at `max_distance`). Unset, they
     /// are the first of 0.1, 0.25, 0.5. Too small a first ratio spends a cascade on a
     /// sliver near the camera; too large blurs near shadows.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub cascade_ratios: Option<Vec<f32>>,
     /// Fraction of the last cascade over which shadows fade out (0.001 to 1).
     pub cascade_fade: f32,
@@ -370,6 +372,12 @@ impl Settings {
             located.unwrap_or(message)
         })?;
         Ok(settings)
+    }
+
+    /// The settings as a TOML file that `parse` reads back equal: what the viewer's "save
+    /// settings" writes.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("settings are plain TOML values")
     }
 
     /// The most point and spot lights the render path can shade in a frame.
@@ -492,6 +500,24 @@ mod tests {
         assert!(e.contains("exposure"), "{e}");
         let e = Settings::parse("[shadowz]\n").unwrap_err();
         assert!(e.contains("shadowz"), "{e}");
+    }
+
+    #[test]
+    fn settings_written_as_toml_read_back_equal() {
+        let mut s = Settings::default();
+        assert_eq!(Settings::parse(&s.to_toml()).unwrap(), s);
+        s.render.msaa = 1;
+        s.render.path = RenderPath::Deferred;
+        s.lights.culling = LightCulling::PerObject;
+        s.lights.max_other_lights = Some(300);
+        s.shadows.directional.cascade_count = 3;
+        s.shadows.directional.cascade_ratios = Some(vec![0.2, 0.6]);
+        s.shadows.directional.cascade_blend = CascadeBlend::Dither;
+        s.shadows.other.filter = "tent5x5".into();
+        s.lighting.mixed_mode = MixedMode::Shadowmask;
+        s.render.light_buffer = LightBuffer::LdrExp2;
+        let text = s.to_toml();
+        assert_eq!(Settings::parse(&text).unwrap(), s, "{text}");
     }
 
     #[test]

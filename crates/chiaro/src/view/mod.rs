@@ -17,7 +17,7 @@ use chiaro_render::{FrameOptions, GpuContext, PreparedScene, Renderer, View};
 use chiaro_scene::{Scene, Settings};
 use clap::Args;
 use orbit::Orbit;
-use panel::{PanelState, settings_panel};
+use panel::{Debug, PanelState, lights_panel, settings_panel};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -219,15 +219,13 @@ impl App {
         let orbit = *self.orbit.get_or_insert_with(|| Orbit::from_view(&self.start_view, self.scene.bounds().center()));
         let view = orbit.view(&self.start_view);
         let target = gpu.view_texture.create_view(&Default::default());
-        let frame = gpu.renderer.render_to(
-            &self.scene,
-            &gpu.prepared,
-            &view,
-            &self.settings,
-            FrameOptions::default(),
-            &target,
-            VIEW_FORMAT,
-        )?;
+        let options = match self.panel.debug {
+            Debug::None => FrameOptions::default(),
+            Debug::Cascades => FrameOptions { debug_cascades: true, ..Default::default() },
+            Debug::View(v) => FrameOptions { debug_view: Some(v), ..Default::default() },
+        };
+        let frame =
+            gpu.renderer.render_to(&self.scene, &gpu.prepared, &view, &self.settings, options, &target, VIEW_FORMAT)?;
         self.panel.shadow_tiles = frame.shadow_tiles;
         self.panel.lights_shaded = frame.plan.lights.len();
         if let Some(latest) = gpu.renderer.gpu_times(false)?.pop() {
@@ -242,6 +240,9 @@ impl App {
             egui::Panel::right("settings").exact_size(PANEL_WIDTH).show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     settings_changed |= settings_panel(ui, &mut self.settings, &mut self.panel);
+                    ui.separator();
+                    ui.heading("Lights");
+                    lights_panel(ui, &mut self.scene.lights, &mut self.panel);
                 });
             });
             egui::CentralPanel::no_frame().show(ui, |ui| {
@@ -252,6 +253,13 @@ impl App {
             });
         });
         gpu.egui_state.handle_platform_output(&gpu.window, output.platform_output);
+        if std::mem::take(&mut self.panel.save_requested) {
+            let path = self.args.settings.clone().unwrap_or_else(|| PathBuf::from("chiaro-view.toml"));
+            self.panel.saved = Some(match save_settings(&path, &self.settings) {
+                Ok(()) => format!("saved {}", path.display()),
+                Err(e) => format!("not saved: {e:#}"),
+            });
+        }
         if settings_changed && let Err(e) = self.args.path.check_device(&gpu.renderer.ctx, &self.settings, None) {
             self.panel.error = Some(e.to_string());
             self.settings.render.msaa = 1;
@@ -333,6 +341,17 @@ impl App {
     }
 }
 
+/// Writes `settings` as TOML to `path`, whole or not at all (a temporary file renamed
+/// over it), so that `chiaro render --settings path` renders what the viewer showed.
+fn save_settings(path: &std::path::Path, settings: &Settings) -> Result<()> {
+    use std::io::Write;
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+    let mut file = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}", dir.display()))?;
+    file.write_all(settings.to_toml().as_bytes()).with_context(|| format!("{}", path.display()))?;
+    file.persist(path).with_context(|| format!("{}", path.display()))?;
+    Ok(())
+}
+
 impl ApplicationHandler for App {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.gpu.is_some() {
@@ -404,5 +423,21 @@ impl ApplicationHandler for App {
         if let Some(gpu) = &self.gpu {
             gpu.window.request_redraw();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn saved_settings_read_back_equal() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("viewer.toml");
+        let mut settings = Settings::default();
+        settings.shadows.max_distance = 42.0;
+        settings.lights.culling = chiaro_scene::LightCulling::PerObject;
+        save_settings(&path, &settings).unwrap();
+        assert_eq!(load_settings(Some(&path)).unwrap(), settings);
     }
 }

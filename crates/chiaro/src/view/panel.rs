@@ -1,12 +1,43 @@
 //! The viewer's side panel: the settings `chiaro render` reads (one `Settings`, edited in
 //! place and validated as a file would be), the frame's timings, and the controls.
 
-use chiaro_render::GpuFrameTimes;
-use chiaro_scene::{CascadeBlend, LightCulling, RenderPath, Settings};
+use chiaro_render::{DebugView, GpuFrameTimes};
+use chiaro_scene::{CascadeBlend, Light, LightCulling, RenderPath, Settings, ShadowMode};
+use std::collections::HashMap;
+
+/// What the 3D view shows instead of the lit image.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Debug {
+    #[default]
+    None,
+    /// Tint by cascade (forward path).
+    Cascades,
+    /// A deferred-path view.
+    View(DebugView),
+}
+
+impl Debug {
+    fn name(self) -> &'static str {
+        match self {
+            Debug::None => "none",
+            Debug::Cascades => "cascades",
+            Debug::View(DebugView::GbufferAlbedo) => "gbuffer-albedo",
+            Debug::View(DebugView::GbufferNormal) => "gbuffer-normal",
+            Debug::View(DebugView::LightOverdraw) => "light-overdraw",
+        }
+    }
+}
 
 /// What the panel shows besides the settings.
 #[derive(Default)]
 pub struct PanelState {
+    pub debug: Debug,
+    /// Lights switched off, with the intensity they get back when switched on.
+    pub switched_off: HashMap<usize, f32>,
+    /// "Save settings" was pressed this frame.
+    pub save_requested: bool,
+    /// The outcome of the last save.
+    pub saved: Option<String>,
     /// The last rejected edit, shown until the next one is accepted.
     pub error: Option<String>,
     /// Milliseconds per pass of the latest finished frame, and its total.
@@ -79,6 +110,23 @@ pub fn settings_panel(ui: &mut egui::Ui, settings: &mut Settings, state: &mut Pa
     if let Some(e) = &state.error {
         ui.colored_label(egui::Color32::LIGHT_RED, e);
     }
+    ui.heading("View");
+    egui::ComboBox::from_label("debug").selected_text(state.debug.name()).show_ui(ui, |ui| {
+        let views = [
+            Debug::None,
+            Debug::Cascades,
+            Debug::View(DebugView::GbufferAlbedo),
+            Debug::View(DebugView::GbufferNormal),
+            Debug::View(DebugView::LightOverdraw),
+        ];
+        for d in views {
+            ui.selectable_value(&mut state.debug, d, d.name());
+        }
+    });
+    state.save_requested = ui.button("Save settings").clicked();
+    if let Some(saved) = &state.saved {
+        ui.label(saved);
+    }
     ui.separator();
     ui.heading("Frame");
     ui.label(format!("CPU frame {:.1} ms", state.cpu_frame_ms));
@@ -108,4 +156,104 @@ fn filter_combo(ui: &mut egui::Ui, label: &str, filter: &mut String) {
             ui.selectable_value(filter, f.to_string(), f);
         }
     });
+}
+
+/// One collapsible row per light: on/off, colour, intensity, range, shadow mode and
+/// strength. Returns whether a light changed.
+pub fn lights_panel(ui: &mut egui::Ui, lights: &mut [Light], state: &mut PanelState) -> bool {
+    let mut changed = false;
+    for (i, light) in lights.iter_mut().enumerate() {
+        let title = if light.name.is_empty() { format!("light {i}") } else { light.name.clone() };
+        egui::CollapsingHeader::new(title).id_salt(("light", i)).show(ui, |ui| {
+            let mut on = !state.switched_off.contains_key(&i);
+            if ui.checkbox(&mut on, "on").changed() {
+                if on {
+                    light.intensity = state.switched_off.remove(&i).unwrap_or(1.0);
+                } else {
+                    state.switched_off.insert(i, light.intensity);
+                    light.intensity = 0.0;
+                }
+                changed = true;
+            }
+            if on {
+                changed |= ui
+                    .add(egui::Slider::new(&mut light.intensity, 0.0..=1.0e5).logarithmic(true).text("intensity"))
+                    .changed();
+            }
+            let mut rgb = light.color.to_array();
+            if ui.color_edit_button_rgb(&mut rgb).changed() {
+                light.color = glam::Vec3::from(rgb);
+                changed = true;
+            }
+            if let Some(range) = light.range.as_mut() {
+                changed |= ui.add(egui::Slider::new(range, 0.01..=1000.0).logarithmic(true).text("range")).changed();
+            }
+            egui::ComboBox::from_id_salt(("shadows", i))
+                .selected_text(format!("shadows {:?}", light.shadow.mode).to_lowercase())
+                .show_ui(ui, |ui| {
+                    for m in [ShadowMode::None, ShadowMode::Hard, ShadowMode::Soft] {
+                        changed |=
+                            ui.selectable_value(&mut light.shadow.mode, m, format!("{m:?}").to_lowercase()).changed();
+                    }
+                });
+            changed |=
+                ui.add(egui::Slider::new(&mut light.shadow.strength, 0.0..=1.0).text("shadow strength")).changed();
+            changed |= ui.add(egui::Slider::new(&mut light.shadow.depth_bias, 0.0..=10.0).text("depth bias")).changed();
+            changed |=
+                ui.add(egui::Slider::new(&mut light.shadow.normal_bias, 0.0..=3.0).text("normal bias")).changed();
+        });
+    }
+    changed
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use egui_kittest::Harness;
+    use egui_kittest::kittest::Queryable;
+
+    #[test]
+    fn a_checkbox_in_the_panel_changes_the_settings_and_the_frame_plan() {
+        let mut harness = Harness::new_ui_state(
+            |ui, (settings, state, changed): &mut (Settings, PanelState, bool)| {
+                *changed |= settings_panel(ui, settings, state);
+            },
+            (Settings::default(), PanelState::default(), false),
+        );
+        harness.run();
+        harness.get_by_label("cache tiles").click();
+        harness.run();
+        let (settings, _, changed) = harness.state();
+        assert!(*changed, "the panel reports the change");
+        assert!(!settings.shadows.cache, "the checkbox turned shadow caching off");
+        // The frame plan follows the settings.
+        let scene = chiaro_scene::demo::demo_scene(4);
+        let view = chiaro_render::View::from_camera(&scene, 0, 64, 64);
+        let draws =
+            chiaro_render::plan::draws::scene_draws(&scene, &chiaro_render::plan::draws::GeometryLayout::of(&scene));
+        let mut tiles = chiaro_render::plan::shadows::ShadowAtlasTiles::default();
+        let plan = chiaro_render::FramePlan::new(&scene, &draws, &view, settings, &mut tiles, Default::default());
+        assert!(!plan.shadow_cache);
+    }
+
+    #[test]
+    fn an_invalid_edit_is_shown_and_not_applied() {
+        let mut settings = Settings::default();
+        let mut state = PanelState::default();
+        // A count the panel cannot produce, as a stand-in for any invalid edit.
+        settings.render.width = 0;
+        let before = settings.clone();
+        let mut harness = Harness::new_ui_state(
+            |ui, (settings, state): &mut (Settings, PanelState)| {
+                settings_panel(ui, settings, state);
+            },
+            (settings, std::mem::take(&mut state)),
+        );
+        harness.run();
+        harness.get_by_label("cache tiles").click();
+        harness.run();
+        let (settings, state) = harness.state();
+        assert_eq!(*settings, before, "rejected");
+        assert!(state.error.as_deref().is_some_and(|e| e.contains("render.width")), "{:?}", state.error);
+    }
 }
