@@ -217,7 +217,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
 /// An atlas's depths as grey RGBA8, stretched over the range the casters wrote (from the
 /// nearest depth to 1, the cleared far plane): perspective depth crowds towards 1 with a
 /// near plane of a centimetre, and would otherwise print all white.
-fn atlas_grey(depths: &[f32]) -> Vec<u8> {
+pub fn atlas_grey(depths: &[f32]) -> Vec<u8> {
     let nearest = depths.iter().copied().filter(|d| d.is_finite() && *d < 1.0).fold(1.0f32, f32::min);
     let span = (1.0 - nearest).max(1e-6);
     depths

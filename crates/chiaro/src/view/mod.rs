@@ -28,6 +28,8 @@ use winit::window::{Window, WindowId};
 
 /// Width of the settings panel, in logical pixels, beside the 3D view.
 const PANEL_WIDTH: f32 = 300.0;
+/// Side of each shadow atlas as the atlas debug view shows it.
+const ATLAS_VIEW_SIZE: usize = 512;
 /// The 3D view's texture: what the tone mapper writes, and egui samples.
 const VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
@@ -115,6 +117,8 @@ struct Gpu {
     egui_renderer: egui_wgpu::Renderer,
     view_texture: wgpu::Texture,
     view_texture_id: egui::TextureId,
+    /// The atlas debug view's images, directional then point/spot.
+    atlas_textures: Vec<egui::TextureHandle>,
 }
 
 struct App {
@@ -209,6 +213,7 @@ impl App {
             egui_renderer,
             view_texture,
             view_texture_id,
+            atlas_textures: Vec::new(),
         })
     }
 
@@ -223,9 +228,19 @@ impl App {
             Debug::None => FrameOptions::default(),
             Debug::Cascades => FrameOptions { debug_cascades: true, ..Default::default() },
             Debug::View(v) => FrameOptions { debug_view: Some(v), ..Default::default() },
+            // Reading the atlases back waits for the frame: a debug view, not a fast one.
+            Debug::Atlases => FrameOptions { readback: true, read_shadow_atlas: true, ..Default::default() },
         };
         let frame =
             gpu.renderer.render_to(&self.scene, &gpu.prepared, &view, &self.settings, options, &target, VIEW_FORMAT)?;
+        gpu.atlas_textures = frame
+            .shadow_atlases
+            .iter()
+            .map(|atlas| {
+                let image = atlas_image(&crate::render::atlas_grey(&atlas.depths), atlas.size as usize);
+                gpu.egui_ctx.load_texture(atlas.name, image, egui::TextureOptions::NEAREST)
+            })
+            .collect();
         self.panel.shadow_tiles = frame.shadow_tiles;
         self.panel.lights_shaded = frame.plan.lights.len();
         if let Some(latest) = gpu.renderer.gpu_times(false)?.pop() {
@@ -246,10 +261,22 @@ impl App {
                 });
             });
             egui::CentralPanel::no_frame().show(ui, |ui| {
-                ui.image(egui::load::SizedTexture::new(
-                    gpu.view_texture_id,
-                    egui::vec2(w / pixels_per_point, h / pixels_per_point),
-                ));
+                if self.panel.debug == Debug::Atlases {
+                    ui.horizontal(|ui| {
+                        for texture in &gpu.atlas_textures {
+                            let side = (w / 2.0).min(h) / pixels_per_point;
+                            ui.image(egui::load::SizedTexture::new(texture.id(), egui::vec2(side, side)));
+                        }
+                    });
+                    if gpu.atlas_textures.is_empty() {
+                        ui.label("No light casts a shadow.");
+                    }
+                } else {
+                    ui.image(egui::load::SizedTexture::new(
+                        gpu.view_texture_id,
+                        egui::vec2(w / pixels_per_point, h / pixels_per_point),
+                    ));
+                }
             });
         });
         gpu.egui_state.handle_platform_output(&gpu.window, output.platform_output);
@@ -339,6 +366,21 @@ impl App {
         eprintln!("chiaro: wrote {} ({width}x{height}) after {} frames", path.display(), self.frames);
         Ok(())
     }
+}
+
+/// An atlas's grey RGBA8 image (`size` texels a side), sampled down to
+/// `ATLAS_VIEW_SIZE` for the panel.
+fn atlas_image(grey: &[u8], size: usize) -> egui::ColorImage {
+    let side = size.min(ATLAS_VIEW_SIZE);
+    let step = size / side;
+    let pixels = (0..side * side)
+        .map(|k| {
+            let (x, y) = ((k % side) * step, (k / side) * step);
+            let v = grey[(y * size + x) * 4];
+            egui::Color32::from_gray(v)
+        })
+        .collect();
+    egui::ColorImage { size: [side, side], pixels, source_size: egui::vec2(side as f32, side as f32) }
 }
 
 /// Writes `settings` as TOML to `path`, whole or not at all (a temporary file renamed
@@ -439,5 +481,19 @@ mod tests {
         settings.lights.culling = chiaro_scene::LightCulling::PerObject;
         save_settings(&path, &settings).unwrap();
         assert_eq!(load_settings(Some(&path)).unwrap(), settings);
+    }
+
+    #[test]
+    fn atlas_images_are_sampled_down_to_the_view_size() {
+        // A 1024-texel atlas, dark in its left half.
+        let size = 1024;
+        let grey: Vec<u8> =
+            (0..size * size).flat_map(|k| if k % size < size / 2 { [0u8; 4] } else { [255; 4] }).collect();
+        let image = atlas_image(&grey, size);
+        assert_eq!(image.size, [ATLAS_VIEW_SIZE, ATLAS_VIEW_SIZE]);
+        assert_eq!(image.pixels[0], egui::Color32::from_gray(0));
+        assert_eq!(image.pixels[ATLAS_VIEW_SIZE - 1], egui::Color32::from_gray(255));
+        // A small atlas is shown as it is.
+        assert_eq!(atlas_image(&[9; 4 * 16], 4).size, [4, 4]);
     }
 }

@@ -14,6 +14,8 @@ pub enum Debug {
     Cascades,
     /// A deferred-path view.
     View(DebugView),
+    /// Both shadow atlases, side by side, instead of the 3D view.
+    Atlases,
 }
 
 impl Debug {
@@ -24,6 +26,7 @@ impl Debug {
             Debug::View(DebugView::GbufferAlbedo) => "gbuffer-albedo",
             Debug::View(DebugView::GbufferNormal) => "gbuffer-normal",
             Debug::View(DebugView::LightOverdraw) => "light-overdraw",
+            Debug::Atlases => "shadow atlases",
         }
     }
 }
@@ -118,6 +121,7 @@ pub fn settings_panel(ui: &mut egui::Ui, settings: &mut Settings, state: &mut Pa
             Debug::View(DebugView::GbufferAlbedo),
             Debug::View(DebugView::GbufferNormal),
             Debug::View(DebugView::LightOverdraw),
+            Debug::Atlases,
         ];
         for d in views {
             ui.selectable_value(&mut state.debug, d, d.name());
