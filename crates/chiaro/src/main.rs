@@ -37,8 +37,9 @@ enum Command {
     /// Bake lightmaps and light probes for a scene's static objects (CPU path tracing).
     Bake(bake::BakeArgs),
     /// Open a window with the live 3D view and a settings panel. Drag with the left mouse
-    /// button to orbit, use the wheel to zoom; `--screenshot FILE --exit-after-frames N`
-    /// writes the 3D view after N frames and exits.
+    /// button to orbit, use the wheel to zoom; R resets the view, C steps through the glTF
+    /// cameras, P writes chiaro-view.png, Escape quits. `--screenshot FILE
+    /// --exit-after-frames N` writes the 3D view after N frames and exits.
     View(view::ViewArgs),
 }
 

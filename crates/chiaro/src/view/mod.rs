@@ -17,13 +17,14 @@ use chiaro_render::{FrameOptions, GpuContext, PreparedScene, Renderer, View};
 use chiaro_scene::{Scene, Settings};
 use clap::Args;
 use orbit::Orbit;
-use panel::{Debug, PanelState, lights_panel, settings_panel};
+use panel::{Debug, PanelState, cameras_panel, lights_panel, settings_panel};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
 /// Width of the settings panel, in logical pixels, beside the 3D view.
@@ -88,6 +89,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
         scene,
         settings,
         start_view,
+        opening_view: start_view,
+        camera: None,
         orbit: None,
         gpu: None,
         failure: None,
@@ -126,6 +129,10 @@ struct App {
     scene: Scene,
     settings: Settings,
     start_view: View,
+    /// The view the window opened with, for "reset view".
+    opening_view: View,
+    /// The glTF camera in use, if one was chosen in the viewer.
+    camera: Option<usize>,
     orbit: Option<Orbit>,
     gpu: Option<Gpu>,
     failure: Option<anyhow::Error>,
@@ -219,6 +226,10 @@ impl App {
 
     /// One frame: the 3D view into its texture, then the panel and the view into the window.
     fn redraw(&mut self) -> Result<()> {
+        // A camera chosen in the panel last frame.
+        if let Some(camera) = self.panel.camera_request.take() {
+            self.use_camera(camera);
+        }
         let Some(gpu) = self.gpu.as_mut() else { return Ok(()) };
         let started = Instant::now();
         let orbit = *self.orbit.get_or_insert_with(|| Orbit::from_view(&self.start_view, self.scene.bounds().center()));
@@ -254,6 +265,9 @@ impl App {
         let output = gpu.egui_ctx.run_ui(input, |ui| {
             egui::Panel::right("settings").exact_size(PANEL_WIDTH).show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
+                    ui.heading("Camera");
+                    let names: Vec<String> = self.scene.cameras.iter().map(|c| c.name.clone()).collect();
+                    cameras_panel(ui, &names, &mut self.panel);
                     settings_changed |= settings_panel(ui, &mut self.settings, &mut self.panel);
                     ui.separator();
                     ui.heading("Lights");
@@ -350,6 +364,17 @@ impl App {
         Ok(())
     }
 
+    /// Starts the view again from glTF camera `index`, or from the view it opened with.
+    fn use_camera(&mut self, index: Option<usize>) {
+        let (w, h) = (self.start_view.width, self.start_view.height);
+        self.start_view = match index {
+            Some(i) if i < self.scene.cameras.len() => View::from_camera(&self.scene, i, w, h),
+            _ => self.opening_view,
+        };
+        self.camera = index;
+        self.orbit = None;
+    }
+
     /// Writes the 3D view as `chiaro render` would: the same renderer, view and settings.
     fn screenshot(&mut self, path: &std::path::Path) -> Result<()> {
         let gpu = self.gpu.as_mut().ok_or_else(|| anyhow!("no frame was rendered"))?;
@@ -434,6 +459,26 @@ impl ApplicationHandler for App {
                 };
                 if let Some(orbit) = self.orbit.as_mut() {
                     orbit.zoom(steps);
+                }
+            }
+            WindowEvent::KeyboardInput { event, .. }
+                if event.state == ElementState::Pressed && !gpu.egui_ctx.egui_wants_keyboard_input() =>
+            {
+                match event.logical_key.as_ref() {
+                    Key::Character("r") => self.use_camera(None),
+                    Key::Character("c") if !self.scene.cameras.is_empty() => {
+                        let next = self.camera.map_or(0, |i| (i + 1) % self.scene.cameras.len());
+                        self.use_camera(Some(next));
+                    }
+                    Key::Character("p") => {
+                        let path = PathBuf::from("chiaro-view.png");
+                        self.panel.saved = Some(match self.screenshot(&path) {
+                            Ok(()) => format!("wrote {}", path.display()),
+                            Err(e) => format!("no screenshot: {e:#}"),
+                        });
+                    }
+                    Key::Named(NamedKey::Escape) => event_loop.exit(),
+                    _ => {}
                 }
             }
             WindowEvent::RedrawRequested => {

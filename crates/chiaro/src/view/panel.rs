@@ -39,6 +39,8 @@ pub struct PanelState {
     pub switched_off: HashMap<usize, f32>,
     /// "Save settings" was pressed this frame.
     pub save_requested: bool,
+    /// A glTF camera chosen this frame (by index), or "reset view" (`Some(None)`).
+    pub camera_request: Option<Option<usize>>,
     /// The outcome of the last save.
     pub saved: Option<String>,
     /// The last rejected edit, shown until the next one is accepted.
@@ -50,7 +52,23 @@ pub struct PanelState {
     pub lights_shaded: usize,
 }
 
-pub const HELP: &str = "Drag with the left button to orbit, wheel to zoom. Settings apply to the next frame.";
+pub const HELP: &str = "Drag with the left button to orbit, wheel to zoom. Keys: R resets the view, \
+    C steps through the glTF cameras, P writes a screenshot (chiaro-view.png). Settings apply to the next frame.";
+
+/// The camera row: "reset view" and one button per glTF camera.
+pub fn cameras_panel(ui: &mut egui::Ui, cameras: &[String], state: &mut PanelState) {
+    ui.horizontal_wrapped(|ui| {
+        if ui.button("reset view").clicked() {
+            state.camera_request = Some(None);
+        }
+        for (i, name) in cameras.iter().enumerate() {
+            let label = if name.is_empty() { format!("camera {i}") } else { name.clone() };
+            if ui.button(label).clicked() {
+                state.camera_request = Some(Some(i));
+            }
+        }
+    });
+}
 
 const FILTERS: [&str; 4] = ["pcf2x2", "tent3x3", "tent5x5", "tent7x7"];
 
@@ -238,6 +256,22 @@ mod tests {
         let mut tiles = chiaro_render::plan::shadows::ShadowAtlasTiles::default();
         let plan = chiaro_render::FramePlan::new(&scene, &draws, &view, settings, &mut tiles, Default::default());
         assert!(!plan.shadow_cache);
+    }
+
+    #[test]
+    fn camera_buttons_ask_for_their_camera() {
+        let cameras = vec!["overview".to_string(), String::new()];
+        let mut harness = Harness::new_ui_state(
+            |ui, state: &mut PanelState| cameras_panel(ui, &cameras, state),
+            PanelState::default(),
+        );
+        harness.run();
+        harness.get_by_label("camera 1").click();
+        harness.run();
+        assert_eq!(harness.state().camera_request, Some(Some(1)));
+        harness.get_by_label("reset view").click();
+        harness.run();
+        assert_eq!(harness.state().camera_request, Some(None));
     }
 
     #[test]
