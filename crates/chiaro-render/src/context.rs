@@ -129,6 +129,16 @@ impl GpuContext {
         ))
     }
 
+    /// Whether the forward path's targets can have `samples` samples per pixel here;
+    /// the error says what the device offers.
+    pub fn check_msaa(&self, samples: u32) -> Result<(), String> {
+        if self.msaa_sample_counts.contains(&samples) {
+            return Ok(());
+        }
+        let counts: Vec<String> = self.msaa_sample_counts.iter().map(u32::to_string).collect();
+        Err(format!("this device ({}) renders {} samples per pixel", self.adapter_info.name, counts.join(" or ")))
+    }
+
     /// Returns the first GPU error reported since the last call, if any.
     pub fn take_error(&self) -> Result<(), RenderError> {
         let mut errors = self.errors.lock().expect("error sink");

@@ -167,15 +167,18 @@ impl FrameData {
         settings: &Settings,
     ) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&plan.gpu_frame(settings)));
-        let mut lights = plan.gpu_all_lights(scene);
         let culled = &plan.culled.lists;
+        // Every light only where culled lists read them from storage; else the uniform's.
+        let storage = !culled.records.is_empty() && plan.lights_in_storage();
+        let mut lights =
+            plan.gpu_lights_up_to(scene, if storage { plan.lights.len() } else { MAX_UNIFORM_LIGHTS as usize });
         if !culled.records.is_empty() {
             let records: Vec<GpuListRecord> = culled
                 .records
                 .iter()
                 .map(|r| GpuListRecord { offset: r.offset, shadowed: r.shadowed, count: r.count, _pad: 0 })
                 .collect();
-            if plan.lights_in_storage() {
+            if storage {
                 self.all_lights.write(device, queue, bytemuck::cast_slice(&lights));
             }
             self.list_records.write(device, queue, bytemuck::cast_slice(&records));

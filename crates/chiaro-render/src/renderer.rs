@@ -262,15 +262,9 @@ impl Renderer {
         self.next_frame += 1;
         let plan = self.plan(scene, prepared, view, settings, options);
         tracing::debug!("{plan}");
-        if !self.ctx.msaa_sample_counts.contains(&plan.msaa) {
-            let counts: Vec<String> = self.ctx.msaa_sample_counts.iter().map(u32::to_string).collect();
-            return Err(RenderError::Unsupported(format!(
-                "render.msaa = {}: this device ({}) supports {} samples per pixel",
-                plan.msaa,
-                self.ctx.adapter_info.name,
-                counts.join(", ")
-            )));
-        }
+        self.ctx
+            .check_msaa(plan.msaa)
+            .map_err(|e| RenderError::Unsupported(format!("render.msaa = {}: {e}", plan.msaa)))?;
 
         let mut order = Vec::with_capacity(plan.passes.len() + 1);
         for &id in &plan.passes {

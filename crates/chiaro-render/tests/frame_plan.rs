@@ -23,8 +23,13 @@ fn plan(scene: &Scene, view: &View, atlases: &mut ShadowAtlasTiles, request: Pla
 
 /// The first frame of `scene` from its camera, with no ambient term.
 fn first_plan(scene: &Scene, request: PlanRequest) -> FramePlan {
+    first_plan_with(scene, &unlit_settings(), request)
+}
+
+/// The first frame of `scene` from its camera, with `settings`.
+fn first_plan_with(scene: &Scene, settings: &Settings, request: PlanRequest) -> FramePlan {
     let view = View::from_camera(scene, 0, 64, 64);
-    FramePlan::new(scene, &draws(scene), &view, &unlit_settings(), &mut ShadowAtlasTiles::default(), request)
+    FramePlan::new(scene, &draws(scene), &view, settings, &mut ShadowAtlasTiles::default(), request)
 }
 
 fn slot_of(plan: &FramePlan, light: usize) -> ShadowSlot {
@@ -123,15 +128,7 @@ fn lights_that_find_no_tiles_are_baked_only() {
     assert_eq!(all_fit.shadows.tiles.len(), 18);
     let mut settings = unlit_settings();
     settings.shadows.other.max_tiles = 16;
-    let view = View::from_camera(&scene, 0, 64, 64);
-    let plan = FramePlan::new(
-        &scene,
-        &draws(&scene),
-        &view,
-        &settings,
-        &mut ShadowAtlasTiles::default(),
-        PlanRequest::default(),
-    );
+    let plan = first_plan_with(&scene, &settings, PlanRequest::default());
     let slots: Vec<ShadowSlot> = (0..3).map(|i| slot_of(&plan, i)).collect();
     // The brightest two fit; the dimmest (light 0) does not.
     assert_eq!(slots[0], ShadowSlot::BakedOnly);
@@ -261,15 +258,7 @@ fn an_atlas_too_small_for_any_light_gives_no_tiles_and_no_panic() {
     let scene = floor_scene(8.0, Vec3::new(0.0, 6.0, 3.0), vec![point_light(Vec3::new(0.0, 1.0, 0.0), 5.0, Some(6.0))]);
     let mut settings = unlit_settings();
     settings.shadows.other.max_tiles = 4;
-    let view = View::from_camera(&scene, 0, 64, 64);
-    let plan = FramePlan::new(
-        &scene,
-        &draws(&scene),
-        &view,
-        &settings,
-        &mut ShadowAtlasTiles::default(),
-        PlanRequest::default(),
-    );
+    let plan = first_plan_with(&scene, &settings, PlanRequest::default());
     assert_eq!(slot_of(&plan, 0), ShadowSlot::BakedOnly);
     assert!(plan.shadows.tiles.is_empty());
 }

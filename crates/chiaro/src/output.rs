@@ -182,6 +182,17 @@ pub fn output_format(path: &Path) -> Result<OutputFormat> {
     }
 }
 
+impl OutputFormat {
+    /// A frame's image as this format stores it: the tone-mapped RGBA8 image for PNG, the
+    /// linear radiance for EXR.
+    pub fn frame_image<'a>(self, width: u32, height: u32, ldr: &'a [u8], rgb: &'a [[f32; 3]]) -> Encoded<'a> {
+        match self {
+            OutputFormat::Png => Encoded::Png { width, height, rgba8: ldr },
+            OutputFormat::Exr => Encoded::ExrRgb { width, height, rgb },
+        }
+    }
+}
+
 /// `<stem>.<kind>.exr` beside `output`.
 pub fn aov_path(output: &Path, kind: &str) -> PathBuf {
     sibling_path(output, &format!("{kind}.exr"))

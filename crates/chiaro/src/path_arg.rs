@@ -1,7 +1,7 @@
 //! How a frame is shaded, shared by render, bench and compare: `--path forward |
 //! deferred`, `--msaa N` and `--culling clustered | per-object | none`.
 
-use anyhow::{Result, anyhow, bail};
+use anyhow::{Result, anyhow};
 use chiaro_render::GpuContext;
 use chiaro_scene::{LightCulling, RenderPath, Settings};
 use clap::{Args, ValueEnum};
@@ -74,15 +74,16 @@ impl PathArgs {
     /// where the count came from: the flag, or the settings file's key.
     pub fn check_device(&self, ctx: &GpuContext, settings: &Settings, settings_file: Option<&Path>) -> Result<()> {
         let msaa = settings.render.msaa;
-        if settings.render.path == RenderPath::Deferred || ctx.msaa_sample_counts.contains(&msaa) {
+        if settings.render.path == RenderPath::Deferred {
             return Ok(());
         }
-        let source = match (self.msaa, settings_file) {
-            (Some(_), _) => format!("--msaa {msaa}"),
-            (None, Some(file)) => format!("{}: render.msaa = {msaa}", file.display()),
-            (None, None) => format!("render.msaa = {msaa}"),
-        };
-        let counts: Vec<String> = ctx.msaa_sample_counts.iter().map(u32::to_string).collect();
-        bail!("{source}: this device ({}) renders {} samples per pixel", ctx.adapter_info.name, counts.join(" or "))
+        ctx.check_msaa(msaa).map_err(|e| {
+            let source = match (self.msaa, settings_file) {
+                (Some(_), _) => format!("--msaa {msaa}"),
+                (None, Some(file)) => format!("{}: render.msaa = {msaa}", file.display()),
+                (None, None) => format!("render.msaa = {msaa}"),
+            };
+            anyhow!("{source}: {e}")
+        })
     }
 }

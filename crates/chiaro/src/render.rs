@@ -1,7 +1,7 @@
 //! `chiaro render`: one frame to an image, with optional AOVs beside it.
 
 use crate::bake_arg::BakeUseArgs;
-use crate::output::{Encoded, Inputs, OutputFormat, aov_path, check_outputs, output_format, sibling_path, write_group};
+use crate::output::{Encoded, Inputs, aov_path, check_outputs, output_format, sibling_path, write_group};
 use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
@@ -175,13 +175,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             (sibling_path(&args.output, &file), atlas.size, grey)
         })
         .collect();
-    let mut files = vec![(
-        args.output.clone(),
-        match format {
-            OutputFormat::Png => Encoded::Png { width, height, rgba8: &frame.ldr },
-            OutputFormat::Exr => Encoded::ExrRgb { width, height, rgb: &rgb },
-        },
-    )];
+    let mut files = vec![(args.output.clone(), format.frame_image(width, height, &frame.ldr, &rgb))];
     if let Some(aovs) = &frame.aovs {
         for aov in &args.aov {
             let (name, image) = match aov {

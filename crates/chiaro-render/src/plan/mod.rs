@@ -329,7 +329,7 @@ impl FramePlan {
     /// The forward light buffer: the lights the lists index, in the order of `lights`
     /// (the directional ones and the most important point and spot lights come first).
     pub fn gpu_lights(&self, scene: &Scene) -> Vec<GpuLight> {
-        (0..self.lights.len().min(MAX_FRAME_LIGHTS as usize)).map(|k| self.gpu_light(scene, k)).collect()
+        self.gpu_lights_up_to(scene, MAX_FRAME_LIGHTS as usize)
     }
 
     /// Culled lists read their lights from the storage buffer: too many for the uniform.
@@ -337,9 +337,10 @@ impl FramePlan {
         self.lights.len() > MAX_UNIFORM_LIGHTS as usize
     }
 
-    /// Every light the frame shades, as the culled lists' storage buffer holds them.
-    pub fn gpu_all_lights(&self, scene: &Scene) -> Vec<GpuLight> {
-        (0..self.lights.len()).map(|k| self.gpu_light(scene, k)).collect()
+    /// The first `count` lights the frame shades (all of them, if fewer), as the shaders
+    /// read them.
+    pub fn gpu_lights_up_to(&self, scene: &Scene, count: usize) -> Vec<GpuLight> {
+        (0..self.lights.len().min(count)).map(|k| self.gpu_light(scene, k)).collect()
     }
 
     /// The light volumes as the deferred light pass reads them.

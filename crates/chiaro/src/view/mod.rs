@@ -8,7 +8,7 @@ mod orbit;
 mod panel;
 
 use crate::bake_arg::BakeUseArgs;
-use crate::output::{Encoded, Inputs, check_outputs, output_format, write_group};
+use crate::output::{Inputs, check_outputs, output_format, write_group};
 use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
@@ -383,10 +383,7 @@ impl App {
         let frame = gpu.renderer.render(&self.scene, &gpu.prepared, &view, &self.settings, options)?;
         let (width, height) = (view.width, view.height);
         let rgb: Vec<[f32; 3]> = frame.hdr.iter().map(|p| [p[0], p[1], p[2]]).collect();
-        let image = match output_format(path)? {
-            crate::output::OutputFormat::Png => Encoded::Png { width, height, rgba8: &frame.ldr },
-            crate::output::OutputFormat::Exr => Encoded::ExrRgb { width, height, rgb: &rgb },
-        };
+        let image = output_format(path)?.frame_image(width, height, &frame.ldr, &rgb);
         write_group(vec![(path.to_path_buf(), image)])?;
         eprintln!("chiaro: wrote {} ({width}x{height}) after {} frames", path.display(), self.frames);
         Ok(())
