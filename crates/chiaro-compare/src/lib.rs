@@ -11,6 +11,8 @@ use chiaro_trace::{
 };
 use glam::Vec3;
 
+pub use chiaro_trace::PixelVerdict as Verdict;
+
 /// One light's verdict.
 #[derive(Clone, Debug)]
 pub struct LightReport {
@@ -30,13 +32,26 @@ pub struct ShadowComparison {
     pub status: Vec<ShadowStatus>,
 }
 
-pub fn compare_shadows(
+/// The GPU half of a comparison: what the renderer drew for one view, read back.
+/// `compare_rendered` finishes it on the CPU, on any thread.
+pub struct RenderedShadows {
+    /// World position of each pixel's surface; `None` where no surface is.
+    pub positions: Vec<Option<Vec3>>,
+    /// Per scene light, each pixel's shadow term.
+    pub shadow_aovs: Vec<Vec<f32>>,
+    pub status: Vec<ShadowStatus>,
+    /// The frame itself, tone-mapped RGBA8, for showing the verdicts over it.
+    pub ldr: Vec<u8>,
+}
+
+/// Renders `view` with the shadow AOVs a comparison needs, waiting for the frame.
+pub fn render_shadows(
     renderer: &mut Renderer,
     scene: &Scene,
     prepared: &PreparedScene,
     view: &View,
     settings: &Settings,
-) -> Result<ShadowComparison, RenderError> {
+) -> Result<RenderedShadows, RenderError> {
     let frame = renderer.render(
         scene,
         prepared,
@@ -44,7 +59,7 @@ pub fn compare_shadows(
         settings,
         FrameOptions { aovs: true, shadow_aovs: true, readback: true, ..Default::default() },
     )?;
-    let positions: Vec<Option<Vec3>> = frame
+    let positions = frame
         .aovs
         .as_ref()
         .expect("aovs were asked for")
@@ -52,6 +67,17 @@ pub fn compare_shadows(
         .iter()
         .map(|p| p[0].is_finite().then(|| Vec3::from(*p)))
         .collect();
+    let status = frame.shadow_status(scene);
+    Ok(RenderedShadows { positions, shadow_aovs: frame.shadow_aovs, status, ldr: frame.ldr })
+}
+
+/// Traces the reference for `view` and judges each light's rendered shadows against it.
+pub fn compare_rendered(
+    scene: &Scene,
+    view: &View,
+    settings: &Settings,
+    rendered: RenderedShadows,
+) -> ShadowComparison {
     let ranges: Vec<f32> = scene.lights.iter().map(|l| effective_range(l, settings)).collect();
     let camera = PixelCamera { clip_from_world: view.clip_from_world(), width: view.width, height: view.height };
     let reference = {
@@ -64,7 +90,8 @@ pub fn compare_shadows(
         .enumerate()
         .map(|(i, light)| {
             // Classified once; the counts and the picture both come from the verdicts.
-            let verdicts = classify_pixels(&frame.shadow_aovs[i], &positions, &reference, i, light, ranges[i]);
+            let verdicts =
+                classify_pixels(&rendered.shadow_aovs[i], &rendered.positions, &reference, i, light, ranges[i]);
             LightReport {
                 light: i,
                 comparison: LightComparison::from_verdicts(&verdicts),
@@ -72,6 +99,16 @@ pub fn compare_shadows(
             }
         })
         .collect();
-    let status = frame.shadow_status(scene);
-    Ok(ShadowComparison { reports, reference, rendered: frame.shadow_aovs, status })
+    ShadowComparison { reports, reference, rendered: rendered.shadow_aovs, status: rendered.status }
+}
+
+pub fn compare_shadows(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    view: &View,
+    settings: &Settings,
+) -> Result<ShadowComparison, RenderError> {
+    let rendered = render_shadows(renderer, scene, prepared, view, settings)?;
+    Ok(compare_rendered(scene, view, settings, rendered))
 }

@@ -15,6 +15,8 @@ pub struct GpuContext {
     pub msaa_sample_counts: Vec<u32>,
     /// Formats the surface it was opened for can take (none without one).
     pub surface_formats: Vec<wgpu::TextureFormat>,
+    /// What the surface's textures can be used for (empty without one).
+    pub surface_usages: wgpu::TextureUsages,
     /// Validation errors the device reported outside an error scope, oldest first.
     errors: Arc<Mutex<Vec<String>>>,
 }
@@ -113,7 +115,9 @@ impl GpuContext {
             device_type = ?adapter_info.device_type,
             "GPU ready"
         );
-        let surface_formats = surface.as_ref().map(|s| s.get_capabilities(&adapter).formats).unwrap_or_default();
+        let capabilities = surface.as_ref().map(|s| s.get_capabilities(&adapter));
+        let surface_formats = capabilities.as_ref().map(|c| c.formats.clone()).unwrap_or_default();
+        let surface_usages = capabilities.map_or(wgpu::TextureUsages::empty(), |c| c.usages);
         Ok((
             GpuContext {
                 device,
@@ -123,6 +127,7 @@ impl GpuContext {
                 depth_format,
                 msaa_sample_counts,
                 surface_formats,
+                surface_usages,
                 errors,
             },
             surface,
