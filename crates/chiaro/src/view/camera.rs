@@ -1,11 +1,30 @@
-//! The viewer's orbit camera: yaw, pitch and distance about a target, starting from the
-//! view `chiaro render` would use, so that an untouched viewer shows the same image.
+//! The viewer's camera: yaw, pitch and distance about a target. Orbit turns about the
+//! target; fly turns about the eye and moves it with the keys. It starts from the view
+//! `chiaro render` would use, so that an untouched viewer shows the same image.
 
 use chiaro_render::View;
 use glam::{Mat4, Vec3};
 
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Navigation {
+    /// Drag turns about the target, the wheel zooms.
+    #[default]
+    Orbit,
+    /// Drag looks around, W/A/S/D/Q/E move.
+    Fly,
+}
+
+impl Navigation {
+    pub fn name(self) -> &'static str {
+        match self {
+            Navigation::Orbit => "orbit",
+            Navigation::Fly => "fly",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug)]
-pub struct Orbit {
+pub struct CameraRig {
     pub target: Vec3,
     pub yaw: f32,
     pub pitch: f32,
@@ -15,20 +34,47 @@ pub struct Orbit {
 }
 
 const MAX_PITCH: f32 = 1.55;
+/// Radians per pixel of mouse drag.
+const TURN_PER_PIXEL: f32 = 0.008;
 
-impl Orbit {
-    /// Orbits `target` from where `start` looks.
-    pub fn from_view(start: &View, target: Vec3) -> Orbit {
+/// Which way a fly camera is asked to move, in its own axes (x right, y up, z back).
+pub type FlyInput = Vec3;
+
+impl CameraRig {
+    /// Looks at `target` from where `start` looks.
+    pub fn from_view(start: &View, target: Vec3) -> CameraRig {
         let offset = start.eye() - target;
         let distance = offset.length().max(1e-3);
         let dir = offset / distance;
-        Orbit { target, yaw: dir.x.atan2(dir.z), pitch: dir.y.clamp(-1.0, 1.0).asin(), distance, moved: false }
+        CameraRig { target, yaw: dir.x.atan2(dir.z), pitch: dir.y.clamp(-1.0, 1.0).asin(), distance, moved: false }
     }
 
-    /// Turns by a mouse drag of `dx`, `dy` pixels.
-    pub fn drag(&mut self, dx: f32, dy: f32) {
-        self.yaw -= dx * 0.008;
-        self.pitch = (self.pitch + dy * 0.008).clamp(-MAX_PITCH, MAX_PITCH);
+    /// Unit vector from the target to the eye.
+    fn back(&self) -> Vec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        Vec3::new(sy * cp, sp, cy * cp)
+    }
+
+    pub fn eye(&self) -> Vec3 {
+        self.target + self.back() * self.distance
+    }
+
+    /// Turns by a mouse drag of `dx`, `dy` pixels: about the target when orbiting, about
+    /// the eye when flying.
+    pub fn drag(&mut self, navigation: Navigation, dx: f32, dy: f32) {
+        let eye = self.eye();
+        match navigation {
+            Navigation::Orbit => {
+                self.yaw -= dx * TURN_PER_PIXEL;
+                self.pitch = (self.pitch + dy * TURN_PER_PIXEL).clamp(-MAX_PITCH, MAX_PITCH);
+            }
+            Navigation::Fly => {
+                self.yaw -= dx * TURN_PER_PIXEL;
+                self.pitch = (self.pitch - dy * TURN_PER_PIXEL).clamp(-MAX_PITCH, MAX_PITCH);
+                self.target = eye - self.back() * self.distance;
+            }
+        }
         self.moved = true;
     }
 
@@ -38,13 +84,27 @@ impl Orbit {
         self.moved = true;
     }
 
-    pub fn eye(&self) -> Vec3 {
-        let (sy, cy) = self.yaw.sin_cos();
-        let (sp, cp) = self.pitch.sin_cos();
-        self.target + Vec3::new(sy * cp, sp, cy * cp) * self.distance
+    /// Moves eye and target together by `input` (camera axes) x `metres`.
+    pub fn fly(&mut self, input: FlyInput, metres: f32) {
+        if input == Vec3::ZERO {
+            return;
+        }
+        let back = self.back();
+        let right = Vec3::Y.cross(back).try_normalize().unwrap_or(Vec3::X);
+        let step = (right * input.x + Vec3::Y * input.y + back * input.z).normalize_or_zero() * metres;
+        self.target += step;
+        self.moved = true;
     }
 
-    /// `start` seen from the orbit (its projection and size kept).
+    /// Looks at a sphere around `center` of `radius` from the current direction, close
+    /// enough for it to fill a field of view of `yfov_rad`.
+    pub fn frame(&mut self, center: Vec3, radius: f32, yfov_rad: f32) {
+        self.target = center;
+        self.distance = (radius.max(1e-3) / (0.5 * yfov_rad).sin()).max(1e-3);
+        self.moved = true;
+    }
+
+    /// `start` seen from the rig (its projection and size kept).
     pub fn view(&self, start: &View) -> View {
         if !self.moved {
             return *start;
@@ -57,17 +117,49 @@ impl Orbit {
 mod tests {
     use super::*;
 
+    fn demo_start() -> (View, Vec3) {
+        let scene = chiaro_scene::demo::demo_scene(4);
+        (View::from_camera(&scene, 0, 64, 64), scene.bounds().center())
+    }
+
     #[test]
     fn an_orbit_starts_where_the_view_looks_from() {
-        let scene = chiaro_scene::demo::demo_scene(4);
-        let start = View::from_camera(&scene, 0, 64, 64);
-        let target = scene.bounds().center();
-        let mut orbit = Orbit::from_view(&start, target);
-        assert!(orbit.eye().distance(start.eye()) < 1e-3);
-        assert_eq!(orbit.view(&start).world_from_view, start.world_from_view);
-        orbit.drag(100.0, 0.0);
-        let moved = orbit.view(&start);
+        let (start, target) = demo_start();
+        let mut rig = CameraRig::from_view(&start, target);
+        assert!(rig.eye().distance(start.eye()) < 1e-3);
+        assert_eq!(rig.view(&start).world_from_view, start.world_from_view);
+        rig.drag(Navigation::Orbit, 100.0, 0.0);
+        let moved = rig.view(&start);
         assert!((moved.eye().distance(target) - start.eye().distance(target)).abs() < 1e-3, "stays at its distance");
         assert!(moved.eye().distance(start.eye()) > 0.1);
+    }
+
+    #[test]
+    fn flying_turns_about_the_eye_and_moves_it_forward() {
+        let (start, target) = demo_start();
+        let mut rig = CameraRig::from_view(&start, target);
+        let eye = rig.eye();
+        rig.drag(Navigation::Fly, 40.0, 10.0);
+        assert!(rig.eye().distance(eye) < 1e-3, "looking around keeps the eye");
+        let forward = (rig.target - rig.eye()).normalize();
+        rig.fly(Vec3::new(0.0, 0.0, -1.0), 2.0);
+        assert!((rig.eye() - (eye + forward * 2.0)).length() < 1e-3, "W moves along the view");
+        let view = rig.view(&start);
+        assert!(view.eye().distance(rig.eye()) < 1e-3);
+    }
+
+    #[test]
+    fn framing_fits_the_sphere_in_the_field_of_view() {
+        let (start, target) = demo_start();
+        let mut rig = CameraRig::from_view(&start, target);
+        let center = Vec3::new(3.0, 1.0, -2.0);
+        rig.frame(center, 2.0, 60f32.to_radians());
+        let view = rig.view(&start);
+        // The sphere's edge is seen at half the field of view from its centre.
+        let to_center = center - view.eye();
+        let half_angle = (2.0 / to_center.length()).asin();
+        assert!((half_angle - 30f32.to_radians()).abs() < 1e-3, "{half_angle}");
+        let forward = -view.world_from_view.z_axis.truncate();
+        assert!(forward.dot(to_center.normalize()) > 0.9999, "looks at the centre");
     }
 }

@@ -1,11 +1,19 @@
 //! `chiaro view`: a window (winit) with the 3D view and a settings panel (egui on the
 //! renderer's own wgpu device). The 3D view is rendered offscreen by the same renderer
-//! `chiaro render` uses and shown as an image in the panel's layout, so `--screenshot`
+//! `chiaro render` uses and copied into the window beside the panel, so `--screenshot`
 //! writes exactly what `chiaro render` writes for the same scene, camera, settings and
-//! size.
+//! size, and the window costs little more than the frame itself.
 
-mod orbit;
+mod camera;
+mod debug_images;
+mod lights_panel;
+mod loader;
 mod panel;
+#[cfg(test)]
+mod panel_tests;
+mod present;
+mod reference;
+mod settings_panel;
 
 use crate::bake_arg::BakeUseArgs;
 use crate::output::{Inputs, check_outputs, output_format, write_group};
@@ -13,26 +21,37 @@ use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::{Context, Result, anyhow};
-use chiaro_render::{FrameOptions, GpuContext, PreparedScene, Renderer, View};
-use chiaro_scene::{Scene, Settings};
+use camera::{CameraRig, Navigation};
+use chiaro_render::{FrameOptions, FrameOutput, GpuContext, PreparedScene, Renderer, View};
+use chiaro_scene::{LightKind, Scene, Settings};
 use clap::Args;
-use orbit::Orbit;
-use panel::{Debug, PanelState, cameras_panel, lights_panel, settings_panel};
-use std::path::PathBuf;
+use debug_images::AovView;
+use glam::Vec3;
+use loader::Loader;
+use panel::{Debug, FrameSample, PanelState};
+use present::Compositor;
+use reference::{Disagreement, ReferenceJob};
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
-use winit::keyboard::{Key, NamedKey};
+use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 /// Width of the settings panel, in logical pixels, beside the 3D view.
-const PANEL_WIDTH: f32 = 300.0;
+const PANEL_WIDTH: f32 = 340.0;
 /// Side of each shadow atlas as the atlas debug view shows it.
 const ATLAS_VIEW_SIZE: usize = 512;
-/// The 3D view's texture: what the tone mapper writes, and egui samples.
-const VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// How often the panel's numbers are brought up to date when nothing else redraws it:
+/// after this long and this many frames (drawing the panel costs a software device as
+/// much as a tenth of a heavy frame).
+const PANEL_REFRESH: Duration = Duration::from_secs(1);
+const PANEL_REFRESH_FRAMES: u32 = 10;
+/// Fly speed, in scene radii per second (x4 with Shift).
+const FLY_SPEED: f32 = 0.4;
 
 #[derive(Args)]
 pub struct ViewArgs {
@@ -75,8 +94,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
     args.path.apply(&mut settings)?;
-    let width = args.width.unwrap_or(settings.render.width);
-    let height = args.height.unwrap_or(settings.render.height);
+    // The view's size is render.width and height, so that saved settings keep it.
+    settings.render.width = args.width.unwrap_or(settings.render.width);
+    settings.render.height = args.height.unwrap_or(settings.render.height);
+    settings.validate().map_err(|e| anyhow!("--width/--height: {e}"))?;
+    let (width, height) = (settings.render.width, settings.render.height);
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
     let start_view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
@@ -84,22 +106,34 @@ pub fn run(args: ViewArgs) -> Result<()> {
         check_outputs(std::slice::from_ref(shot), &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
     }
     let event_loop = EventLoop::new().context("cannot open a window (no display?)")?;
+    let mut loader = Loader::new(args.demo.clone(), args.bake.clone());
+    loader.watch(&scene);
     let mut app = App {
+        scene_path: args.scene.clone(),
         args,
         scene,
         settings,
         start_view,
         opening_view: start_view,
         camera: None,
-        orbit: None,
+        rig: None,
         gpu: None,
         failure: None,
         frames: 0,
         frame_intervals: Vec::new(),
+        gpu_frame_ms: Vec::new(),
         last_frame: None,
         dragging: false,
-        last_cursor: None,
+        cursor: None,
+        keys: HashSet::new(),
         panel: PanelState::default(),
+        panel_dirty: true,
+        panel_drawn: None,
+        panel_draws: 0,
+        egui_repaint_at: None,
+        loader,
+        reference: ReferenceJob::default(),
+        disagreement: None,
     };
     event_loop.run_app(&mut app).context("the window's event loop failed")?;
     match app.failure {
@@ -118,31 +152,130 @@ struct Gpu {
     egui_ctx: egui::Context,
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
+    /// The 3D view: the surface's format with sRGB encoding, so that it copies into the
+    /// surface as it is.
     view_texture: wgpu::Texture,
+    view_format: wgpu::TextureFormat,
+    /// The 3D view as egui sees it, where egui draws it (no compositor).
     view_texture_id: egui::TextureId,
-    /// The atlas debug view's images, directional then point/spot.
-    atlas_textures: Vec<egui::TextureHandle>,
+    /// Copies the panel and the view into the window; `None` where the surface takes no
+    /// copies, and egui draws everything every frame.
+    compositor: Option<Compositor>,
+    /// Images a debug view shows in place of the 3D view.
+    debug_textures: Vec<egui::TextureHandle>,
+    /// The 3D view's top-left corner in the window, in physical pixels.
+    view_origin: [u32; 2],
 }
 
 struct App {
     args: ViewArgs,
     scene: Scene,
+    /// The file the scene came from (`None`: the demo).
+    scene_path: Option<PathBuf>,
     settings: Settings,
+    /// The view the rig starts from: the chosen camera's, at the view's size.
     start_view: View,
     /// The view the window opened with, for "reset view".
     opening_view: View,
     /// The glTF camera in use, if one was chosen in the viewer.
     camera: Option<usize>,
-    orbit: Option<Orbit>,
+    rig: Option<CameraRig>,
     gpu: Option<Gpu>,
     failure: Option<anyhow::Error>,
     frames: u32,
     /// Wall time between the ends of consecutive frames, ms.
     frame_intervals: Vec<f64>,
+    /// GPU time of each frame whose timestamps came back, ms.
+    gpu_frame_ms: Vec<f64>,
     last_frame: Option<Instant>,
     dragging: bool,
-    last_cursor: Option<(f64, f64)>,
+    /// Last cursor position, physical pixels.
+    cursor: Option<(f64, f64)>,
+    /// Keys held down (fly movement).
+    keys: HashSet<KeyCode>,
     panel: PanelState,
+    /// Something the panel shows changed: egui draws it again this frame.
+    panel_dirty: bool,
+    /// When the panel was last drawn, and at which frame.
+    panel_drawn: Option<(Instant, u32)>,
+    /// Frames on which egui drew the panel.
+    panel_draws: u32,
+    /// When egui asked to be run again (animations, tooltips).
+    egui_repaint_at: Option<Instant>,
+    loader: Loader,
+    reference: ReferenceJob,
+    disagreement: Option<Disagreement>,
+}
+
+fn view_texture(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("3D view"),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+/// What a frame shows in place of the lit 3D view, as images egui draws.
+fn debug_images(debug: Debug, frame: &FrameOutput, scene: &Scene) -> Vec<([usize; 2], Vec<[u8; 4]>)> {
+    let size = [frame.width as usize, frame.height as usize];
+    let aovs = frame.aovs.as_ref();
+    let image = |pixels: Vec<[u8; 4]>| vec![(size, pixels)];
+    match debug {
+        Debug::Atlases => frame
+            .shadow_atlases
+            .iter()
+            .map(|atlas| {
+                let grey = crate::render::atlas_grey(&atlas.depths);
+                let (side, pixels) = debug_images::atlas_image(&grey, atlas.size as usize, ATLAS_VIEW_SIZE);
+                ([side, side], pixels)
+            })
+            .collect(),
+        Debug::Aov(aov) => {
+            let Some(a) = aovs else { return Vec::new() };
+            match aov {
+                AovView::Position => image(debug_images::position_image(&a.position_ws, &scene.bounds())),
+                AovView::Normal => image(debug_images::normal_image(&a.normal_ws, &a.depth)),
+                AovView::Depth => image(debug_images::depth_image(&a.depth)),
+                AovView::Lightmap => image(debug_images::lightmap_image(&a.baked_irradiance, &a.depth)),
+                AovView::Shadow(i) => match frame.shadow_aovs.get(i) {
+                    Some(shadow) => image(debug_images::shadow_image(shadow, &a.depth)),
+                    None => Vec::new(),
+                },
+            }
+        }
+        Debug::Clusters => match (aovs, &frame.plan.culled.grid) {
+            (Some(a), Some(grid)) => {
+                let most = (frame.plan.lights.len() as u32).clamp(1, 32);
+                image(debug_images::cluster_image(grid, &frame.plan.culled.lists, &a.depth, most))
+            }
+            _ => Vec::new(),
+        },
+        _ => Vec::new(),
+    }
+}
+
+fn frame_options(debug: Debug) -> FrameOptions {
+    match debug {
+        Debug::None | Debug::Reference => FrameOptions::default(),
+        Debug::Cascades => FrameOptions { debug_cascades: true, ..Default::default() },
+        Debug::View(v) => FrameOptions { debug_view: Some(v), ..Default::default() },
+        // Reading back waits for the frame: a debug view, not a fast one.
+        Debug::Atlases => FrameOptions { readback: true, read_shadow_atlas: true, ..Default::default() },
+        Debug::Aov(aov) => FrameOptions {
+            aovs: true,
+            shadow_aovs: matches!(aov, AovView::Shadow(_)),
+            readback: true,
+            ..Default::default()
+        },
+        Debug::Clusters => FrameOptions { aovs: true, readback: true, ..Default::default() },
+    }
 }
 
 impl App {
@@ -151,13 +284,18 @@ impl App {
         event_loop.exit();
     }
 
+    fn title(&self) -> String {
+        format!("chiaro view: {}", self.scene_path.as_ref().map_or("demo".into(), |p| p.display().to_string()))
+    }
+
+    fn view_size(&self) -> (u32, u32) {
+        (self.start_view.width, self.start_view.height)
+    }
+
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<Gpu> {
-        let (w, h) = (self.start_view.width, self.start_view.height);
+        let (w, h) = self.view_size();
         let attributes = Window::default_attributes()
-            .with_title(format!(
-                "chiaro view: {}",
-                self.args.scene.as_ref().map_or("demo".into(), |p| p.display().to_string())
-            ))
+            .with_title(self.title())
             .with_inner_size(winit::dpi::PhysicalSize::new(w + PANEL_WIDTH as u32, h));
         let window = Arc::new(event_loop.create_window(attributes).context("cannot open a window")?);
         let (ctx, surface) = GpuContext::for_surface(window.clone())?;
@@ -166,12 +304,14 @@ impl App {
             .surface_formats
             .iter()
             .copied()
-            .find(|f| !f.is_srgb())
+            .find(|f| !f.is_srgb() && f.add_srgb_suffix().is_srgb())
             .or_else(|| ctx.surface_formats.first().copied())
             .ok_or_else(|| anyhow!("the window's surface offers no format on {}", ctx.adapter_info.name))?;
+        let copies = Compositor::supported(ctx.surface_usages);
         let size = window.inner_size();
         let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | if copies { wgpu::TextureUsages::COPY_DST } else { wgpu::TextureUsages::empty() },
             format,
             width: size.width.max(1),
             height: size.height.max(1),
@@ -182,16 +322,9 @@ impl App {
             color_space: wgpu::SurfaceColorSpace::Auto,
         };
         surface.configure(&ctx.device, &config);
-        let view_texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("3D view"),
-            size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: VIEW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
+        let view_format = format.add_srgb_suffix();
+        let view_texture = view_texture(&ctx.device, view_format, w, h);
+        let compositor = copies.then(|| Compositor::new(&ctx.device, format, config.width, config.height));
         let mut egui_renderer = egui_wgpu::Renderer::new(&ctx.device, format, egui_wgpu::RendererOptions::default());
         let view_texture_id = egui_renderer.register_native_texture(
             &ctx.device,
@@ -219,166 +352,496 @@ impl App {
             egui_state,
             egui_renderer,
             view_texture,
+            view_format,
             view_texture_id,
-            atlas_textures: Vec::new(),
+            compositor,
+            debug_textures: Vec::new(),
+            view_origin: [0, 0],
         })
     }
 
-    /// One frame: the 3D view into its texture, then the panel and the view into the window.
-    fn redraw(&mut self) -> Result<()> {
-        // A camera chosen in the panel last frame.
-        if let Some(camera) = self.panel.camera_request.take() {
-            self.use_camera(camera);
+    /// The view of glTF camera `camera` (or the one the viewer opened with) at `w` x `h`.
+    fn base_view(&self, camera: Option<usize>, w: u32, h: u32) -> Result<View> {
+        match camera {
+            Some(i) if i < self.scene.cameras.len() => Ok(View::from_camera(&self.scene, i, w, h)),
+            _ => choose_view(&self.scene, self.args.camera.as_deref(), &self.settings, w, h),
         }
-        let Some(gpu) = self.gpu.as_mut() else { return Ok(()) };
-        let started = Instant::now();
-        let orbit = *self.orbit.get_or_insert_with(|| Orbit::from_view(&self.start_view, self.scene.bounds().center()));
-        let view = orbit.view(&self.start_view);
-        let target = gpu.view_texture.create_view(&Default::default());
-        let options = match self.panel.debug {
-            Debug::None => FrameOptions::default(),
-            Debug::Cascades => FrameOptions { debug_cascades: true, ..Default::default() },
-            Debug::View(v) => FrameOptions { debug_view: Some(v), ..Default::default() },
-            // Reading the atlases back waits for the frame: a debug view, not a fast one.
-            Debug::Atlases => FrameOptions { readback: true, read_shadow_atlas: true, ..Default::default() },
-        };
-        let frame =
-            gpu.renderer.render_to(&self.scene, &gpu.prepared, &view, &self.settings, options, &target, VIEW_FORMAT)?;
-        gpu.atlas_textures = frame
-            .shadow_atlases
-            .iter()
-            .map(|atlas| {
-                let image = atlas_image(&crate::render::atlas_grey(&atlas.depths), atlas.size as usize);
-                gpu.egui_ctx.load_texture(atlas.name, image, egui::TextureOptions::NEAREST)
-            })
-            .collect();
-        self.panel.shadow_tiles = frame.shadow_tiles;
-        self.panel.lights_shaded = frame.plan.lights.len();
-        if let Some(latest) = gpu.renderer.gpu_times(false)?.pop() {
-            self.panel.gpu = Some(latest);
-        }
-
-        let input = gpu.egui_state.take_egui_input(&gpu.window);
-        let (w, h) = (self.start_view.width as f32, self.start_view.height as f32);
-        let mut settings_changed = false;
-        let pixels_per_point = gpu.egui_ctx.pixels_per_point();
-        let output = gpu.egui_ctx.run_ui(input, |ui| {
-            egui::Panel::right("settings").exact_size(PANEL_WIDTH).show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    ui.heading("Camera");
-                    let names: Vec<String> = self.scene.cameras.iter().map(|c| c.name.clone()).collect();
-                    cameras_panel(ui, &names, &mut self.panel);
-                    settings_changed |= settings_panel(ui, &mut self.settings, &mut self.panel);
-                    ui.separator();
-                    ui.heading("Lights");
-                    lights_panel(ui, &mut self.scene.lights, &mut self.panel);
-                });
-            });
-            egui::CentralPanel::no_frame().show(ui, |ui| {
-                if self.panel.debug == Debug::Atlases {
-                    ui.horizontal(|ui| {
-                        for texture in &gpu.atlas_textures {
-                            let side = (w / 2.0).min(h) / pixels_per_point;
-                            ui.image(egui::load::SizedTexture::new(texture.id(), egui::vec2(side, side)));
-                        }
-                    });
-                    if gpu.atlas_textures.is_empty() {
-                        ui.label("No light casts a shadow.");
-                    }
-                } else {
-                    ui.image(egui::load::SizedTexture::new(
-                        gpu.view_texture_id,
-                        egui::vec2(w / pixels_per_point, h / pixels_per_point),
-                    ));
-                }
-            });
-        });
-        gpu.egui_state.handle_platform_output(&gpu.window, output.platform_output);
-        if std::mem::take(&mut self.panel.save_requested) {
-            let path = self.args.settings.clone().unwrap_or_else(|| PathBuf::from("chiaro-view.toml"));
-            self.panel.saved = Some(match save_settings(&path, &self.settings) {
-                Ok(()) => format!("saved {}", path.display()),
-                Err(e) => format!("not saved: {e:#}"),
-            });
-        }
-        if settings_changed && let Err(e) = self.args.path.check_device(&gpu.renderer.ctx, &self.settings, None) {
-            self.panel.error = Some(e.to_string());
-            self.settings.render.msaa = 1;
-        }
-        let jobs = gpu.egui_ctx.tessellate(output.shapes, output.pixels_per_point);
-        let screen = egui_wgpu::ScreenDescriptor {
-            size_in_pixels: [gpu.config.width, gpu.config.height],
-            pixels_per_point: output.pixels_per_point,
-        };
-        let device = &gpu.renderer.ctx.device;
-        let queue = &gpu.renderer.ctx.queue;
-        for (id, deltas) in &output.textures_delta.set {
-            for delta in deltas {
-                gpu.egui_renderer.update_texture(device, queue, *id, delta);
-            }
-        }
-        let surface_texture = match gpu.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-            other => {
-                // Lost or outdated: configure again and draw next time.
-                tracing::debug!("surface: {other:?}");
-                gpu.surface.configure(device, &gpu.config);
-                return Ok(());
-            }
-        };
-        let surface_view = surface_texture.texture.create_view(&Default::default());
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("panel") });
-        let commands = gpu.egui_renderer.update_buffers(device, queue, &mut encoder, &jobs, &screen);
-        {
-            let mut pass = encoder
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("panel"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &surface_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: None,
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                })
-                .forget_lifetime();
-            gpu.egui_renderer.render(&mut pass, &jobs, &screen);
-        }
-        queue.submit(commands.into_iter().chain([encoder.finish()]));
-        queue.present(surface_texture);
-        for id in &output.textures_delta.free {
-            gpu.egui_renderer.free_texture(id);
-        }
-        self.panel.cpu_frame_ms = started.elapsed().as_secs_f64() * 1e3;
-        self.frames += 1;
-        let now = Instant::now();
-        if let Some(last) = self.last_frame.replace(now) {
-            self.frame_intervals.push((now - last).as_secs_f64() * 1e3);
-        }
-        Ok(())
     }
 
     /// Starts the view again from glTF camera `index`, or from the view it opened with.
     fn use_camera(&mut self, index: Option<usize>) {
-        let (w, h) = (self.start_view.width, self.start_view.height);
+        let (w, h) = self.view_size();
         self.start_view = match index {
             Some(i) if i < self.scene.cameras.len() => View::from_camera(&self.scene, i, w, h),
             _ => self.opening_view,
         };
         self.camera = index;
-        self.orbit = None;
+        self.rig = None;
+    }
+
+    fn rig(&mut self) -> &mut CameraRig {
+        let (start, center) = (self.start_view, self.scene.bounds().center());
+        self.rig.get_or_insert_with(|| CameraRig::from_view(&start, center))
+    }
+
+    fn current_view(&self) -> View {
+        self.rig.map_or(self.start_view, |r| r.view(&self.start_view))
+    }
+
+    /// Looks at the selected light (its range, at most the scene's size), or the whole
+    /// scene.
+    fn frame_selected(&mut self) {
+        let scene_sphere = self.scene.bounds().bounding_sphere();
+        let (center, radius) = match self.panel.lights.selected.and_then(|i| self.scene.lights.get(i)) {
+            Some(light) if light.kind != LightKind::Directional => {
+                let reach = light.range.unwrap_or(scene_sphere.radius).min(scene_sphere.radius);
+                (light.position(), reach.max(0.05))
+            }
+            _ => (scene_sphere.center, scene_sphere.radius),
+        };
+        let yfov = self.start_view.yfov_rad;
+        self.rig().frame(center, radius, yfov);
+    }
+
+    /// Moves a flying camera by the keys held, for `seconds` since the last frame.
+    fn fly(&mut self, seconds: f32) {
+        if self.panel.navigation != Navigation::Fly || self.keys.is_empty() {
+            return;
+        }
+        let held = |k: KeyCode| if self.keys.contains(&k) { 1.0 } else { 0.0 };
+        let input = Vec3::new(
+            held(KeyCode::KeyD) - held(KeyCode::KeyA),
+            held(KeyCode::KeyE) - held(KeyCode::KeyQ),
+            held(KeyCode::KeyS) - held(KeyCode::KeyW),
+        );
+        let fast =
+            if self.keys.contains(&KeyCode::ShiftLeft) || self.keys.contains(&KeyCode::ShiftRight) { 4.0 } else { 1.0 };
+        let metres = FLY_SPEED * fast * self.scene.bounds().bounding_sphere().radius * seconds.min(0.25);
+        self.rig().fly(input, metres);
+    }
+
+    /// A scene read by the loader: shown if it loads, else its error in the panel.
+    fn take_loaded(&mut self) {
+        let Some(loaded) = self.loader.poll() else { return };
+        self.panel_dirty = true;
+        let scene = match loaded.scene {
+            Ok(scene) => scene,
+            Err(e) => {
+                self.panel.error = Some(format!("{e:#}"));
+                return;
+            }
+        };
+        let Some(gpu) = self.gpu.as_mut() else { return };
+        let prepared = match gpu.renderer.prepare(&scene) {
+            Ok(p) => p,
+            Err(e) => {
+                self.panel.error = Some(format!("{}: {e}", loaded.path.display()));
+                return;
+            }
+        };
+        let old = std::mem::replace(&mut self.scene, scene);
+        gpu.prepared = prepared;
+        self.loader.watch(&self.scene);
+        self.disagreement = None;
+        self.panel.error = None;
+        self.panel.status =
+            Some(format!("{} {}", if loaded.reload { "reloaded" } else { "opened" }, loaded.path.display()));
+        if !loaded.reload || old.lights.len() != self.scene.lights.len() {
+            self.panel.lights = Default::default();
+            if matches!(self.panel.debug, Debug::Aov(AovView::Shadow(_))) {
+                self.panel.debug = Debug::None;
+            }
+        }
+        let keep_camera = loaded.reload && old.cameras.len() == self.scene.cameras.len();
+        self.scene_path = Some(loaded.path);
+        let title = self.title();
+        if let Some(gpu) = &self.gpu {
+            gpu.window.set_title(&title);
+        }
+        if !keep_camera {
+            let (w, h) = self.view_size();
+            self.camera = None;
+            match choose_view(&self.scene, None, &self.settings, w, h) {
+                Ok(view) => {
+                    self.start_view = view;
+                    self.opening_view = view;
+                    self.rig = None;
+                }
+                Err(e) => self.panel.error = Some(format!("{e:#}")),
+            }
+        }
+    }
+
+    /// Follows render.width and height: a new view texture and window size.
+    fn follow_view_size(&mut self) -> Result<()> {
+        let (w, h) = (self.settings.render.width, self.settings.render.height);
+        if (w, h) == self.view_size() {
+            return Ok(());
+        }
+        let start = self.base_view(self.camera, w, h)?;
+        let opening = View { width: w, height: h, ..self.base_view(None, w, h)? };
+        self.start_view = start;
+        self.opening_view = opening;
+        let Some(gpu) = self.gpu.as_mut() else { return Ok(()) };
+        let device = &gpu.renderer.ctx.device;
+        gpu.view_texture = view_texture(device, gpu.view_format, w, h);
+        gpu.egui_renderer.update_egui_texture_from_wgpu_texture(
+            device,
+            &gpu.view_texture.create_view(&Default::default()),
+            wgpu::FilterMode::Nearest,
+            gpu.view_texture_id,
+        );
+        let _ = gpu.window.request_inner_size(winit::dpi::PhysicalSize::new(w + PANEL_WIDTH as u32, h));
+        self.panel_dirty = true;
+        Ok(())
+    }
+
+    /// Renders the frame of the current camera and compares it with the reference on
+    /// another thread.
+    fn start_comparison(&mut self) {
+        let view = self.current_view();
+        let Some(gpu) = self.gpu.as_mut() else { return };
+        match chiaro_compare::render_shadows(&mut gpu.renderer, &self.scene, &gpu.prepared, &view, &self.settings) {
+            Ok(rendered) => {
+                self.reference.start(&self.scene, view, &self.settings, rendered);
+                self.panel.reference_lines = vec!["tracing the reference for this camera...".into()];
+            }
+            Err(e) => self.panel.error = Some(format!("comparison: {e}")),
+        }
+        self.panel_dirty = true;
+    }
+
+    /// Panel requests of the last frame, files to load, finished comparisons.
+    fn handle_requests(&mut self) -> Result<()> {
+        if let Some(camera) = self.panel.camera_request.take() {
+            self.use_camera(camera);
+        }
+        if std::mem::take(&mut self.panel.frame_requested) {
+            self.frame_selected();
+        }
+        if std::mem::take(&mut self.panel.open_requested) {
+            let path = PathBuf::from(self.panel.open_path.trim());
+            self.loader.open(path, &self.settings, false);
+        }
+        if std::mem::take(&mut self.panel.compare_requested) {
+            self.start_comparison();
+        }
+        if let Some(path) = self.scene_path.clone()
+            && self.loader.changed()
+        {
+            self.loader.open(path, &self.settings, true);
+            self.panel_dirty = true;
+        }
+        self.take_loaded();
+        if let Some(done) = self.reference.poll() {
+            let mut lines = done.lines.clone();
+            lines.push(format!("traced in {:.1} s", done.seconds));
+            self.panel.reference_lines = lines;
+            self.disagreement = Some(done);
+            self.panel_dirty = true;
+            if let Some(gpu) = self.gpu.as_mut() {
+                gpu.debug_textures.clear();
+            }
+        }
+        if let Err(e) = self.follow_view_size() {
+            self.panel.error = Some(format!("{e:#}"));
+        }
+        Ok(())
+    }
+}
+
+/// Whether the 3D view itself is shown (else a debug image is, or nothing yet).
+fn shows_view(debug: Debug, has_disagreement: bool) -> bool {
+    match debug {
+        Debug::None | Debug::Cascades | Debug::View(_) => true,
+        Debug::Reference => !has_disagreement,
+        Debug::Aov(_) | Debug::Clusters | Debug::Atlases => false,
+    }
+}
+
+impl App {
+    /// One frame: the 3D view into its texture, the panel if it changed, then both into
+    /// the window.
+    fn redraw(&mut self) -> Result<()> {
+        self.handle_requests()?;
+        let now = Instant::now();
+        let seconds = self.last_frame.map_or(0.0, |t| (now - t).as_secs_f32());
+        self.fly(seconds);
+        let Some(mut gpu) = self.gpu.take() else { return Ok(()) };
+        let result = self.frame(&mut gpu);
+        self.gpu = Some(gpu);
+        result?;
+        self.frames += 1;
+        let now = Instant::now();
+        let interval = self.last_frame.replace(now).map(|last| (now - last).as_secs_f64() * 1e3);
+        if let Some(ms) = interval {
+            self.frame_intervals.push(ms);
+        }
+        if let Some(sample) = self.panel.history.back_mut() {
+            sample.interval_ms = interval;
+        }
+        Ok(())
+    }
+
+    fn frame(&mut self, gpu: &mut Gpu) -> Result<()> {
+        let view = self.current_view();
+        let debug = self.panel.debug;
+        let target = gpu.view_texture.create_view(&Default::default());
+        let options = frame_options(debug);
+        match gpu.renderer.render_to(
+            &self.scene,
+            &gpu.prepared,
+            &view,
+            &self.settings,
+            options,
+            &target,
+            gpu.view_format,
+        ) {
+            Ok(frame) => self.take_frame(gpu, debug, &frame)?,
+            Err(e) => {
+                // Shown, not fatal: the panel can undo what caused it.
+                let message = format!("frame not rendered: {e}");
+                if self.panel.error.as_ref() != Some(&message) {
+                    self.panel.error = Some(message);
+                    self.panel_dirty = true;
+                }
+            }
+        }
+        let show_view = shows_view(debug, self.disagreement.is_some());
+        if debug == Debug::Reference
+            && gpu.debug_textures.is_empty()
+            && let Some(d) = &self.disagreement
+        {
+            let image = egui::ColorImage::from_rgba_unmultiplied([d.width, d.height], &d.overlay);
+            gpu.debug_textures = vec![gpu.egui_ctx.load_texture("disagreement", image, egui::TextureOptions::NEAREST)];
+            self.panel_dirty = true;
+        }
+
+        let refresh_due = self
+            .panel_drawn
+            .is_none_or(|(t, frame)| t.elapsed() >= PANEL_REFRESH && self.frames >= frame + PANEL_REFRESH_FRAMES);
+        let egui_due = self.egui_repaint_at.is_some_and(|t| Instant::now() >= t);
+        let draw_panel = gpu.compositor.is_none() || self.panel_dirty || refresh_due || egui_due;
+        let surface_texture = match gpu.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            other => {
+                // Lost or outdated: configure again and draw next time.
+                tracing::debug!("surface: {other:?}");
+                gpu.surface.configure(&gpu.renderer.ctx.device, &gpu.config);
+                return Ok(());
+            }
+        };
+        let device = gpu.renderer.ctx.device.clone();
+        let queue = gpu.renderer.ctx.queue.clone();
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("window") });
+        let mut commands = Vec::new();
+        if draw_panel {
+            let output = self.run_panel(gpu, show_view);
+            let jobs = gpu.egui_ctx.tessellate(output.shapes, output.pixels_per_point);
+            let screen = egui_wgpu::ScreenDescriptor {
+                size_in_pixels: [gpu.config.width, gpu.config.height],
+                pixels_per_point: output.pixels_per_point,
+            };
+            for (id, deltas) in &output.textures_delta.set {
+                for delta in deltas {
+                    gpu.egui_renderer.update_texture(&device, &queue, *id, delta);
+                }
+            }
+            commands = gpu.egui_renderer.update_buffers(&device, &queue, &mut encoder, &jobs, &screen);
+            let panel_target = match &gpu.compositor {
+                Some(c) => c.panel_target(),
+                None => surface_texture.texture.create_view(&Default::default()),
+            };
+            {
+                let mut pass = encoder
+                    .begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("panel"),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view: &panel_target,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        depth_stencil_attachment: None,
+                        timestamp_writes: None,
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    })
+                    .forget_lifetime();
+                gpu.egui_renderer.render(&mut pass, &jobs, &screen);
+            }
+            for id in &output.textures_delta.free {
+                gpu.egui_renderer.free_texture(id);
+            }
+        }
+        if let Some(compositor) = &gpu.compositor {
+            let view = show_view.then_some((&gpu.view_texture, gpu.view_origin));
+            compositor.compose(&mut encoder, &surface_texture.texture, view);
+        }
+        queue.submit(commands.into_iter().chain([encoder.finish()]));
+        queue.present(surface_texture);
+        Ok(())
+    }
+
+    /// What the frame tells the panel, and the debug view's images.
+    fn take_frame(&mut self, gpu: &mut Gpu, debug: Debug, frame: &FrameOutput) -> Result<()> {
+        let images = debug_images(debug, frame, &self.scene);
+        if !matches!(debug, Debug::Reference) {
+            gpu.debug_textures = images
+                .into_iter()
+                .enumerate()
+                .map(|(i, (size, pixels))| {
+                    let image = egui::ColorImage::from_rgba_unmultiplied(size, pixels.as_flattened());
+                    gpu.egui_ctx.load_texture(format!("debug {i}"), image, egui::TextureOptions::NEAREST)
+                })
+                .collect();
+            if !shows_view(debug, false) {
+                self.panel_dirty = true;
+            }
+        }
+        self.panel.shadow_tiles = frame.shadow_tiles;
+        self.panel.lights_shaded = frame.plan.lights.len();
+        self.panel.lights.tiles = lights_panel::tiles_by_light(&frame.plan, self.scene.lights.len());
+        let finished = gpu.renderer.gpu_times(false)?;
+        self.gpu_frame_ms.extend(finished.iter().map(|t| t.total_ms()));
+        if let Some(latest) = finished.into_iter().last() {
+            self.panel.gpu = Some(latest);
+        }
+        self.panel.record(FrameSample {
+            cpu_ms: frame.timings.cpu_prepare_ms,
+            gpu_ms: self.panel.gpu.as_ref().map(|g| g.total_ms()),
+            interval_ms: None,
+        });
+        Ok(())
+    }
+
+    /// Runs egui over the panel; applies what was edited in it.
+    fn run_panel(&mut self, gpu: &mut Gpu, show_view: bool) -> egui::FullOutput {
+        let input = gpu.egui_state.take_egui_input(&gpu.window);
+        let (w, h) = self.view_size();
+        let ppp = gpu.egui_ctx.pixels_per_point();
+        let view_size = egui::vec2(w as f32 / ppp, h as f32 / ppp);
+        let camera_names: Vec<String> = self.scene.cameras.iter().map(|c| c.name.clone()).collect();
+        let loading = self.loader.loading().map(Path::to_path_buf);
+        let comparing = self.reference.running();
+        let stale =
+            self.disagreement.as_ref().is_some_and(|d| d.view.world_from_view != self.current_view().world_from_view);
+        let textures: Vec<(egui::TextureId, egui::Vec2)> =
+            gpu.debug_textures.iter().map(|t| (t.id(), t.size_vec2())).collect();
+        let compositor = gpu.compositor.is_some();
+        let view_texture_id = gpu.view_texture_id;
+        let debug = self.panel.debug;
+        let mut edit = None;
+        let mut view_rect = None;
+        let output = gpu.egui_ctx.run_ui(input, |ui| {
+            // egui's separator line lands inside the panel, across its text.
+            egui::Panel::right("settings").exact_size(PANEL_WIDTH).resizable(false).show_separator_line(false).show(
+                ui,
+                |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        ui.heading("Scene");
+                        panel::open_panel(ui, &mut self.panel, loading.as_deref());
+                        ui.heading("Camera");
+                        panel::cameras_panel(ui, &camera_names, &mut self.panel);
+                        ui.heading("View");
+                        panel::debug_panel(ui, &mut self.panel, self.scene.lights.len(), comparing);
+                        if stale && debug == Debug::Reference {
+                            ui.colored_label(egui::Color32::YELLOW, "the camera moved since: compare again");
+                        }
+                        ui.separator();
+                        ui.heading("Frame");
+                        panel::timings_panel(ui, &self.panel);
+                        ui.separator();
+                        ui.horizontal(|ui| {
+                            self.panel.save_requested = ui.button("Save settings").clicked();
+                            if let Some(status) = &self.panel.status {
+                                ui.label(status);
+                            }
+                        });
+                        if let Some(e) = &self.panel.error {
+                            ui.colored_label(egui::Color32::LIGHT_RED, e);
+                        }
+                        edit = settings_panel::settings_panel(ui, &self.settings);
+                        ui.separator();
+                        ui.heading("Lights");
+                        lights_panel::lights_panel(ui, &mut self.scene.lights, &mut self.panel.lights);
+                        ui.separator();
+                        ui.label(panel::HELP);
+                    });
+                },
+            );
+            egui::CentralPanel::no_frame().show(ui, |ui| {
+                if show_view {
+                    view_rect = Some(if compositor {
+                        ui.allocate_exact_size(view_size, egui::Sense::hover()).0
+                    } else {
+                        ui.image(egui::load::SizedTexture::new(view_texture_id, view_size)).rect
+                    });
+                    return;
+                }
+                ui.horizontal(|ui| {
+                    for &(id, size) in &textures {
+                        // Atlases side by side; any other image at the view's size.
+                        let shown = if debug == Debug::Atlases {
+                            let side = (view_size.x / 2.0).min(view_size.y);
+                            egui::vec2(side, side)
+                        } else {
+                            size * (view_size.x / size.x.max(1.0))
+                        };
+                        ui.image(egui::load::SizedTexture::new(id, shown));
+                    }
+                });
+                if textures.is_empty() {
+                    ui.label(match debug {
+                        Debug::Atlases => "No light casts a shadow.",
+                        Debug::Clusters => "No clusters: lights.culling is not clustered on this path.",
+                        _ => "Nothing to show yet.",
+                    });
+                }
+            });
+        });
+        gpu.egui_state.handle_platform_output(&gpu.window, output.platform_output.clone());
+        if let Some(rect) = view_rect {
+            gpu.view_origin = [(rect.min.x * ppp).round() as u32, (rect.min.y * ppp).round() as u32];
+        }
+        let delay = output.viewport_output.get(&egui::ViewportId::ROOT).map(|v| v.repaint_delay);
+        self.egui_repaint_at = delay.filter(|d| *d < Duration::from_secs(3600)).map(|d| Instant::now() + d);
+        self.panel_dirty = false;
+        self.panel_drawn = Some((Instant::now(), self.frames));
+        self.panel_draws += 1;
+        match edit {
+            Some(Ok(settings)) => match self.args.path.check_device(&gpu.renderer.ctx, &settings, None) {
+                Ok(()) => {
+                    self.settings = settings;
+                    self.panel.error = None;
+                    self.panel_dirty = true;
+                }
+                Err(e) => self.panel.error = Some(format!("{e:#}")),
+            },
+            Some(Err(e)) => {
+                self.panel.error = Some(e);
+                self.panel_dirty = true;
+            }
+            None => {}
+        }
+        if std::mem::take(&mut self.panel.save_requested) {
+            let path = self.args.settings.clone().unwrap_or_else(|| PathBuf::from("chiaro-view.toml"));
+            self.panel.status = Some(match save_settings(&path, &self.settings) {
+                Ok(()) => format!("saved {}", path.display()),
+                Err(e) => format!("not saved: {e:#}"),
+            });
+            self.panel_dirty = true;
+        }
+        output
     }
 
     /// Writes the 3D view as `chiaro render` would: the same renderer, view and settings.
-    fn screenshot(&mut self, path: &std::path::Path) -> Result<()> {
+    fn screenshot(&mut self, path: &Path) -> Result<()> {
+        let view = self.current_view();
         let gpu = self.gpu.as_mut().ok_or_else(|| anyhow!("no frame was rendered"))?;
-        let view = self.orbit.map_or(self.start_view, |o| o.view(&self.start_view));
         let options = FrameOptions { readback: true, ..Default::default() };
         let frame = gpu.renderer.render(&self.scene, &gpu.prepared, &view, &self.settings, options)?;
         let (width, height) = (view.width, view.height);
@@ -388,28 +851,52 @@ impl App {
         eprintln!("chiaro: wrote {} ({width}x{height}) after {} frames", path.display(), self.frames);
         Ok(())
     }
-}
 
-/// An atlas's grey RGBA8 image (`size` texels a side), sampled down to
-/// `ATLAS_VIEW_SIZE` for the panel.
-fn atlas_image(grey: &[u8], size: usize) -> egui::ColorImage {
-    let side = size.min(ATLAS_VIEW_SIZE);
-    let step = size / side;
-    let pixels = (0..side * side)
-        .map(|k| {
-            let (x, y) = ((k % side) * step, (k / side) * step);
-            let v = grey[(y * size + x) * 4];
-            egui::Color32::from_gray(v)
-        })
-        .collect();
-    egui::ColorImage { size: [side, side], pixels, source_size: egui::vec2(side as f32, side as f32) }
+    /// Whether the pointer at `(x, y)` (physical pixels) is over the panel or a popup,
+    /// rather than the 3D view.
+    fn over_ui(&self, (x, y): (f64, f64)) -> bool {
+        let Some(gpu) = &self.gpu else { return true };
+        let [ox, oy] = gpu.view_origin.map(f64::from);
+        let (w, h) = self.view_size();
+        let in_view = x >= ox && y >= oy && x < ox + f64::from(w) && y < oy + f64::from(h);
+        let ppp = f64::from(gpu.egui_ctx.pixels_per_point());
+        let pos = egui::pos2((x / ppp) as f32, (y / ppp) as f32);
+        !in_view || gpu.egui_ctx.layer_id_at(pos).is_some_and(|l| l.order != egui::Order::Background)
+    }
+
+    fn key_pressed(&mut self, event_loop: &ActiveEventLoop, key: &Key) {
+        match key.as_ref() {
+            Key::Character("r") => self.use_camera(None),
+            Key::Character("c") if !self.scene.cameras.is_empty() => {
+                let next = self.camera.map_or(0, |i| (i + 1) % self.scene.cameras.len());
+                self.use_camera(Some(next));
+            }
+            Key::Character("f") => self.frame_selected(),
+            Key::Character("v") => {
+                self.panel.navigation = match self.panel.navigation {
+                    Navigation::Orbit => Navigation::Fly,
+                    Navigation::Fly => Navigation::Orbit,
+                };
+            }
+            Key::Character("p") => {
+                let path = PathBuf::from("chiaro-view.png");
+                self.panel.status = Some(match self.screenshot(&path) {
+                    Ok(()) => format!("wrote {}", path.display()),
+                    Err(e) => format!("no screenshot: {e:#}"),
+                });
+            }
+            Key::Named(NamedKey::Escape) => event_loop.exit(),
+            _ => return,
+        }
+        self.panel_dirty = true;
+    }
 }
 
 /// Writes `settings` as TOML to `path`, whole or not at all (a temporary file renamed
 /// over it), so that `chiaro render --settings path` renders what the viewer showed.
-fn save_settings(path: &std::path::Path, settings: &Settings) -> Result<()> {
+fn save_settings(path: &Path, settings: &Settings) -> Result<()> {
     use std::io::Write;
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let mut file = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}", dir.display()))?;
     file.write_all(settings.to_toml().as_bytes()).with_context(|| format!("{}", path.display()))?;
     file.persist(path).with_context(|| format!("{}", path.display()))?;
@@ -432,51 +919,73 @@ impl ApplicationHandler for App {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(gpu) = self.gpu.as_mut() else { return };
-        let consumed = gpu.egui_state.on_window_event(&gpu.window, &event).consumed;
+        let response = gpu.egui_state.on_window_event(&gpu.window, &event);
+        let wants_keyboard = gpu.egui_ctx.egui_wants_keyboard_input();
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => {
                 gpu.config.width = size.width.max(1);
                 gpu.config.height = size.height.max(1);
                 gpu.surface.configure(&gpu.renderer.ctx.device, &gpu.config);
-            }
-            WindowEvent::MouseInput { state, button: MouseButton::Left, .. } => {
-                self.dragging = state == ElementState::Pressed && !consumed && !gpu.egui_ctx.is_pointer_over_egui();
+                if let Some(c) = &mut gpu.compositor
+                    && !c.fits(gpu.config.width, gpu.config.height)
+                {
+                    *c = Compositor::new(
+                        &gpu.renderer.ctx.device,
+                        gpu.config.format,
+                        gpu.config.width,
+                        gpu.config.height,
+                    );
+                }
+                self.panel_dirty = true;
             }
             WindowEvent::CursorMoved { position, .. } => {
-                if let (true, Some((x, y)), Some(orbit)) = (self.dragging, self.last_cursor, self.orbit.as_mut()) {
-                    orbit.drag((position.x - x) as f32, (position.y - y) as f32);
+                let now = (position.x, position.y);
+                if let (true, Some((x, y))) = (self.dragging, self.cursor) {
+                    let navigation = self.panel.navigation;
+                    self.rig().drag(navigation, (now.0 - x) as f32, (now.1 - y) as f32);
                 }
-                self.last_cursor = Some((position.x, position.y));
+                let was_over_ui = self.cursor.is_none_or(|c| self.over_ui(c));
+                if response.repaint && (was_over_ui || self.over_ui(now)) {
+                    self.panel_dirty = true;
+                }
+                self.cursor = Some(now);
             }
-            WindowEvent::MouseWheel { delta, .. } if !gpu.egui_ctx.is_pointer_over_egui() => {
-                let steps = match delta {
-                    MouseScrollDelta::LineDelta(_, y) => y,
-                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
-                };
-                if let Some(orbit) = self.orbit.as_mut() {
-                    orbit.zoom(steps);
+            WindowEvent::MouseInput { state, button: MouseButton::Left, .. } => {
+                let on_ui = self.cursor.is_none_or(|c| self.over_ui(c));
+                self.dragging = state == ElementState::Pressed && !on_ui;
+                self.panel_dirty |= on_ui;
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                if self.cursor.is_none_or(|c| self.over_ui(c)) {
+                    self.panel_dirty = true;
+                } else {
+                    let steps = match delta {
+                        MouseScrollDelta::LineDelta(_, y) => y,
+                        MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                    };
+                    self.rig().zoom(steps);
                 }
             }
-            WindowEvent::KeyboardInput { event, .. }
-                if event.state == ElementState::Pressed && !gpu.egui_ctx.egui_wants_keyboard_input() =>
-            {
-                match event.logical_key.as_ref() {
-                    Key::Character("r") => self.use_camera(None),
-                    Key::Character("c") if !self.scene.cameras.is_empty() => {
-                        let next = self.camera.map_or(0, |i| (i + 1) % self.scene.cameras.len());
-                        self.use_camera(Some(next));
-                    }
-                    Key::Character("p") => {
-                        let path = PathBuf::from("chiaro-view.png");
-                        self.panel.saved = Some(match self.screenshot(&path) {
-                            Ok(()) => format!("wrote {}", path.display()),
-                            Err(e) => format!("no screenshot: {e:#}"),
-                        });
-                    }
-                    Key::Named(NamedKey::Escape) => event_loop.exit(),
-                    _ => {}
+            WindowEvent::KeyboardInput { event, .. } => {
+                if wants_keyboard {
+                    self.panel_dirty = true;
+                    return;
                 }
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    match event.state {
+                        ElementState::Pressed => self.keys.insert(code),
+                        ElementState::Released => self.keys.remove(&code),
+                    };
+                }
+                if event.state == ElementState::Pressed && !event.repeat {
+                    self.key_pressed(event_loop, &event.logical_key);
+                }
+            }
+            WindowEvent::Focused(false) => self.keys.clear(),
+            WindowEvent::DroppedFile(path) => {
+                self.loader.open(path, &self.settings, false);
+                self.panel_dirty = true;
             }
             WindowEvent::RedrawRequested => {
                 if let Err(e) = self.redraw() {
@@ -490,15 +999,22 @@ impl ApplicationHandler for App {
                     {
                         return self.fail(event_loop, e);
                     }
-                    let mut intervals = self.frame_intervals.clone();
-                    intervals.sort_by(f64::total_cmp);
-                    if let Some(median) = intervals.get(intervals.len() / 2) {
-                        eprintln!("chiaro: {} frames shown, median {median:.1} ms a frame", self.frames);
+                    let median = |mut v: Vec<f64>| {
+                        v.sort_by(f64::total_cmp);
+                        v.get(v.len() / 2).copied()
+                    };
+                    if let Some(frame) = median(self.frame_intervals.clone()) {
+                        let gpu = median(self.gpu_frame_ms.clone())
+                            .map_or(String::new(), |g| format!(" (GPU {g:.1} ms by timestamps)"));
+                        eprintln!(
+                            "chiaro: {} frames shown (the panel drawn on {}), median {frame:.1} ms a frame{gpu}",
+                            self.frames, self.panel_draws
+                        );
                     }
                     event_loop.exit();
                 }
             }
-            _ => {}
+            _ => self.panel_dirty |= response.repaint,
         }
     }
 
@@ -523,19 +1039,5 @@ mod tests {
         settings.lights.culling = chiaro_scene::LightCulling::PerObject;
         save_settings(&path, &settings).unwrap();
         assert_eq!(load_settings(Some(&path)).unwrap(), settings);
-    }
-
-    #[test]
-    fn atlas_images_are_sampled_down_to_the_view_size() {
-        // A 1024-texel atlas, dark in its left half.
-        let size = 1024;
-        let grey: Vec<u8> =
-            (0..size * size).flat_map(|k| if k % size < size / 2 { [0u8; 4] } else { [255; 4] }).collect();
-        let image = atlas_image(&grey, size);
-        assert_eq!(image.size, [ATLAS_VIEW_SIZE, ATLAS_VIEW_SIZE]);
-        assert_eq!(image.pixels[0], egui::Color32::from_gray(0));
-        assert_eq!(image.pixels[ATLAS_VIEW_SIZE - 1], egui::Color32::from_gray(255));
-        // A small atlas is shown as it is.
-        assert_eq!(atlas_image(&[9; 4 * 16], 4).size, [4, 4]);
     }
 }

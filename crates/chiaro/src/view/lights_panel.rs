@@ -1,0 +1,159 @@
+//! The light list: one collapsible row per glTF light with everything its extras and
+//! KHR_lights_punctual set, editable live, and the atlas tiles it got this frame.
+
+use chiaro_render::FramePlan;
+use chiaro_render::plan::shadows::ShadowAtlas;
+use chiaro_scene::{Light, LightKind, LightMode, ShadowMode};
+use egui::{ComboBox, Slider, Ui};
+use std::collections::HashMap;
+
+/// What the list keeps between frames.
+#[derive(Default)]
+pub struct LightsState {
+    /// Lights switched off, with the intensity they get back when switched on.
+    pub switched_off: HashMap<usize, f32>,
+    /// The light whose "select" was pressed: "frame selected" looks at it.
+    pub selected: Option<usize>,
+    /// Per scene light, the tiles it got this frame, in words.
+    pub tiles: Vec<String>,
+}
+
+/// Describes each scene light's atlas tiles in `plan`.
+pub fn tiles_by_light(plan: &FramePlan, light_count: usize) -> Vec<String> {
+    let mut per_light: Vec<Vec<(ShadowAtlas, u32, u32)>> = vec![Vec::new(); light_count];
+    for tile in &plan.shadows.tiles {
+        if let Some(list) = per_light.get_mut(tile.light.index()) {
+            list.push((tile.atlas, tile.tile, tile.viewport.2));
+        }
+    }
+    per_light
+        .into_iter()
+        .map(|tiles| {
+            let Some(&(atlas, _, size)) = tiles.first() else { return "no atlas tiles this frame".to_string() };
+            let atlas = match atlas {
+                ShadowAtlas::Directional => "directional",
+                ShadowAtlas::Other => "point/spot",
+            };
+            let indices: Vec<String> = tiles.iter().map(|t| t.1.to_string()).collect();
+            let sizes = if tiles.iter().all(|t| t.2 == size) { format!("{size}") } else { "mixed".into() };
+            format!("{} {atlas} tiles ({}), {sizes} texels", tiles.len(), indices.join(", "))
+        })
+        .collect()
+}
+
+/// Draws the list; returns whether a light changed.
+pub fn lights_panel(ui: &mut Ui, lights: &mut [Light], state: &mut LightsState) -> bool {
+    let mut changed = false;
+    for (i, light) in lights.iter_mut().enumerate() {
+        let kind = match light.kind {
+            LightKind::Directional => "directional",
+            LightKind::Point => "point",
+            LightKind::Spot { .. } => "spot",
+        };
+        let name = if light.name.is_empty() { format!("light {i}") } else { light.name.clone() };
+        egui::CollapsingHeader::new(format!("{name} ({kind})")).id_salt(("light", i)).show(ui, |ui| {
+            changed |= light_rows(ui, i, light, state);
+        });
+    }
+    changed
+}
+
+fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &mut LightsState) -> bool {
+    let mut changed = false;
+    ui.horizontal(|ui| {
+        let mut on = !state.switched_off.contains_key(&i);
+        if ui.checkbox(&mut on, "on").changed() {
+            if on {
+                light.intensity = state.switched_off.remove(&i).unwrap_or(1.0);
+            } else {
+                state.switched_off.insert(i, light.intensity);
+                light.intensity = 0.0;
+            }
+            changed = true;
+        }
+        let selected = state.selected == Some(i);
+        if ui.selectable_label(selected, "select").clicked() {
+            state.selected = if selected { None } else { Some(i) };
+        }
+        let mut rgb = light.color.to_array();
+        if ui.color_edit_button_rgb(&mut rgb).changed() {
+            light.color = glam::Vec3::from(rgb);
+            changed = true;
+        }
+    });
+    if !state.switched_off.contains_key(&i) {
+        let unit = if light.kind == LightKind::Directional { "intensity (lux)" } else { "intensity (cd)" };
+        changed |= ui.add(Slider::new(&mut light.intensity, 0.0..=1.0e5).logarithmic(true).text(unit)).changed();
+    }
+    if light.kind != LightKind::Directional {
+        let mut has_range = light.range.is_some();
+        ui.horizontal(|ui| {
+            if ui.checkbox(&mut has_range, "range").changed() {
+                light.range = has_range.then_some(10.0);
+                changed = true;
+            }
+            match light.range.as_mut() {
+                Some(range) => {
+                    changed |= ui.add(Slider::new(range, 0.01..=1000.0).logarithmic(true).text("m")).changed()
+                }
+                None => {
+                    ui.weak("from intensity");
+                }
+            }
+        });
+    }
+    if let LightKind::Spot { inner_cone_rad, outer_cone_rad } = &mut light.kind {
+        let (mut inner, mut outer) = (inner_cone_rad.to_degrees(), outer_cone_rad.to_degrees());
+        let inner_changed = ui.add(Slider::new(&mut inner, 0.0..=89.9).text("inner cone (deg)")).changed();
+        let outer_changed = ui.add(Slider::new(&mut outer, 0.1..=90.0).text("outer cone (deg)")).changed();
+        if inner_changed || outer_changed {
+            // glTF: 0 <= inner < outer <= 90 degrees; the other end gives way.
+            if inner_changed {
+                outer = outer.max(inner + 0.1);
+            } else {
+                inner = inner.min(outer - 0.1);
+            }
+            *inner_cone_rad = inner.to_radians();
+            *outer_cone_rad = outer.min(90.0).to_radians();
+            changed = true;
+        }
+    }
+    let shadow = &mut light.shadow;
+    ComboBox::new(("shadows", i), "shadows").selected_text(shadow_mode_name(shadow.mode)).show_ui(ui, |ui| {
+        for m in [ShadowMode::None, ShadowMode::Hard, ShadowMode::Soft] {
+            changed |= ui.selectable_value(&mut shadow.mode, m, shadow_mode_name(m)).changed();
+        }
+    });
+    changed |= ui.add(Slider::new(&mut shadow.strength, 0.0..=1.0).text("shadow strength")).changed();
+    changed |= ui.add(Slider::new(&mut shadow.depth_bias, 0.0..=10.0).text("depth bias")).changed();
+    changed |= ui.add(Slider::new(&mut shadow.normal_bias, 0.0..=3.0).text("normal bias")).changed();
+    changed |= ui.add(Slider::new(&mut shadow.near_plane, 0.0..=10.0).text("near plane (m)")).changed();
+    ComboBox::new(("mode", i), "mode").selected_text(mode_name(light.mode)).show_ui(ui, |ui| {
+        for m in [LightMode::Realtime, LightMode::Mixed, LightMode::Baked] {
+            changed |= ui.selectable_value(&mut light.mode, m, mode_name(m)).changed();
+        }
+    });
+    if light.mode != LightMode::Realtime {
+        ui.weak("baked light comes from the last chiaro bake");
+    }
+    if let Some(tiles) = state.tiles.get(i) {
+        ui.label(format!("this frame: {tiles}"));
+    }
+    changed
+}
+
+fn shadow_mode_name(m: ShadowMode) -> &'static str {
+    match m {
+        ShadowMode::None => "none",
+        ShadowMode::Hard => "hard",
+        ShadowMode::Soft => "soft",
+    }
+}
+
+fn mode_name(m: LightMode) -> &'static str {
+    match m {
+        LightMode::Realtime => "realtime",
+        LightMode::Mixed => "mixed",
+        LightMode::Baked => "baked",
+    }
+}

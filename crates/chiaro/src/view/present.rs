@@ -1,0 +1,73 @@
+//! Puts the panel and the 3D view in the window. egui draws the panel into a texture of
+//! its own, and only when something in it changed; every frame copies that texture and
+//! then the 3D view into the window's surface. On lavapipe egui's pass took 30 ms, an
+//! eighth of a frame of the benchmark scene, so drawing it every frame made the window
+//! cost far more than the few percent it may.
+
+/// The panel's texture, the size of the window's surface.
+pub struct Compositor {
+    panel: wgpu::Texture,
+}
+
+impl Compositor {
+    /// Whether a surface with `usages` can take the copies (else egui draws every frame).
+    pub fn supported(usages: wgpu::TextureUsages) -> bool {
+        usages.contains(wgpu::TextureUsages::COPY_DST)
+    }
+
+    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32) -> Compositor {
+        let panel = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("panel"),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        Compositor { panel }
+    }
+
+    /// Whether the panel texture fits a surface of `width` x `height`.
+    pub fn fits(&self, width: u32, height: u32) -> bool {
+        self.panel.width() == width && self.panel.height() == height
+    }
+
+    /// Where egui draws the panel.
+    pub fn panel_target(&self) -> wgpu::TextureView {
+        self.panel.create_view(&Default::default())
+    }
+
+    /// Records the copies that make the window's image: the panel, then `view` (if shown)
+    /// with its top-left corner at `origin`, cut to the surface.
+    pub fn compose(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        surface: &wgpu::Texture,
+        view: Option<(&wgpu::Texture, [u32; 2])>,
+    ) {
+        let whole = wgpu::Extent3d {
+            width: self.panel.width().min(surface.width()),
+            height: self.panel.height().min(surface.height()),
+            depth_or_array_layers: 1,
+        };
+        encoder.copy_texture_to_texture(self.panel.as_image_copy(), surface.as_image_copy(), whole);
+        let Some((texture, [x, y])) = view else { return };
+        if x >= surface.width() || y >= surface.height() {
+            return;
+        }
+        let extent = wgpu::Extent3d {
+            width: texture.width().min(surface.width() - x),
+            height: texture.height().min(surface.height() - y),
+            depth_or_array_layers: 1,
+        };
+        let destination = wgpu::TexelCopyTextureInfo {
+            texture: surface,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x, y, z: 0 },
+            aspect: wgpu::TextureAspect::All,
+        };
+        encoder.copy_texture_to_texture(texture.as_image_copy(), destination, extent);
+    }
+}
