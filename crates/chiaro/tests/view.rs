@@ -70,6 +70,29 @@ fn the_viewer_screenshot_equals_chiaro_render() {
 }
 
 #[test]
+fn a_debug_view_screenshot_equals_chiaro_render_with_the_same_debug_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let (w, h) = (WIDTH.to_string(), HEIGHT.to_string());
+    let size = ["--width", w.as_str(), "--height", h.as_str(), "--demo-lights", "2"];
+    let shot = view_under_xvfb(
+        &[&size[..], &["--debug", "cascades", "--screenshot", "shot.png", "--exit-after-frames", "2"]].concat(),
+        dir.path(),
+    );
+    assert_eq!(shot.code, 0, "the viewer failed: {}", shot.stderr);
+    let render =
+        chiaro(&[&["render"][..], &size, &["--debug", "cascades", "-o", "render.png"]].concat(), &[], dir.path());
+    assert_eq!(render.code, 0, "{}", render.stderr);
+    let plain = chiaro(&[&["render"][..], &size, &["-o", "plain.png"]].concat(), &[], dir.path());
+    assert_eq!(plain.code, 0, "{}", plain.stderr);
+    let (shot, reference, plain) =
+        (rgb(&dir.path().join("shot.png")), rgb(&dir.path().join("render.png")), rgb(&dir.path().join("plain.png")));
+    let flip = mean_flip(&reference, &shot);
+    println!("viewer --debug cascades against chiaro render --debug cascades: mean FLIP {flip}");
+    assert!(flip < 0.01, "mean FLIP {flip}");
+    assert!(mean_flip(&plain, &shot) > 0.05, "the screenshot is tinted by cascade");
+}
+
+#[test]
 fn viewer_arguments_are_checked_before_a_window_opens() {
     let dir = tempfile::tempdir().unwrap();
     // These fail without a display, so no Xvfb is needed.
@@ -81,4 +104,7 @@ fn viewer_arguments_are_checked_before_a_window_opens() {
     assert_ne!(run.code, 0);
     assert!(run.stderr.contains("missing.gltf"), "{}", run.stderr);
     assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
+    let run = chiaro(&["view", "--debug", "wireframe"], &[], dir.path());
+    assert_ne!(run.code, 0);
+    assert!(run.stderr.contains("'wireframe' is not a debug view"), "{}", run.stderr);
 }

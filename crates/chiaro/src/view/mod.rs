@@ -71,6 +71,12 @@ pub struct ViewArgs {
     /// file, as `chiaro render` would, and exit.
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
+    /// The debug view to open with: none, cascades, gbuffer-albedo, gbuffer-normal,
+    /// light-overdraw, aov-position, aov-normal, aov-depth, aov-lightmap, clusters,
+    /// shadow-atlases, reference (compared at once). With --screenshot, cascades and the
+    /// G-buffer and overdraw views are written as `chiaro render --debug` writes them.
+    #[arg(long, value_parser = Debug::parse)]
+    pub debug: Option<Debug>,
     /// Frames to show before exiting (1 to 100000).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub exit_after_frames: Option<u32>,
@@ -108,6 +114,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let event_loop = EventLoop::new().context("cannot open a window (no display?)")?;
     let mut loader = Loader::new(args.demo.clone(), args.bake.clone());
     loader.watch(&scene);
+    let panel = PanelState {
+        debug: args.debug.unwrap_or_default(),
+        compare_requested: args.debug == Some(Debug::Reference),
+        ..Default::default()
+    };
     let mut app = App {
         scene_path: args.scene.clone(),
         args,
@@ -126,7 +137,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         dragging: false,
         cursor: None,
         keys: HashSet::new(),
-        panel: PanelState::default(),
+        panel,
         panel_dirty: true,
         panel_drawn: None,
         panel_draws: 0,
@@ -842,7 +853,12 @@ impl App {
     fn screenshot(&mut self, path: &Path) -> Result<()> {
         let view = self.current_view();
         let gpu = self.gpu.as_mut().ok_or_else(|| anyhow!("no frame was rendered"))?;
-        let options = FrameOptions { readback: true, ..Default::default() };
+        // The debug views `chiaro render --debug` also has are written as it writes them.
+        let options = match self.panel.debug {
+            d @ (Debug::Cascades | Debug::View(_)) => frame_options(d),
+            _ => FrameOptions::default(),
+        };
+        let options = FrameOptions { readback: true, ..options };
         let frame = gpu.renderer.render(&self.scene, &gpu.prepared, &view, &self.settings, options)?;
         let (width, height) = (view.width, view.height);
         let rgb: Vec<[f32; 3]> = frame.hdr.iter().map(|p| [p[0], p[1], p[2]]).collect();

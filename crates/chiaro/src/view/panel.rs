@@ -45,6 +45,34 @@ impl Debug {
         }
     }
 
+    /// The name `--debug` takes (none for the per-light shadow AOVs).
+    pub fn cli_name(self) -> Option<&'static str> {
+        Some(match self {
+            Debug::None => "none",
+            Debug::Cascades => "cascades",
+            Debug::View(DebugView::GbufferAlbedo) => "gbuffer-albedo",
+            Debug::View(DebugView::GbufferNormal) => "gbuffer-normal",
+            Debug::View(DebugView::LightOverdraw) => "light-overdraw",
+            Debug::Aov(AovView::Position) => "aov-position",
+            Debug::Aov(AovView::Normal) => "aov-normal",
+            Debug::Aov(AovView::Depth) => "aov-depth",
+            Debug::Aov(AovView::Lightmap) => "aov-lightmap",
+            Debug::Aov(AovView::Shadow(_)) => return None,
+            Debug::Clusters => "clusters",
+            Debug::Atlases => "shadow-atlases",
+            Debug::Reference => "reference",
+        })
+    }
+
+    /// Parses `--debug`'s value.
+    pub fn parse(text: &str) -> Result<Debug, String> {
+        let views = Debug::all(0);
+        views.iter().copied().find(|d| d.cli_name() == Some(text)).ok_or_else(|| {
+            let names: Vec<&str> = views.iter().filter_map(|d| d.cli_name()).collect();
+            format!("'{text}' is not a debug view (one of: {})", names.join(", "))
+        })
+    }
+
     /// Every view, with one shadow AOV per light.
     pub fn all(lights: usize) -> Vec<Debug> {
         let mut views = vec![
@@ -61,6 +89,21 @@ impl Debug {
         views.extend((0..lights).map(|i| Debug::Aov(AovView::Shadow(i))));
         views.extend([Debug::Clusters, Debug::Atlases, Debug::Reference]);
         views
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn debug_views_parse_from_their_names() {
+        for d in Debug::all(0) {
+            let name = d.cli_name().expect("named");
+            assert_eq!(Debug::parse(name), Ok(d));
+        }
+        let error = Debug::parse("wireframe").unwrap_err();
+        assert!(error.contains("'wireframe'") && error.contains("cascades, "), "{error}");
     }
 }
 
