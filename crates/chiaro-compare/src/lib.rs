@@ -11,8 +11,6 @@ use chiaro_trace::{
 };
 use glam::Vec3;
 
-pub use chiaro_trace::PixelVerdict as Verdict;
-
 /// One light's verdict.
 #[derive(Clone, Debug)]
 pub struct LightReport {

@@ -37,10 +37,11 @@ enum Command {
     /// Bake lightmaps and light probes for a scene's static objects (CPU path tracing).
     Bake(bake::BakeArgs),
     /// Open a window with the live 3D view and a settings panel. Mouse: drag in the view
-    /// to orbit (fly: to look around), wheel to zoom. Keys: V switches orbit and fly;
-    /// W/A/S/D move and Q/E go down and up when flying (Shift: faster); F frames the light
-    /// selected in the panel (or the whole scene); R resets the view; C steps through the
-    /// glTF cameras; P writes chiaro-view.png; Escape quits. Drop a .gltf or .glb on the
+    /// to orbit (fly: to look around), wheel to zoom, click to select an object. Keys: V
+    /// switches orbit and fly; W/A/S/D move and Q/E go down and up when flying (Shift:
+    /// faster); F frames the selection (an object, or a light selected in the panel; else
+    /// the whole scene); R resets the view; C steps through the glTF cameras; P writes
+    /// chiaro-view.png; Escape quits. Drop a .gltf or .glb on the
     /// window to open it; the scene reloads when its files change. `--screenshot FILE
     /// --exit-after-frames N` writes the 3D view after N frames and exits.
     View(view::ViewArgs),

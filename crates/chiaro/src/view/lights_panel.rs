@@ -7,13 +7,21 @@ use chiaro_scene::{Light, LightKind, LightMode, ShadowMode};
 use egui::{ComboBox, Slider, Ui};
 use std::collections::HashMap;
 
+/// What "frame selected" looks at: a light chosen in the list, or a mesh instance
+/// clicked in the view.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Selection {
+    Light(usize),
+    Object(usize),
+}
+
 /// What the list keeps between frames.
 #[derive(Default)]
 pub struct LightsState {
     /// Lights switched off, with the intensity they get back when switched on.
     pub switched_off: HashMap<usize, f32>,
-    /// The light whose "select" was pressed: "frame selected" looks at it.
-    pub selected: Option<usize>,
+    /// What "frame selected" looks at.
+    pub selected: Option<Selection>,
     /// Per scene light, the tiles it got this frame, in words.
     pub tiles: Vec<String>,
 }
@@ -71,9 +79,9 @@ fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &mut LightsState)
             }
             changed = true;
         }
-        let selected = state.selected == Some(i);
+        let selected = state.selected == Some(Selection::Light(i));
         if ui.selectable_label(selected, "select").clicked() {
-            state.selected = if selected { None } else { Some(i) };
+            state.selected = if selected { None } else { Some(Selection::Light(i)) };
         }
         let mut rgb = light.color.to_array();
         if ui.color_edit_button_rgb(&mut rgb).changed() {

@@ -11,6 +11,7 @@ mod loader;
 mod panel;
 #[cfg(test)]
 mod panel_tests;
+mod pick;
 mod present;
 mod reference;
 mod settings_panel;
@@ -27,8 +28,10 @@ use chiaro_scene::{LightKind, Scene, Settings};
 use clap::Args;
 use debug_images::AovView;
 use glam::Vec3;
+use lights_panel::Selection;
 use loader::Loader;
 use panel::{Debug, FrameSample, PanelState};
+use pick::Picker;
 use present::Compositor;
 use reference::{Disagreement, ReferenceJob};
 use std::collections::HashSet;
@@ -135,6 +138,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
         gpu_frame_ms: Vec::new(),
         last_frame: None,
         dragging: false,
+        pressed_at: None,
+        picker: Picker::default(),
         cursor: None,
         keys: HashSet::new(),
         panel,
@@ -200,6 +205,9 @@ struct App {
     gpu_frame_ms: Vec<f64>,
     last_frame: Option<Instant>,
     dragging: bool,
+    /// Where the left button went down in the view: released near it, it is a click.
+    pressed_at: Option<(f64, f64)>,
+    picker: Picker,
     /// Last cursor position, physical pixels.
     cursor: Option<(f64, f64)>,
     /// Keys held down (fly movement).
@@ -403,10 +411,15 @@ impl App {
     /// scene.
     fn frame_selected(&mut self) {
         let scene_sphere = self.scene.bounds().bounding_sphere();
-        let (center, radius) = match self.panel.lights.selected.and_then(|i| self.scene.lights.get(i)) {
-            Some(light) if light.kind != LightKind::Directional => {
+        let (center, radius) = match self.panel.lights.selected {
+            Some(Selection::Light(i)) if self.scene.lights.get(i).is_some_and(|l| l.kind != LightKind::Directional) => {
+                let light = &self.scene.lights[i];
                 let reach = light.range.unwrap_or(scene_sphere.radius).min(scene_sphere.radius);
                 (light.position(), reach.max(0.05))
+            }
+            Some(Selection::Object(i)) if i < self.scene.instances.len() => {
+                let sphere = pick::instance_bounds(&self.scene, i).bounding_sphere();
+                (sphere.center, sphere.radius.max(0.05))
             }
             _ => (scene_sphere.center, scene_sphere.radius),
         };
@@ -452,6 +465,10 @@ impl App {
         };
         let old = std::mem::replace(&mut self.scene, scene);
         gpu.prepared = prepared;
+        self.picker.reset();
+        if matches!(self.panel.lights.selected, Some(Selection::Object(_))) {
+            self.panel.lights.selected = None;
+        }
         self.loader.watch(&self.scene);
         self.disagreement = None;
         self.panel.error = None;
@@ -757,6 +774,16 @@ impl App {
                         panel::open_panel(ui, &mut self.panel, loading.as_deref());
                         ui.heading("Camera");
                         panel::cameras_panel(ui, &camera_names, &mut self.panel);
+                        ui.label(match self.panel.lights.selected {
+                            Some(Selection::Object(i)) if i < self.scene.instances.len() => {
+                                let instance = &self.scene.instances[i];
+                                format!("selected: {} (node {})", instance.name, instance.node)
+                            }
+                            Some(Selection::Light(i)) if i < self.scene.lights.len() => {
+                                format!("selected: light {}", self.scene.lights[i].name)
+                            }
+                            _ => "selected: nothing (click an object)".to_string(),
+                        });
                         ui.heading("View");
                         panel::debug_panel(ui, &mut self.panel, self.scene.lights.len(), comparing);
                         if stale && debug == Debug::Reference {
@@ -880,6 +907,16 @@ impl App {
         !in_view || gpu.egui_ctx.layer_id_at(pos).is_some_and(|l| l.order != egui::Order::Background)
     }
 
+    /// A click in the view at `(x, y)` (window pixels) selects what it shows there.
+    fn click(&mut self, x: f64, y: f64) {
+        let Some(gpu) = &self.gpu else { return };
+        let [ox, oy] = gpu.view_origin.map(f64::from);
+        let view = self.current_view();
+        let picked = self.picker.pick(&self.scene, &view, (x - ox) as f32, (y - oy) as f32);
+        self.panel.lights.selected = picked.map(Selection::Object);
+        self.panel_dirty = true;
+    }
+
     fn key_pressed(&mut self, event_loop: &ActiveEventLoop, key: &Key) {
         match key.as_ref() {
             Key::Character("r") => self.use_camera(None),
@@ -971,6 +1008,16 @@ impl ApplicationHandler for App {
                 let on_ui = self.cursor.is_none_or(|c| self.over_ui(c));
                 self.dragging = state == ElementState::Pressed && !on_ui;
                 self.panel_dirty |= on_ui;
+                match state {
+                    ElementState::Pressed => self.pressed_at = self.cursor.filter(|_| !on_ui),
+                    ElementState::Released => {
+                        if let (Some((px, py)), Some((x, y))) = (self.pressed_at.take(), self.cursor)
+                            && (x - px).hypot(y - py) < 4.0
+                        {
+                            self.click(x, y);
+                        }
+                    }
+                }
             }
             WindowEvent::MouseWheel { delta, .. } => {
                 if self.cursor.is_none_or(|c| self.over_ui(c)) {

@@ -159,7 +159,7 @@ impl PanelState {
 
 pub const HELP: &str = "Mouse: drag in the view to orbit (fly: to look around), wheel to zoom. \
     Keys: V switches orbit and fly; W/A/S/D move and Q/E go down and up when flying (Shift: faster); \
-    F frames the selected light (or the whole scene); R resets the view; C steps through the glTF \
+    F frames the selection (click an object, or a light's \"select\"; else the whole scene); R resets the view; C steps through the glTF \
     cameras; P writes a screenshot (chiaro-view.png); Escape quits. Drop a .gltf or .glb on the \
     window to open it; the open scene reloads when its files change. Settings apply to the next frame.";
 
