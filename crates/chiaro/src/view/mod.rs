@@ -740,7 +740,7 @@ impl App {
         }
         self.panel.record(FrameSample {
             cpu_ms: frame.timings.cpu_prepare_ms,
-            gpu_ms: self.panel.gpu.as_ref().map(|g| g.total_ms()),
+            passes: self.panel.gpu.as_ref().map(|g| g.passes.clone()).unwrap_or_default(),
             interval_ms: None,
         });
         Ok(())

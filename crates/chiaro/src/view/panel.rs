@@ -111,10 +111,11 @@ mod tests {
 pub const GRAPH_FRAMES: usize = 120;
 
 /// One frame's times, for the graph.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct FrameSample {
     pub cpu_ms: f64,
-    pub gpu_ms: Option<f64>,
+    /// GPU time of each pass of the latest frame whose timestamps came back.
+    pub passes: Vec<(&'static str, f64)>,
     pub interval_ms: Option<f64>,
 }
 
@@ -227,49 +228,77 @@ pub fn debug_panel(ui: &mut egui::Ui, state: &mut PanelState, lights: usize, com
     }
 }
 
-/// Timings of the latest frames: numbers and a graph of CPU, GPU and whole-frame times.
+/// Timings of the latest frames: numbers, and a graph of each pass's GPU time (stacked)
+/// under the whole frame's interval and the CPU time.
 pub fn timings_panel(ui: &mut egui::Ui, state: &PanelState) {
-    let last = state.history.back().copied().unwrap_or_default();
+    let last = state.history.back().cloned().unwrap_or_default();
     let mut intervals: Vec<f64> = state.history.iter().filter_map(|s| s.interval_ms).collect();
     intervals.sort_by(f64::total_cmp);
     if let Some(median) = intervals.get(intervals.len() / 2) {
         ui.label(format!("frame {median:.1} ms ({:.1} fps), median of the graph", 1000.0 / median));
     }
-    ui.label(format!("CPU {:.1} ms to plan and record", last.cpu_ms));
+    ui.colored_label(CPU_COLOR, format!("CPU {:.1} ms to plan and record", last.cpu_ms));
     ui.label(format!("{} lights shaded, {} shadow tiles drawn", state.lights_shaded, state.shadow_tiles));
     if let Some(gpu) = &state.gpu {
-        ui.label(format!("GPU {:.1} ms", gpu.total_ms()));
-        for (pass, ms) in &gpu.passes {
-            ui.label(format!("  {pass}: {ms:.2} ms"));
+        ui.label(format!("GPU {:.1} ms (timestamps)", gpu.total_ms()));
+        for (k, (pass, ms)) in gpu.passes.iter().enumerate() {
+            ui.colored_label(pass_color(k), format!("  {pass}: {ms:.2} ms"));
         }
     }
     graph(ui, state);
 }
 
 const CPU_COLOR: egui::Color32 = egui::Color32::from_rgb(120, 200, 255);
-const GPU_COLOR: egui::Color32 = egui::Color32::from_rgb(255, 170, 60);
-const FRAME_COLOR: egui::Color32 = egui::Color32::from_rgb(200, 200, 200);
+const FRAME_COLOR: egui::Color32 = egui::Color32::from_rgb(220, 220, 220);
+const PASS_COLORS: [egui::Color32; 6] = [
+    egui::Color32::from_rgb(230, 120, 60),
+    egui::Color32::from_rgb(90, 170, 90),
+    egui::Color32::from_rgb(200, 170, 60),
+    egui::Color32::from_rgb(170, 110, 200),
+    egui::Color32::from_rgb(80, 150, 200),
+    egui::Color32::from_rgb(200, 90, 120),
+];
 
-/// One line of the graph: a value of each frame, where it has one.
-type SampleValue = fn(&FrameSample) -> Option<f64>;
+/// The colour of the frame's `k`th pass in the graph and its legend.
+fn pass_color(k: usize) -> egui::Color32 {
+    PASS_COLORS[k % PASS_COLORS.len()]
+}
 
 fn graph(ui: &mut egui::Ui, state: &PanelState) {
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 70.0), egui::Sense::hover());
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 80.0), egui::Sense::hover());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 2.0, egui::Color32::from_gray(20));
-    let top =
-        state.history.iter().flat_map(|s| [Some(s.cpu_ms), s.gpu_ms, s.interval_ms]).flatten().fold(1.0f64, f64::max);
-    let point = |i: usize, ms: f64| {
-        let x = rect.left() + rect.width() * i as f32 / (GRAPH_FRAMES - 1) as f32;
-        egui::pos2(x, rect.bottom() - rect.height() * (ms / top) as f32)
-    };
-    let series: [(egui::Color32, SampleValue); 3] =
-        [(FRAME_COLOR, |s| s.interval_ms), (GPU_COLOR, |s| s.gpu_ms), (CPU_COLOR, |s| Some(s.cpu_ms))];
-    for (color, value) in series {
-        let points: Vec<egui::Pos2> =
-            state.history.iter().enumerate().filter_map(|(i, s)| value(s).map(|ms| point(i, ms))).collect();
-        painter.add(egui::Shape::line(points, egui::Stroke::new(1.0, color)));
+    let top = state
+        .history
+        .iter()
+        .flat_map(|s| [Some(s.cpu_ms), Some(s.passes.iter().map(|p| p.1).sum()), s.interval_ms])
+        .flatten()
+        .fold(1.0f64, f64::max);
+    let column = rect.width() / GRAPH_FRAMES as f32;
+    let x_of = |i: usize| rect.left() + column * i as f32;
+    let y_of = |ms: f64| rect.bottom() - rect.height() * (ms / top) as f32;
+    for (i, sample) in state.history.iter().enumerate() {
+        let mut below = 0.0;
+        for (k, (_, ms)) in sample.passes.iter().enumerate() {
+            let bar = egui::Rect::from_min_max(
+                egui::pos2(x_of(i), y_of(below + ms)),
+                egui::pos2(x_of(i) + column.max(1.0), y_of(below)),
+            );
+            painter.rect_filled(bar, 0.0, pass_color(k));
+            below += ms;
+        }
     }
+    let line = |value: &dyn Fn(&FrameSample) -> Option<f64>, color| {
+        let points: Vec<egui::Pos2> = state
+            .history
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| value(s).map(|ms| egui::pos2(x_of(i) + 0.5 * column, y_of(ms))))
+            .collect();
+        painter.add(egui::Shape::line(points, egui::Stroke::new(1.0, color)));
+    };
+    line(&|s| s.interval_ms, FRAME_COLOR);
+    line(&|s| Some(s.cpu_ms), CPU_COLOR);
     painter.text(
         rect.left_top() + egui::vec2(4.0, 2.0),
         egui::Align2::LEFT_TOP,
@@ -278,8 +307,8 @@ fn graph(ui: &mut egui::Ui, state: &PanelState) {
         egui::Color32::GRAY,
     );
     ui.horizontal(|ui| {
-        ui.colored_label(FRAME_COLOR, "frame");
-        ui.colored_label(GPU_COLOR, "GPU");
+        ui.colored_label(FRAME_COLOR, "frame interval");
+        ui.label("over GPU passes (stacked);");
         ui.colored_label(CPU_COLOR, "CPU");
     });
 }

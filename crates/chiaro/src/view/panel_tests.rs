@@ -175,3 +175,28 @@ fn the_light_list_edits_the_scene_lights() {
     assert!(harness.query_by_label_contains("this frame: 1 point/spot tiles").is_some());
     harness.snapshot("light_list_spot");
 }
+
+#[test]
+fn the_timings_graph_stacks_each_pass_under_the_frame_interval() {
+    let mut state = PanelState::default();
+    for i in 0..super::panel::GRAPH_FRAMES {
+        let wobble = (i % 7) as f64;
+        state.record(super::panel::FrameSample {
+            cpu_ms: 1.0,
+            passes: vec![("shadows", 2.0 + wobble), ("forward", 10.0), ("tonemap", 1.0)],
+            interval_ms: Some(16.0 + wobble),
+        });
+    }
+    state.gpu = Some(chiaro_render::GpuFrameTimes {
+        frame: 7,
+        passes: vec![("shadows", 2.0), ("forward", 10.0), ("tonemap", 1.0)],
+    });
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(330.0, 260.0))
+        .wgpu()
+        .build_ui_state(|ui, state: &mut PanelState| super::panel::timings_panel(ui, state), state);
+    assert!(harness.query_by_label_contains("forward: 10.00 ms").is_some());
+    assert!(harness.query_by_label_contains("frame 19.0 ms").is_some(), "the median interval");
+    harness.run();
+    harness.snapshot("timings_graph");
+}
