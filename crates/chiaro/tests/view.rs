@@ -46,14 +46,19 @@ fn mean_flip(reference: &[u8], test: &[u8]) -> f32 {
 }
 
 #[test]
-fn the_viewer_screenshot_equals_chiaro_render() {
+fn the_viewer_screenshot_and_window_show_what_chiaro_render_writes() {
     let dir = tempfile::tempdir().unwrap();
     let scene = shared_scene("ShadowsSpot/glTF/shadows-spot.gltf");
     let scene = scene.to_str().unwrap();
     let (w, h) = (WIDTH.to_string(), HEIGHT.to_string());
     let size = ["--width", w.as_str(), "--height", h.as_str()];
     let shot = view_under_xvfb(
-        &[&[scene][..], &size, &["--screenshot", "shot.png", "--exit-after-frames", "3"]].concat(),
+        &[
+            &[scene][..],
+            &size,
+            &["--screenshot", "shot.png", "--screenshot-window", "window.png", "--exit-after-frames", "3"],
+        ]
+        .concat(),
         dir.path(),
     );
     assert_eq!(shot.code, 0, "the viewer failed: {}", shot.stderr);
@@ -67,6 +72,17 @@ fn the_viewer_screenshot_equals_chiaro_render() {
     let flip = mean_flip(&reference, &shot);
     println!("viewer screenshot against chiaro render: mean FLIP {flip}");
     assert!(flip < 0.01, "mean FLIP {flip}");
+
+    // The window as the screen shows it: the view at its top-left corner, the panel beside.
+    let window = image::open(dir.path().join("window.png")).unwrap().to_rgb8();
+    assert!(window.width() > WIDTH && window.height() >= HEIGHT, "{}x{}", window.width(), window.height());
+    let view = image::imageops::crop_imm(&window, 0, 0, WIDTH, HEIGHT).to_image().into_raw();
+    let flip = mean_flip(&reference, &view);
+    println!("the window's view against chiaro render: mean FLIP {flip}");
+    assert!(flip < 0.01, "mean FLIP {flip}");
+    let panel = image::imageops::crop_imm(&window, WIDTH, 0, window.width() - WIDTH, HEIGHT).to_image();
+    let greys: std::collections::HashSet<u8> = panel.pixels().map(|p| p[0]).collect();
+    assert!(greys.len() > 16, "the panel has text on it: {} grey levels", greys.len());
 }
 
 #[test]

@@ -2,6 +2,8 @@
 //! target; fly turns about the eye and moves it with the keys. It starts from the view
 //! `chiaro render` would use, so that an untouched viewer shows the same image.
 
+use chiaro_math::bounds::Sphere;
+use chiaro_math::camera::perspective_reverse_z;
 use chiaro_render::View;
 use glam::{Mat4, Vec3};
 
@@ -41,12 +43,22 @@ const TURN_PER_PIXEL: f32 = 0.008;
 pub type FlyInput = Vec3;
 
 impl CameraRig {
-    /// Looks at `target` from where `start` looks.
-    pub fn from_view(start: &View, target: Vec3) -> CameraRig {
-        let offset = start.eye() - target;
-        let distance = offset.length().max(1e-3);
-        let dir = offset / distance;
-        CameraRig { target, yaw: dir.x.atan2(dir.z), pitch: dir.y.clamp(-1.0, 1.0).asin(), distance, moved: false }
+    /// Starts where `start` is, looking where it looks, with the target on its line of
+    /// sight as far away as `center` (the scene's, say), so that the first drag turns about
+    /// a point in front of it rather than snapping to `center`.
+    pub fn from_view(start: &View, center: Vec3) -> CameraRig {
+        let eye = start.eye();
+        let forward = -start.world_from_view.z_axis.truncate().normalize_or(Vec3::NEG_Z);
+        let distance = (center - eye).length().max(1e-3);
+        let back = -forward;
+        CameraRig {
+            target: eye + forward * distance,
+            yaw: back.x.atan2(back.z),
+            // Straight up or down, looking at the target with +Y up has no answer.
+            pitch: back.y.clamp(-1.0, 1.0).asin().clamp(-MAX_PITCH, MAX_PITCH),
+            distance,
+            moved: false,
+        }
     }
 
     /// Unit vector from the target to the eye.
@@ -104,12 +116,25 @@ impl CameraRig {
         self.moved = true;
     }
 
-    /// `start` seen from the rig (its projection and size kept).
-    pub fn view(&self, start: &View) -> View {
+    /// `start` seen from the rig: its field of view and size kept, its near and far planes
+    /// fitted to where the eye now is against `scene` (the scene's bounding sphere), so
+    /// that zooming, flying and framing never clip the scene. Untouched, `start` itself.
+    pub fn view(&self, start: &View, scene: Sphere) -> View {
         if !self.moved {
             return *start;
         }
-        View { world_from_view: Mat4::look_at_rh(self.eye(), self.target, Vec3::Y).inverse(), ..*start }
+        let eye = self.eye();
+        let radius = scene.radius.max(1e-3);
+        let to_scene = eye.distance(scene.center);
+        let znear = (to_scene - radius).max(radius * 1e-4).max(1e-4);
+        let zfar = start.zfar.map(|_| (to_scene + radius * 2.0).max(znear * 2.0));
+        View {
+            world_from_view: Mat4::look_at_rh(eye, self.target, Vec3::Y).inverse(),
+            clip_from_view: perspective_reverse_z(start.yfov_rad, start.aspect(), znear, zfar),
+            znear,
+            zfar,
+            ..*start
+        }
     }
 }
 
@@ -122,14 +147,31 @@ mod tests {
         (View::from_camera(&scene, 0, 64, 64), scene.bounds().center())
     }
 
+    fn demo_sphere() -> Sphere {
+        chiaro_scene::demo::demo_scene(4).bounds().bounding_sphere()
+    }
+
+    fn forward(view: &View) -> Vec3 {
+        -view.world_from_view.z_axis.truncate().normalize()
+    }
+
+    /// Whether `point` lies between the view's near and far planes.
+    fn between_planes(view: &View, point: Vec3) -> bool {
+        let depth = (point - view.eye()).dot(forward(view));
+        depth > view.znear && view.zfar.is_none_or(|far| depth < far)
+    }
+
     #[test]
     fn an_orbit_starts_where_the_view_looks_from() {
-        let (start, target) = demo_start();
-        let mut rig = CameraRig::from_view(&start, target);
+        let (start, center) = demo_start();
+        let mut rig = CameraRig::from_view(&start, center);
         assert!(rig.eye().distance(start.eye()) < 1e-3);
-        assert_eq!(rig.view(&start).world_from_view, start.world_from_view);
+        assert_eq!(rig.view(&start, demo_sphere()).world_from_view, start.world_from_view);
+        // The target lies on the line of sight, as far as the scene's centre.
+        let target = rig.target;
+        assert!(((target - start.eye()).length() - (center - start.eye()).length()).abs() < 1e-3);
         rig.drag(Navigation::Orbit, 100.0, 0.0);
-        let moved = rig.view(&start);
+        let moved = rig.view(&start, demo_sphere());
         assert!((moved.eye().distance(target) - start.eye().distance(target)).abs() < 1e-3, "stays at its distance");
         assert!(moved.eye().distance(start.eye()) > 0.1);
     }
@@ -144,8 +186,46 @@ mod tests {
         let forward = (rig.target - rig.eye()).normalize();
         rig.fly(Vec3::new(0.0, 0.0, -1.0), 2.0);
         assert!((rig.eye() - (eye + forward * 2.0)).length() < 1e-3, "W moves along the view");
-        let view = rig.view(&start);
+        let view = rig.view(&start, demo_sphere());
         assert!(view.eye().distance(rig.eye()) < 1e-3);
+    }
+
+    #[test]
+    fn a_camera_not_looking_at_the_centre_keeps_its_direction_on_a_small_drag() {
+        let scene = chiaro_scene::demo::demo_scene(4);
+        let sphere = scene.bounds().bounding_sphere();
+        // A camera looking off to the side of the scene's centre, and one straight down.
+        let eye = Vec3::new(0.0, 3.0, 12.0);
+        for look_at in [Vec3::new(9.0, 0.0, 0.0), eye - Vec3::Y] {
+            let up = if look_at.x == 0.0 { Vec3::Z } else { Vec3::Y };
+            let start = View { world_from_view: Mat4::look_at_rh(eye, look_at, up).inverse(), ..demo_start().0 };
+            let mut rig = CameraRig::from_view(&start, sphere.center);
+            rig.drag(Navigation::Orbit, 1.0, 0.0);
+            let view = rig.view(&start, sphere);
+            assert!(view.world_from_view.is_finite(), "no NaN looking straight down");
+            assert!(forward(&view).dot(forward(&start)) > 0.99, "no jump: {} vs {}", forward(&view), forward(&start));
+        }
+    }
+
+    #[test]
+    fn zooming_and_flying_keep_the_scene_between_the_planes() {
+        let (start, target) = demo_start();
+        let sphere = demo_sphere();
+        let mut rig = CameraRig::from_view(&start, target);
+        for _ in 0..12 {
+            rig.zoom(1.0);
+        }
+        let close = rig.view(&start, sphere);
+        assert!(between_planes(&close, rig.target), "zoomed in, the target is drawn");
+        assert!(close.znear < (rig.target - close.eye()).length());
+        for _ in 0..60 {
+            rig.zoom(-1.0);
+        }
+        let far = rig.view(&start, sphere);
+        assert!(between_planes(&far, sphere.center + Vec3::Y * sphere.radius * 0.9), "zoomed out, all is drawn");
+        rig.fly(Vec3::new(0.0, 0.0, -1.0), (far.eye() - sphere.center).length());
+        let inside = rig.view(&start, sphere);
+        assert!(inside.znear <= sphere.radius * 1e-3, "inside the scene the near plane comes close");
     }
 
     #[test]
@@ -154,7 +234,8 @@ mod tests {
         let mut rig = CameraRig::from_view(&start, target);
         let center = Vec3::new(3.0, 1.0, -2.0);
         rig.frame(center, 2.0, 60f32.to_radians());
-        let view = rig.view(&start);
+        let view = rig.view(&start, demo_sphere());
+        assert!(between_planes(&view, center), "the framed sphere is drawn");
         // The sphere's edge is seen at half the field of view from its centre.
         let to_center = center - view.eye();
         let half_angle = (2.0 / to_center.length()).asin();

@@ -7,6 +7,10 @@ use chiaro_scene::{Light, LightKind, LightMode, ShadowMode};
 use egui::{ComboBox, Slider, Ui};
 use std::collections::HashMap;
 
+/// Sliders only limit what is dragged: drawing one must not clamp a light the file set
+/// outside its range (a 120,000 lux sun), or the view would stop matching `chiaro render`.
+const EDITS_ONLY: egui::SliderClamping = egui::SliderClamping::Edits;
+
 /// What "frame selected" looks at: a light chosen in the list, or a mesh instance
 /// clicked in the view.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -91,7 +95,9 @@ fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &mut LightsState)
     });
     if !state.switched_off.contains_key(&i) {
         let unit = if light.kind == LightKind::Directional { "intensity (lux)" } else { "intensity (cd)" };
-        changed |= ui.add(Slider::new(&mut light.intensity, 0.0..=1.0e5).logarithmic(true).text(unit)).changed();
+        changed |= ui
+            .add(Slider::new(&mut light.intensity, 0.0..=1.0e5).logarithmic(true).text(unit).clamping(EDITS_ONLY))
+            .changed();
     }
     if light.kind != LightKind::Directional {
         let mut has_range = light.range.is_some();
@@ -102,7 +108,9 @@ fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &mut LightsState)
             }
             match light.range.as_mut() {
                 Some(range) => {
-                    changed |= ui.add(Slider::new(range, 0.01..=1000.0).logarithmic(true).text("m")).changed()
+                    changed |= ui
+                        .add(Slider::new(range, 0.01..=1000.0).logarithmic(true).text("m").clamping(EDITS_ONLY))
+                        .changed()
                 }
                 None => {
                     ui.weak("from intensity");
@@ -132,10 +140,14 @@ fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &mut LightsState)
             changed |= ui.selectable_value(&mut shadow.mode, m, shadow_mode_name(m)).changed();
         }
     });
-    changed |= ui.add(Slider::new(&mut shadow.strength, 0.0..=1.0).text("shadow strength")).changed();
-    changed |= ui.add(Slider::new(&mut shadow.depth_bias, 0.0..=10.0).text("depth bias")).changed();
-    changed |= ui.add(Slider::new(&mut shadow.normal_bias, 0.0..=3.0).text("normal bias")).changed();
-    changed |= ui.add(Slider::new(&mut shadow.near_plane, 0.0..=10.0).text("near plane (m)")).changed();
+    changed |=
+        ui.add(Slider::new(&mut shadow.strength, 0.0..=1.0).text("shadow strength").clamping(EDITS_ONLY)).changed();
+    changed |=
+        ui.add(Slider::new(&mut shadow.depth_bias, 0.0..=10.0).text("depth bias").clamping(EDITS_ONLY)).changed();
+    changed |=
+        ui.add(Slider::new(&mut shadow.normal_bias, 0.0..=3.0).text("normal bias").clamping(EDITS_ONLY)).changed();
+    changed |=
+        ui.add(Slider::new(&mut shadow.near_plane, 0.0..=10.0).text("near plane (m)").clamping(EDITS_ONLY)).changed();
     ComboBox::new(("mode", i), "mode").selected_text(mode_name(light.mode)).show_ui(ui, |ui| {
         for m in [LightMode::Realtime, LightMode::Mixed, LightMode::Baked] {
             changed |= ui.selectable_value(&mut light.mode, m, mode_name(m)).changed();

@@ -53,6 +53,13 @@ const ATLAS_VIEW_SIZE: usize = 512;
 /// much as a tenth of a heavy frame).
 const PANEL_REFRESH: Duration = Duration::from_secs(1);
 const PANEL_REFRESH_FRAMES: u32 = 10;
+/// The window's size for a `w` x `h` view: the panel is PANEL_WIDTH logical pixels.
+fn window_size(w: u32, h: u32, scale_factor: f64) -> winit::dpi::PhysicalSize<u32> {
+    winit::dpi::PhysicalSize::new(w + (f64::from(PANEL_WIDTH) * scale_factor).ceil() as u32, h)
+}
+
+/// How a frame the renderer refused is reported in the panel.
+const FRAME_FAILED: &str = "frame not rendered";
 /// Fly speed, in scene radii per second (x4 with Shift).
 const FLY_SPEED: f32 = 0.4;
 
@@ -74,6 +81,10 @@ pub struct ViewArgs {
     /// file, as `chiaro render` would, and exit.
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
+    /// After --exit-after-frames frames, write the whole window (3D view and panel) as the
+    /// screen shows it to this PNG file, and exit.
+    #[arg(long)]
+    pub screenshot_window: Option<PathBuf>,
     /// The debug view to open with: none, cascades, gbuffer-albedo, gbuffer-normal,
     /// light-overdraw, aov-position, aov-normal, aov-depth, aov-lightmap, clusters,
     /// shadow-atlases, reference (compared at once). With --screenshot, cascades and the
@@ -94,11 +105,16 @@ pub struct ViewArgs {
 }
 
 pub fn run(args: ViewArgs) -> Result<()> {
-    if args.screenshot.is_some() && args.exit_after_frames.is_none() {
+    if (args.screenshot.is_some() || args.screenshot_window.is_some()) && args.exit_after_frames.is_none() {
         return Err(anyhow!("--screenshot needs --exit-after-frames N (the frames to render first)"));
     }
     if let Some(shot) = &args.screenshot {
         output_format(shot)?;
+    }
+    if let Some(shot) = &args.screenshot_window
+        && !matches!(output_format(shot)?, crate::output::OutputFormat::Png)
+    {
+        return Err(anyhow!("--screenshot-window {}: the window is written as PNG only", shot.display()));
     }
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
@@ -111,9 +127,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
     let start_view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
-    if let Some(shot) = &args.screenshot {
-        check_outputs(std::slice::from_ref(shot), &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
-    }
+    let shots: Vec<PathBuf> = args.screenshot.iter().chain(&args.screenshot_window).cloned().collect();
+    check_outputs(&shots, &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
     let event_loop = EventLoop::new().context("cannot open a window (no display?)")?;
     let mut loader = Loader::new(args.demo.clone(), args.bake.clone());
     loader.watch(&scene);
@@ -124,6 +139,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
     };
     let mut app = App {
         scene_path: args.scene.clone(),
+        camera_key: args.camera.clone(),
+        view_settings: (width, height, settings.camera.auto_yfov_deg),
         args,
         scene,
         settings,
@@ -177,10 +194,13 @@ struct Gpu {
     /// Copies the panel and the view into the window; `None` where the surface takes no
     /// copies, and egui draws everything every frame.
     compositor: Option<Compositor>,
-    /// Images a debug view shows in place of the 3D view.
+    /// Images a debug view shows in place of the 3D view, and the view they belong to.
     debug_textures: Vec<egui::TextureHandle>,
+    debug_textures_for: Debug,
     /// The 3D view's top-left corner in the window, in physical pixels.
     view_origin: [u32; 2],
+    /// Where the panel begins (and the window ends below): the view is cut there.
+    view_limit: [u32; 2],
 }
 
 struct App {
@@ -195,6 +215,10 @@ struct App {
     opening_view: View,
     /// The glTF camera in use, if one was chosen in the viewer.
     camera: Option<usize>,
+    /// `--camera`, while the file it names is open.
+    camera_key: Option<String>,
+    /// The view's size and automatic field of view the start view was made for.
+    view_settings: (u32, u32, f32),
     rig: Option<CameraRig>,
     gpu: Option<Gpu>,
     failure: Option<anyhow::Error>,
@@ -311,12 +335,17 @@ impl App {
         (self.start_view.width, self.start_view.height)
     }
 
+    fn view_texture_size(&self) -> (u32, u32) {
+        self.gpu.as_ref().map_or(self.view_size(), |g| (g.view_texture.width(), g.view_texture.height()))
+    }
+
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<Gpu> {
         let (w, h) = self.view_size();
-        let attributes = Window::default_attributes()
-            .with_title(self.title())
-            .with_inner_size(winit::dpi::PhysicalSize::new(w + PANEL_WIDTH as u32, h));
+        let attributes = Window::default_attributes().with_title(self.title()).with_inner_size(window_size(w, h, 1.0));
         let window = Arc::new(event_loop.create_window(attributes).context("cannot open a window")?);
+        if window.scale_factor() != 1.0 {
+            let _ = window.request_inner_size(window_size(w, h, window.scale_factor()));
+        }
         let (ctx, surface) = GpuContext::for_surface(window.clone())?;
         self.args.path.check_device(&ctx, &self.settings, self.args.settings.as_deref())?;
         let format = ctx
@@ -375,7 +404,9 @@ impl App {
             view_texture_id,
             compositor,
             debug_textures: Vec::new(),
+            debug_textures_for: Debug::None,
             view_origin: [0, 0],
+            view_limit: [w, h],
         })
     }
 
@@ -383,7 +414,7 @@ impl App {
     fn base_view(&self, camera: Option<usize>, w: u32, h: u32) -> Result<View> {
         match camera {
             Some(i) if i < self.scene.cameras.len() => Ok(View::from_camera(&self.scene, i, w, h)),
-            _ => choose_view(&self.scene, self.args.camera.as_deref(), &self.settings, w, h),
+            _ => choose_view(&self.scene, self.camera_key.as_deref(), &self.settings, w, h),
         }
     }
 
@@ -404,7 +435,7 @@ impl App {
     }
 
     fn current_view(&self) -> View {
-        self.rig.map_or(self.start_view, |r| r.view(&self.start_view))
+        self.rig.map_or(self.start_view, |r| r.view(&self.start_view, self.scene.bounds().bounding_sphere()))
     }
 
     /// Looks at the selected light (its range, at most the scene's size), or the whole
@@ -465,20 +496,24 @@ impl App {
         };
         let old = std::mem::replace(&mut self.scene, scene);
         gpu.prepared = prepared;
+        gpu.debug_textures.clear();
         self.picker.reset();
-        if matches!(self.panel.lights.selected, Some(Selection::Object(_))) {
-            self.panel.lights.selected = None;
+        // The light list shows the file's lights as they now are.
+        self.panel.lights = Default::default();
+        // A comparison under way was of the old scene.
+        self.reference = ReferenceJob::default();
+        self.panel.reference_lines.clear();
+        if !loaded.reload {
+            // --camera named a camera of the first file.
+            self.camera_key = None;
         }
         self.loader.watch(&self.scene);
         self.disagreement = None;
         self.panel.error = None;
         self.panel.status =
             Some(format!("{} {}", if loaded.reload { "reloaded" } else { "opened" }, loaded.path.display()));
-        if !loaded.reload || old.lights.len() != self.scene.lights.len() {
-            self.panel.lights = Default::default();
-            if matches!(self.panel.debug, Debug::Aov(AovView::Shadow(_))) {
-                self.panel.debug = Debug::None;
-            }
+        if matches!(self.panel.debug, Debug::Aov(AovView::Shadow(i)) if i >= self.scene.lights.len()) {
+            self.panel.debug = Debug::None;
         }
         let keep_camera = loaded.reload && old.cameras.len() == self.scene.cameras.len();
         self.scene_path = Some(loaded.path);
@@ -500,16 +535,21 @@ impl App {
         }
     }
 
-    /// Follows render.width and height: a new view texture and window size.
+    /// Follows render.width and height (a new view texture and window size) and
+    /// camera.auto_yfov_deg (the framing camera's field of view).
     fn follow_view_size(&mut self) -> Result<()> {
         let (w, h) = (self.settings.render.width, self.settings.render.height);
-        if (w, h) == self.view_size() {
+        let yfov = self.settings.camera.auto_yfov_deg;
+        if (w, h, yfov) == self.view_settings {
             return Ok(());
         }
-        let start = self.base_view(self.camera, w, h)?;
-        let opening = View { width: w, height: h, ..self.base_view(None, w, h)? };
-        self.start_view = start;
-        self.opening_view = opening;
+        self.view_settings = (w, h, yfov);
+        self.start_view = self.base_view(self.camera, w, h)?;
+        self.opening_view = self.base_view(None, w, h)?;
+        self.panel_dirty = true;
+        if (w, h) == (self.view_texture_size()) {
+            return Ok(());
+        }
         let Some(gpu) = self.gpu.as_mut() else { return Ok(()) };
         let device = &gpu.renderer.ctx.device;
         gpu.view_texture = view_texture(device, gpu.view_format, w, h);
@@ -519,7 +559,7 @@ impl App {
             wgpu::FilterMode::Nearest,
             gpu.view_texture_id,
         );
-        let _ = gpu.window.request_inner_size(winit::dpi::PhysicalSize::new(w + PANEL_WIDTH as u32, h));
+        let _ = gpu.window.request_inner_size(window_size(w, h, gpu.window.scale_factor()));
         self.panel_dirty = true;
         Ok(())
     }
@@ -561,20 +601,30 @@ impl App {
             self.panel_dirty = true;
         }
         self.take_loaded();
-        if let Some(done) = self.reference.poll() {
-            let mut lines = done.lines.clone();
-            lines.push(format!("traced in {:.1} s", done.seconds));
-            self.panel.reference_lines = lines;
-            self.disagreement = Some(done);
-            self.panel_dirty = true;
-            if let Some(gpu) = self.gpu.as_mut() {
-                gpu.debug_textures.clear();
+        match self.reference.poll() {
+            Some(Ok(done)) => self.show_disagreement(done),
+            Some(Err(e)) => {
+                self.panel.reference_lines = vec![e];
+                self.panel_dirty = true;
             }
+            None => {}
         }
         if let Err(e) = self.follow_view_size() {
             self.panel.error = Some(format!("{e:#}"));
         }
         Ok(())
+    }
+
+    /// A finished comparison: its lines in the panel, its image in the view.
+    fn show_disagreement(&mut self, done: Disagreement) {
+        let mut lines = done.lines.clone();
+        lines.push(format!("traced in {:.1} s", done.seconds));
+        self.panel.reference_lines = lines;
+        self.disagreement = Some(done);
+        self.panel_dirty = true;
+        if let Some(gpu) = self.gpu.as_mut() {
+            gpu.debug_textures.clear();
+        }
     }
 }
 
@@ -625,10 +675,16 @@ impl App {
             &target,
             gpu.view_format,
         ) {
-            Ok(frame) => self.take_frame(gpu, debug, &frame)?,
+            Ok(frame) => {
+                if self.panel.error.as_deref().is_some_and(|e| e.starts_with(FRAME_FAILED)) {
+                    self.panel.error = None;
+                    self.panel_dirty = true;
+                }
+                self.take_frame(gpu, debug, &frame)?
+            }
             Err(e) => {
                 // Shown, not fatal: the panel can undo what caused it.
-                let message = format!("frame not rendered: {e}");
+                let message = format!("{FRAME_FAILED}: {e}");
                 if self.panel.error.as_ref() != Some(&message) {
                     self.panel.error = Some(message);
                     self.panel_dirty = true;
@@ -636,6 +692,10 @@ impl App {
             }
         }
         let show_view = shows_view(debug, self.disagreement.is_some());
+        if gpu.debug_textures_for != debug {
+            gpu.debug_textures.clear();
+            gpu.debug_textures_for = debug;
+        }
         if debug == Debug::Reference
             && gpu.debug_textures.is_empty()
             && let Some(d) = &self.disagreement
@@ -706,7 +766,7 @@ impl App {
             }
         }
         if let Some(compositor) = &gpu.compositor {
-            let view = show_view.then_some((&gpu.view_texture, gpu.view_origin));
+            let view = show_view.then_some((&gpu.view_texture, gpu.view_origin, gpu.view_limit));
             compositor.compose(&mut encoder, &surface_texture.texture, view);
         }
         queue.submit(commands.into_iter().chain([encoder.finish()]));
@@ -718,6 +778,7 @@ impl App {
     fn take_frame(&mut self, gpu: &mut Gpu, debug: Debug, frame: &FrameOutput) -> Result<()> {
         let images = debug_images(debug, frame, &self.scene);
         if !matches!(debug, Debug::Reference) {
+            gpu.debug_textures_for = debug;
             gpu.debug_textures = images
                 .into_iter()
                 .enumerate()
@@ -764,6 +825,7 @@ impl App {
         let debug = self.panel.debug;
         let mut edit = None;
         let mut view_rect = None;
+        let mut central = egui::Rect::NOTHING;
         let output = gpu.egui_ctx.run_ui(input, |ui| {
             // egui's separator line lands inside the panel, across its text.
             egui::Panel::right("settings").exact_size(PANEL_WIDTH).resizable(false).show_separator_line(false).show(
@@ -812,6 +874,7 @@ impl App {
                 },
             );
             egui::CentralPanel::no_frame().show(ui, |ui| {
+                central = ui.max_rect();
                 if show_view {
                     view_rect = Some(if compositor {
                         ui.allocate_exact_size(view_size, egui::Sense::hover()).0
@@ -843,7 +906,9 @@ impl App {
         });
         gpu.egui_state.handle_platform_output(&gpu.window, output.platform_output.clone());
         if let Some(rect) = view_rect {
-            gpu.view_origin = [(rect.min.x * ppp).round() as u32, (rect.min.y * ppp).round() as u32];
+            let pixel = |v: f32| (v * ppp).round().max(0.0) as u32;
+            gpu.view_origin = [pixel(rect.min.x), pixel(rect.min.y)];
+            gpu.view_limit = [pixel(central.max.x), pixel(central.max.y)];
         }
         let delay = output.viewport_output.get(&egui::ViewportId::ROOT).map(|v| v.repaint_delay);
         self.egui_repaint_at = delay.filter(|d| *d < Duration::from_secs(3600)).map(|d| Instant::now() + d);
@@ -857,7 +922,10 @@ impl App {
                     self.panel.error = None;
                     self.panel_dirty = true;
                 }
-                Err(e) => self.panel.error = Some(format!("{e:#}")),
+                Err(e) => {
+                    self.panel.error = Some(format!("{e:#}"));
+                    self.panel_dirty = true;
+                }
             },
             Some(Err(e)) => {
                 self.panel.error = Some(e);
@@ -895,13 +963,55 @@ impl App {
         Ok(())
     }
 
+    /// Writes the window as the last frame composed it: the panel's texture and the view,
+    /// copied as they were copied into the surface.
+    fn screenshot_window(&mut self, path: &Path) -> Result<()> {
+        let debug = self.panel.debug;
+        let show_view = shows_view(debug, self.disagreement.is_some());
+        let gpu = self.gpu.as_mut().ok_or_else(|| anyhow!("no frame was rendered"))?;
+        let compositor = gpu.compositor.as_ref().ok_or_else(|| {
+            anyhow!("--screenshot-window: this window's surface takes no copies, so the window is drawn in place")
+        })?;
+        let ctx = &gpu.renderer.ctx;
+        let (width, height) = (gpu.config.width, gpu.config.height);
+        let window = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("window screenshot"),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: gpu.config.format,
+            usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        compositor.compose(
+            &mut encoder,
+            &window,
+            show_view.then_some((&gpu.view_texture, gpu.view_origin, gpu.view_limit)),
+        );
+        let copy = chiaro_render::readback::copy_texture(&ctx.device, &mut encoder, &window, 4);
+        ctx.queue.submit([encoder.finish()]);
+        let mut bytes = chiaro_render::readback::finish_copies(ctx, vec![copy])?.remove(0);
+        if matches!(gpu.config.format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb) {
+            bytes.chunks_exact_mut(4).for_each(|px| px.swap(0, 2));
+        } else if !matches!(gpu.config.format, wgpu::TextureFormat::Rgba8Unorm | wgpu::TextureFormat::Rgba8UnormSrgb) {
+            return Err(anyhow!("--screenshot-window: the window's format {:?} is not 8-bit RGBA", gpu.config.format));
+        }
+        bytes.chunks_exact_mut(4).for_each(|px| px[3] = 255);
+        write_group(vec![(path.to_path_buf(), crate::output::Encoded::Png { width, height, rgba8: &bytes })])?;
+        eprintln!("chiaro: wrote {} (the window, {width}x{height})", path.display());
+        Ok(())
+    }
+
     /// Whether the pointer at `(x, y)` (physical pixels) is over the panel or a popup,
     /// rather than the 3D view.
     fn over_ui(&self, (x, y): (f64, f64)) -> bool {
         let Some(gpu) = &self.gpu else { return true };
         let [ox, oy] = gpu.view_origin.map(f64::from);
+        let [lx, ly] = gpu.view_limit.map(f64::from);
         let (w, h) = self.view_size();
-        let in_view = x >= ox && y >= oy && x < ox + f64::from(w) && y < oy + f64::from(h);
+        let in_view = x >= ox && y >= oy && x < (ox + f64::from(w)).min(lx) && y < (oy + f64::from(h)).min(ly);
         let ppp = f64::from(gpu.egui_ctx.pixels_per_point());
         let pos = egui::pos2((x / ppp) as f32, (y / ppp) as f32);
         !in_view || gpu.egui_ctx.layer_id_at(pos).is_some_and(|l| l.order != egui::Order::Background)
@@ -1007,7 +1117,9 @@ impl ApplicationHandler for App {
             WindowEvent::MouseInput { state, button: MouseButton::Left, .. } => {
                 let on_ui = self.cursor.is_none_or(|c| self.over_ui(c));
                 self.dragging = state == ElementState::Pressed && !on_ui;
-                self.panel_dirty |= on_ui;
+                // Over the view too while a panel field has the keyboard: egui sees the
+                // click and lets go of it, so that keys move the camera again.
+                self.panel_dirty |= on_ui || wants_keyboard;
                 match state {
                     ElementState::Pressed => self.pressed_at = self.cursor.filter(|_| !on_ui),
                     ElementState::Released => {
@@ -1031,21 +1143,34 @@ impl ApplicationHandler for App {
                 }
             }
             WindowEvent::KeyboardInput { event, .. } => {
+                // A release always counts, or a key held into a text field flies on.
+                if let PhysicalKey::Code(code) = event.physical_key
+                    && event.state == ElementState::Released
+                {
+                    self.keys.remove(&code);
+                }
                 if wants_keyboard {
                     self.panel_dirty = true;
                     return;
                 }
-                if let PhysicalKey::Code(code) = event.physical_key {
-                    match event.state {
-                        ElementState::Pressed => self.keys.insert(code),
-                        ElementState::Released => self.keys.remove(&code),
-                    };
+                if let PhysicalKey::Code(code) = event.physical_key
+                    && event.state == ElementState::Pressed
+                {
+                    self.keys.insert(code);
                 }
                 if event.state == ElementState::Pressed && !event.repeat {
                     self.key_pressed(event_loop, &event.logical_key);
                 }
             }
-            WindowEvent::Focused(false) => self.keys.clear(),
+            WindowEvent::Focused(false) => {
+                self.keys.clear();
+                self.dragging = false;
+            }
+            WindowEvent::ScaleFactorChanged { scale_factor, .. } => {
+                let (w, h) = (self.start_view.width, self.start_view.height);
+                let _ = gpu.window.request_inner_size(window_size(w, h, scale_factor));
+                self.panel_dirty = true;
+            }
             WindowEvent::DroppedFile(path) => {
                 self.loader.open(path, &self.settings, false);
                 self.panel_dirty = true;
@@ -1059,6 +1184,11 @@ impl ApplicationHandler for App {
                 {
                     if let Some(path) = self.args.screenshot.clone()
                         && let Err(e) = self.screenshot(&path)
+                    {
+                        return self.fail(event_loop, e);
+                    }
+                    if let Some(path) = self.args.screenshot_window.clone()
+                        && let Err(e) = self.screenshot_window(&path)
                     {
                         return self.fail(event_loop, e);
                     }

@@ -102,6 +102,38 @@ fn a_panel_edit_changes_the_frame_plan_and_the_rendered_view() {
 }
 
 #[test]
+fn drawing_a_light_does_not_clamp_what_the_file_set() {
+    let mut sun = chiaro_scene::Light::new(chiaro_scene::LightKind::Directional, glam::Vec3::ZERO, glam::Vec3::NEG_Y);
+    sun.intensity = 120_000.0;
+    sun.shadow.depth_bias = 25.0;
+    let mut harness = Harness::builder().with_size(egui::vec2(330.0, 300.0)).build_ui_state(
+        |ui, (lights, state): &mut (Vec<chiaro_scene::Light>, LightsState)| {
+            lights_panel(ui, lights, state);
+        },
+        (vec![sun], LightsState::default()),
+    );
+    harness.get_all_by_label_contains("(directional)").next().expect("the sun's row").click();
+    harness.run();
+    assert!(harness.query_by_role_and_label(Role::Slider, "depth bias").is_some(), "the row is open");
+    let (lights, _) = harness.state();
+    assert_eq!(lights[0].intensity, 120_000.0);
+    assert_eq!(lights[0].shadow.depth_bias, 25.0);
+}
+
+#[test]
+fn the_light_list_names_the_tiles_each_light_got() {
+    let scene = chiaro_scene::demo::demo_scene_with_shadows(4, 1, 1);
+    let tiles = super::lights_panel::tiles_by_light(&plan(&scene, &Settings::default()), scene.lights.len());
+    assert_eq!(tiles.len(), scene.lights.len());
+    let sun = scene.lights.iter().position(|l| l.kind == chiaro_scene::LightKind::Directional).unwrap();
+    assert!(tiles[sun].starts_with("4 directional tiles (0, 1, 2, 3)"), "{}", tiles[sun]);
+    let point = scene.lights.iter().position(|l| l.kind == chiaro_scene::LightKind::Point && l.shadow.casts()).unwrap();
+    assert!(tiles[point].starts_with("6 point/spot tiles"), "{}", tiles[point]);
+    let unshadowed = scene.lights.iter().position(|l| !l.shadow.casts()).unwrap();
+    assert_eq!(tiles[unshadowed], "no atlas tiles this frame");
+}
+
+#[test]
 fn an_invalid_edit_is_reported_and_not_kept() {
     let mut settings = Settings::default();
     // A value the panel's widgets cannot produce, standing in for any invalid edit.

@@ -40,12 +40,13 @@ impl Compositor {
     }
 
     /// Records the copies that make the window's image: the panel, then `view` (if shown)
-    /// with its top-left corner at `origin`, cut to the surface.
+    /// with its top-left corner at `origin`, cut at `limit` (where the panel begins) and at
+    /// the surface's edges.
     pub fn compose(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         surface: &wgpu::Texture,
-        view: Option<(&wgpu::Texture, [u32; 2])>,
+        view: Option<(&wgpu::Texture, [u32; 2], [u32; 2])>,
     ) {
         let whole = wgpu::Extent3d {
             width: self.panel.width().min(surface.width()),
@@ -53,13 +54,14 @@ impl Compositor {
             depth_or_array_layers: 1,
         };
         encoder.copy_texture_to_texture(self.panel.as_image_copy(), surface.as_image_copy(), whole);
-        let Some((texture, [x, y])) = view else { return };
-        if x >= surface.width() || y >= surface.height() {
+        let Some((texture, [x, y], [limit_x, limit_y])) = view else { return };
+        let (right, bottom) = (limit_x.min(surface.width()), limit_y.min(surface.height()));
+        if x >= right || y >= bottom {
             return;
         }
         let extent = wgpu::Extent3d {
-            width: texture.width().min(surface.width() - x),
-            height: texture.height().min(surface.height() - y),
+            width: texture.width().min(right - x),
+            height: texture.height().min(bottom - y),
             depth_or_array_layers: 1,
         };
         let destination = wgpu::TexelCopyTextureInfo {

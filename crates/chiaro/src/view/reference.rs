@@ -53,18 +53,18 @@ impl ReferenceJob {
         self.pending = Some((view, started, rx));
     }
 
-    /// The comparison, once it finished.
-    pub fn poll(&mut self) -> Option<Disagreement> {
+    /// The comparison once it finished, or why there is none.
+    pub fn poll(&mut self) -> Option<Result<Disagreement, String>> {
         let (_, _, rx) = self.pending.as_ref()?;
         match rx.try_recv() {
             Ok(done) => {
                 self.pending = None;
-                Some(done)
+                Some(Ok(done))
             }
             Err(mpsc::TryRecvError::Empty) => None,
             Err(mpsc::TryRecvError::Disconnected) => {
                 self.pending = None;
-                None
+                Some(Err("the comparison failed: its thread stopped without a result".into()))
             }
         }
     }
