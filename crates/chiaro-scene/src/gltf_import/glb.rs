@@ -4,7 +4,7 @@
 
 /// Splits a GLB container into its JSON chunk and its optional BIN chunk (glTF 2.0 §4.4).
 /// Unknown chunk types are skipped, as the specification asks.
-pub(super) fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
+pub fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
     let u32_at = |offset: usize| -> Option<u32> {
         let b = bytes.get(offset..offset.checked_add(4)?)?;
         Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))

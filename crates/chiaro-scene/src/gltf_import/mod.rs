@@ -21,7 +21,7 @@
 mod accessor;
 mod document;
 mod extras;
-mod glb;
+pub mod glb;
 mod images;
 mod lights_cameras;
 mod materials;

@@ -14,6 +14,7 @@ mod panel_tests;
 mod pick;
 mod present;
 mod reference;
+mod save_scene;
 mod settings_panel;
 
 use crate::bake_arg::BakeUseArgs;
@@ -857,10 +858,14 @@ impl App {
                         ui.separator();
                         ui.horizontal(|ui| {
                             self.panel.save_requested = ui.button("Save settings").clicked();
-                            if let Some(status) = &self.panel.status {
-                                ui.label(status);
-                            }
+                            self.panel.save_scene_requested = ui
+                                .button("Save scene")
+                                .on_hover_text("the glTF with the lights as edited and this view as a camera")
+                                .clicked();
                         });
+                        if let Some(status) = &self.panel.status {
+                            ui.label(status);
+                        }
                         if let Some(e) = &self.panel.error {
                             ui.colored_label(egui::Color32::LIGHT_RED, e);
                         }
@@ -932,6 +937,23 @@ impl App {
                 self.panel_dirty = true;
             }
             None => {}
+        }
+        if std::mem::take(&mut self.panel.save_scene_requested) {
+            self.panel.status = Some(match &self.scene_path {
+                None => "not saved: the demo scene has no file".to_string(),
+                Some(source) => {
+                    let target = save_scene::saved_path(source);
+                    match save_scene::save_scene(source, &self.scene, &self.current_view(), &target) {
+                        Ok(()) => format!(
+                            "saved {}: chiaro render it with --camera \"{}\"",
+                            target.display(),
+                            save_scene::VIEW_CAMERA
+                        ),
+                        Err(e) => format!("not saved: {e:#}"),
+                    }
+                }
+            });
+            self.panel_dirty = true;
         }
         if std::mem::take(&mut self.panel.save_requested) {
             let path = self.args.settings.clone().unwrap_or_else(|| PathBuf::from("chiaro-view.toml"));

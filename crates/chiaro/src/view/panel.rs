@@ -127,6 +127,8 @@ pub struct PanelState {
     pub lights: LightsState,
     /// "Save settings" was pressed this frame.
     pub save_requested: bool,
+    /// "Save scene" was pressed this frame.
+    pub save_scene_requested: bool,
     /// "Compare with the reference" was pressed this frame.
     pub compare_requested: bool,
     /// "Frame selected" was pressed this frame.
