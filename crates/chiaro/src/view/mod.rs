@@ -68,8 +68,11 @@ const FLY_SPEED: f32 = 0.4;
 pub struct ViewArgs {
     /// A .gltf or .glb file; without one, the built-in demo scene.
     pub scene: Option<PathBuf>,
+    /// The glTF camera to open with, by name or index (the first, or a framing camera,
+    /// without it).
     #[arg(long)]
     pub camera: Option<String>,
+    /// settings.toml to open with; "Save settings" writes back to it.
     #[arg(long)]
     pub settings: Option<PathBuf>,
     /// The 3D view's width in pixels (render.width without it).
