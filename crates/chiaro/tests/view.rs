@@ -108,6 +108,82 @@ fn a_debug_view_screenshot_equals_chiaro_render_with_the_same_debug_view() {
     assert!(mean_flip(&plain, &shot) > 0.05, "the screenshot is tinted by cascade");
 }
 
+/// Copies the folder of a shared glTF into `dir`, so that the test can change the file.
+fn copy_scene_folder(name: &str, dir: &Path) -> PathBuf {
+    let source = shared_scene(name);
+    for entry in std::fs::read_dir(source.parent().unwrap()).unwrap() {
+        let entry = entry.unwrap();
+        std::fs::copy(entry.path(), dir.join(entry.file_name())).unwrap();
+    }
+    dir.join(source.file_name().unwrap())
+}
+
+#[test]
+fn the_viewer_reloads_a_scene_whose_file_changes() {
+    use std::io::{BufRead, BufReader};
+    let dir = tempfile::tempdir().unwrap();
+    let scene = copy_scene_folder("ShadowsSpot/glTF/shadows-spot.gltf", dir.path());
+    let (w, h) = (WIDTH.to_string(), HEIGHT.to_string());
+    let mut viewer = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_chiaro"), "view"])
+        .args([scene.to_str().unwrap(), "--width", &w, "--height", &h])
+        .args(["--screenshot", "shot.png", "--exit-after-frames", "300"])
+        .current_dir(dir.path())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("xvfb-run is missing: install xvfb (scripts/setup.sh does)");
+    let mut stderr = BufReader::new(viewer.stderr.take().unwrap());
+    let mut log = String::new();
+    // Change the file once the window is up: the sphere moves 1.5 m along x.
+    loop {
+        let mut line = String::new();
+        assert!(stderr.read_line(&mut line).unwrap() > 0, "the viewer ended before its window opened: {log}");
+        log.push_str(&line);
+        if line.contains("chiaro: viewing") {
+            break;
+        }
+    }
+    let mut gltf: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    let sphere = gltf["nodes"].as_array_mut().unwrap().iter_mut().find(|n| n["name"] == "Sphere").unwrap();
+    sphere["translation"] = serde_json::json!([1.5, 1.1, 0.0]);
+    let changed = dir.path().join("changed.gltf");
+    std::fs::write(&changed, serde_json::to_string(&gltf).unwrap()).unwrap();
+    std::fs::rename(&changed, &scene).unwrap();
+    stderr.read_to_string_lossy(&mut log);
+    let status = viewer.wait().unwrap();
+    assert!(status.success(), "the viewer failed: {log}");
+    assert!(log.contains(&format!("chiaro: reloaded {}", scene.display())), "no reload: {log}");
+    // The screenshot shows the changed file, as chiaro render draws it.
+    let size = ["--width", w.as_str(), "--height", h.as_str()];
+    let render =
+        chiaro(&[&["render", scene.to_str().unwrap()][..], &size, &["-o", "render.png"]].concat(), &[], dir.path());
+    assert_eq!(render.code, 0, "{}", render.stderr);
+    let shot = rgb(&dir.path().join("shot.png"));
+    let flip = mean_flip(&rgb(&dir.path().join("render.png")), &shot);
+    assert!(flip < 0.01, "the reloaded view against chiaro render of the changed file: mean FLIP {flip}");
+    let original = shared_scene("ShadowsSpot/glTF/shadows-spot.gltf");
+    let before =
+        chiaro(&[&["render", original.to_str().unwrap()][..], &size, &["-o", "before.png"]].concat(), &[], dir.path());
+    assert_eq!(before.code, 0, "{}", before.stderr);
+    let before = rgb(&dir.path().join("before.png"));
+    let moved = before.chunks(3).zip(shot.chunks(3)).filter(|(a, b)| a.iter().zip(*b).any(|(x, y)| x.abs_diff(*y) > 8));
+    let moved = moved.count();
+    assert!(moved > 200, "the moved sphere shows: {moved} pixels differ from the file as it was");
+}
+
+/// Reads what is left of a stream, as text.
+trait ReadRest {
+    fn read_to_string_lossy(&mut self, into: &mut String);
+}
+
+impl<R: std::io::Read> ReadRest for R {
+    fn read_to_string_lossy(&mut self, into: &mut String) {
+        let mut bytes = Vec::new();
+        let _ = self.read_to_end(&mut bytes);
+        into.push_str(&String::from_utf8_lossy(&bytes));
+    }
+}
+
 #[test]
 fn viewer_arguments_are_checked_before_a_window_opens() {
     let dir = tempfile::tempdir().unwrap();

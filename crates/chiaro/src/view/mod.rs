@@ -514,8 +514,9 @@ impl App {
         self.loader.watch(&self.scene);
         self.disagreement = None;
         self.panel.error = None;
-        self.panel.status =
-            Some(format!("{} {}", if loaded.reload { "reloaded" } else { "opened" }, loaded.path.display()));
+        let status = format!("{} {}", if loaded.reload { "reloaded" } else { "opened" }, loaded.path.display());
+        eprintln!("chiaro: {status}");
+        self.panel.status = Some(status);
         if matches!(self.panel.debug, Debug::Aov(AovView::Shadow(i)) if i >= self.scene.lights.len()) {
             self.panel.debug = Debug::None;
         }
@@ -1098,6 +1099,12 @@ impl ApplicationHandler for App {
         }
         match self.open(event_loop) {
             Ok(gpu) => {
+                let (w, h) = self.view_size();
+                let adapter = &gpu.renderer.ctx.adapter_info.name;
+                eprintln!(
+                    "chiaro: viewing {} ({w}x{h}) on {adapter}",
+                    self.title().trim_start_matches("chiaro view: ")
+                );
                 gpu.window.request_redraw();
                 self.gpu = Some(gpu);
             }
