@@ -30,6 +30,17 @@ pub struct ShadowComparison {
     pub status: Vec<ShadowStatus>,
 }
 
+/// Why a light with `status` is not judged against the reference; `None` when it is.
+pub fn not_compared_because(status: ShadowStatus) -> Option<&'static str> {
+    match status {
+        ShadowStatus::Mapped | ShadowStatus::MaskOnly => None,
+        ShadowStatus::Off => Some("casts no shadows"),
+        ShadowStatus::NotShaded => Some("not shaded this frame"),
+        ShadowStatus::NoTile => Some("no free atlas tiles: no realtime shadow"),
+        ShadowStatus::Baked => Some("baked: its shadows are in the lightmaps, summed with other light; not compared"),
+    }
+}
+
 /// The GPU half of a comparison: what the renderer drew for one view, read back.
 /// `compare_rendered` finishes it on the CPU, on any thread.
 pub struct RenderedShadows {

@@ -241,6 +241,17 @@ pub enum LightKind {
     Spot { inner_cone_rad: f32, outer_cone_rad: f32 },
 }
 
+impl LightKind {
+    /// KHR_lights_punctual's name for the type.
+    pub fn name(self) -> &'static str {
+        match self {
+            LightKind::Directional => "directional",
+            LightKind::Point => "point",
+            LightKind::Spot { .. } => "spot",
+        }
+    }
+}
+
 /// Realtime shadows of a light: `none`, `hard` (the 2x2 filter whatever the settings say)
 /// or `soft` (the settings' filter).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -249,6 +260,17 @@ pub enum ShadowMode {
     Hard,
     #[default]
     Soft,
+}
+
+impl ShadowMode {
+    /// The light's `extras.shadows` value.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadowMode::None => "none",
+            ShadowMode::Hard => "hard",
+            ShadowMode::Soft => "soft",
+        }
+    }
 }
 
 /// A light's shadow settings, from its KHR_lights_punctual `extras`.

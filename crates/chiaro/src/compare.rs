@@ -7,9 +7,8 @@ use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::{Result, bail};
-use chiaro_compare::compare_shadows;
+use chiaro_compare::{compare_shadows, not_compared_because};
 use chiaro_render::{GpuContext, Renderer, ShadowStatus};
-use chiaro_scene::LightKind;
 use clap::Args;
 use std::path::PathBuf;
 
@@ -78,21 +77,9 @@ pub fn run(args: CompareArgs) -> Result<()> {
     let mut diffs: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     for report in &result.reports {
         let light = &scene.lights[report.light];
-        let kind = match light.kind {
-            LightKind::Directional => "directional",
-            LightKind::Point => "point",
-            LightKind::Spot { .. } => "spot",
-        };
+        let kind = light.kind.name();
         let c = &report.comparison;
-        let why = match result.status[report.light] {
-            ShadowStatus::Mapped | ShadowStatus::MaskOnly => None,
-            ShadowStatus::Off => Some("casts no shadows"),
-            ShadowStatus::NotShaded => Some("not shaded this frame"),
-            ShadowStatus::NoTile => Some("no free atlas tiles: no realtime shadow"),
-            ShadowStatus::Baked => {
-                Some("baked: its shadows are in the lightmaps, summed with other light; not compared")
-            }
-        };
+        let why = not_compared_because(result.status[report.light]);
         if let Some(why) = why {
             println!("{:<6} {:<24} {:<12} {why}", light.node, light.name.chars().take(24).collect::<String>(), kind);
             continue;

@@ -134,11 +134,17 @@ pub fn check_outputs(outputs: &[PathBuf], inputs: &Inputs) -> Result<()> {
 /// Writes every file of the group or none: all to temporary files first, then each
 /// renamed into place.
 pub fn write_group(files: Vec<(PathBuf, Encoded<'_>)>) -> Result<()> {
-    write_group_with(files.into_iter().map(|(path, image)| (path, move |tmp: &Path| image.write(tmp))).collect())
+    let files = files.into_iter().map(|(path, image)| (path, move |tmp: &Path| image.write(tmp))).collect();
+    write_group_with(files, "image")
 }
 
-/// `write_group` with any writer, for the tests.
-fn write_group_with<W: FnOnce(&Path) -> Result<()>>(files: Vec<(PathBuf, W)>) -> Result<()> {
+/// Writes `bytes` to `path` whole or not at all, as `write_group` writes images.
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_group_with(vec![(path.to_path_buf(), |tmp: &Path| Ok(std::fs::write(tmp, bytes)?))], "file")
+}
+
+/// `write_group` with any writer (of a `what`, for the messages).
+fn write_group_with<W: FnOnce(&Path) -> Result<()>>(files: Vec<(PathBuf, W)>, what: &str) -> Result<()> {
     let mut written = Vec::with_capacity(files.len());
     for (path, write) in files {
         let folder = folder_of(&path);
@@ -147,8 +153,8 @@ fn write_group_with<W: FnOnce(&Path) -> Result<()>>(files: Vec<(PathBuf, W)>) ->
             .suffix(".tmp")
             .tempfile_in(folder)
             .with_context(|| format!("{}: cannot create a file in {}", path.display(), folder.display()))?;
-        write(tmp.path()).with_context(|| format!("{}: cannot write image", path.display()))?;
-        // Temporary files are private (0600); a finished image is an ordinary file.
+        write(tmp.path()).with_context(|| format!("{}: cannot write {what}", path.display()))?;
+        // Temporary files are private (0600); a finished file is an ordinary one.
         #[cfg(unix)]
         {
             use std::os::unix::fs::PermissionsExt;
@@ -158,7 +164,8 @@ fn write_group_with<W: FnOnce(&Path) -> Result<()>>(files: Vec<(PathBuf, W)>) ->
         written.push((path, tmp));
     }
     for (path, tmp) in written {
-        tmp.persist(&path).with_context(|| format!("{}: cannot move the finished image into place", path.display()))?;
+        tmp.persist(&path)
+            .with_context(|| format!("{}: cannot move the finished {what} into place", path.display()))?;
     }
     Ok(())
 }
@@ -219,7 +226,7 @@ mod tests {
             (main.clone(), Box::new(|tmp: &Path| Ok(std::fs::write(tmp, b"new image")?))),
             (aov.clone(), Box::new(|_: &Path| bail!("no space left on device"))),
         ];
-        let e = write_group_with(writers).unwrap_err();
+        let e = write_group_with(writers, "image").unwrap_err();
         assert!(format!("{e:#}").contains("main.depth.exr: cannot write image: no space left"), "{e:#}");
         assert_eq!(std::fs::read(&main).unwrap(), b"the previous image");
         assert!(!aov.exists());

@@ -57,11 +57,7 @@ pub fn tiles_by_light(plan: &FramePlan, light_count: usize) -> Vec<String> {
 pub fn lights_panel(ui: &mut Ui, lights: &mut [Light], state: &mut LightsState) -> bool {
     let mut changed = false;
     for (i, light) in lights.iter_mut().enumerate() {
-        let kind = match light.kind {
-            LightKind::Directional => "directional",
-            LightKind::Point => "point",
-            LightKind::Spot { .. } => "spot",
-        };
+        let kind = light.kind.name();
         let name = if light.name.is_empty() { format!("light {i}") } else { light.name.clone() };
         egui::CollapsingHeader::new(format!("{name} ({kind})")).id_salt(("light", i)).show(ui, |ui| {
             changed |= light_rows(ui, i, light, state);
@@ -135,9 +131,9 @@ fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &mut LightsState)
         }
     }
     let shadow = &mut light.shadow;
-    ComboBox::new(("shadows", i), "shadows").selected_text(shadow_mode_name(shadow.mode)).show_ui(ui, |ui| {
+    ComboBox::new(("shadows", i), "shadows").selected_text(shadow.mode.name()).show_ui(ui, |ui| {
         for m in [ShadowMode::None, ShadowMode::Hard, ShadowMode::Soft] {
-            changed |= ui.selectable_value(&mut shadow.mode, m, shadow_mode_name(m)).changed();
+            changed |= ui.selectable_value(&mut shadow.mode, m, m.name()).changed();
         }
     });
     changed |=
@@ -148,9 +144,9 @@ fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &mut LightsState)
         ui.add(Slider::new(&mut shadow.normal_bias, 0.0..=3.0).text("normal bias").clamping(EDITS_ONLY)).changed();
     changed |=
         ui.add(Slider::new(&mut shadow.near_plane, 0.0..=10.0).text("near plane (m)").clamping(EDITS_ONLY)).changed();
-    ComboBox::new(("mode", i), "mode").selected_text(mode_name(light.mode)).show_ui(ui, |ui| {
+    ComboBox::new(("mode", i), "mode").selected_text(light.mode.name()).show_ui(ui, |ui| {
         for m in [LightMode::Realtime, LightMode::Mixed, LightMode::Baked] {
-            changed |= ui.selectable_value(&mut light.mode, m, mode_name(m)).changed();
+            changed |= ui.selectable_value(&mut light.mode, m, m.name()).changed();
         }
     });
     if light.mode != LightMode::Realtime {
@@ -160,20 +156,4 @@ fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &mut LightsState)
         ui.label(format!("this frame: {tiles}"));
     }
     changed
-}
-
-fn shadow_mode_name(m: ShadowMode) -> &'static str {
-    match m {
-        ShadowMode::None => "none",
-        ShadowMode::Hard => "hard",
-        ShadowMode::Soft => "soft",
-    }
-}
-
-fn mode_name(m: LightMode) -> &'static str {
-    match m {
-        LightMode::Realtime => "realtime",
-        LightMode::Mixed => "mixed",
-        LightMode::Baked => "baked",
-    }
 }

@@ -255,18 +255,9 @@ struct App {
 }
 
 fn view_texture(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("3D view"),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    })
+    use wgpu::TextureUsages as U;
+    let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+    present::window_texture(device, "3D view", format, (width, height), usage)
 }
 
 /// What a frame shows in place of the lit 3D view, as images egui draws.
@@ -552,7 +543,7 @@ impl App {
         self.start_view = self.base_view(self.camera, w, h)?;
         self.opening_view = self.base_view(None, w, h)?;
         self.panel_dirty = true;
-        if (w, h) == (self.view_texture_size()) {
+        if (w, h) == self.view_texture_size() {
             return Ok(());
         }
         let Some(gpu) = self.gpu.as_mut() else { return Ok(()) };
@@ -565,7 +556,6 @@ impl App {
             gpu.view_texture_id,
         );
         let _ = gpu.window.request_inner_size(window_size(w, h, gpu.window.scale_factor()));
-        self.panel_dirty = true;
         Ok(())
     }
 
@@ -669,6 +659,11 @@ impl App {
     fn frame(&mut self, gpu: &mut Gpu) -> Result<()> {
         let view = self.current_view();
         let debug = self.panel.debug;
+        // Images belong to the debug view that made them.
+        if gpu.debug_textures_for != debug {
+            gpu.debug_textures.clear();
+            gpu.debug_textures_for = debug;
+        }
         let target = gpu.view_texture.create_view(&Default::default());
         let options = frame_options(debug);
         match gpu.renderer.render_to(
@@ -697,10 +692,6 @@ impl App {
             }
         }
         let show_view = shows_view(debug, self.disagreement.is_some());
-        if gpu.debug_textures_for != debug {
-            gpu.debug_textures.clear();
-            gpu.debug_textures_for = debug;
-        }
         if debug == Debug::Reference
             && gpu.debug_textures.is_empty()
             && let Some(d) = &self.disagreement
@@ -783,7 +774,6 @@ impl App {
     fn take_frame(&mut self, gpu: &mut Gpu, debug: Debug, frame: &FrameOutput) -> Result<()> {
         let images = debug_images(debug, frame, &self.scene);
         if !matches!(debug, Debug::Reference) {
-            gpu.debug_textures_for = debug;
             gpu.debug_textures = images
                 .into_iter()
                 .enumerate()
@@ -1000,16 +990,9 @@ impl App {
         })?;
         let ctx = &gpu.renderer.ctx;
         let (width, height) = (gpu.config.width, gpu.config.height);
-        let window = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("window screenshot"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: gpu.config.format,
-            usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let usage = wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC;
+        let window =
+            present::window_texture(&ctx.device, "window screenshot", gpu.config.format, (width, height), usage);
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         compositor.compose(
             &mut encoder,
@@ -1084,12 +1067,7 @@ impl App {
 /// Writes `settings` as TOML to `path`, whole or not at all (a temporary file renamed
 /// over it), so that `chiaro render --settings path` renders what the viewer showed.
 fn save_settings(path: &Path, settings: &Settings) -> Result<()> {
-    use std::io::Write;
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let mut file = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}", dir.display()))?;
-    file.write_all(settings.to_toml().as_bytes()).with_context(|| format!("{}", path.display()))?;
-    file.persist(path).with_context(|| format!("{}", path.display()))?;
-    Ok(())
+    crate::output::write_file(path, settings.to_toml().as_bytes())
 }
 
 impl ApplicationHandler for App {

@@ -4,6 +4,26 @@
 //! eighth of a frame of the benchmark scene, so drawing it every frame made the window
 //! cost far more than the few percent it may.
 
+/// A plain 2D texture of the window's pictures: the 3D view, the panel, a screenshot.
+pub fn window_texture(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    (width, height): (u32, u32),
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
 /// The panel's texture, the size of the window's surface.
 pub struct Compositor {
     panel: wgpu::Texture,
@@ -16,17 +36,8 @@ impl Compositor {
     }
 
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32) -> Compositor {
-        let panel = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("panel"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        Compositor { panel }
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        Compositor { panel: window_texture(device, "panel", format, (width, height), usage) }
     }
 
     /// Whether the panel texture fits a surface of `width` x `height`.

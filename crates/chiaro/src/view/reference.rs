@@ -3,8 +3,8 @@
 //! shadows painted over the image. The frame is rendered on the window's device; the
 //! tracing runs on a thread of its own, so the window stays live meanwhile.
 
-use chiaro_compare::{RenderedShadows, ShadowComparison, compare_rendered};
-use chiaro_render::{ShadowStatus, View};
+use chiaro_compare::{RenderedShadows, ShadowComparison, compare_rendered, not_compared_because};
+use chiaro_render::View;
 use chiaro_scene::{Scene, Settings};
 use chiaro_trace::PixelVerdict;
 use std::sync::mpsc;
@@ -102,17 +102,14 @@ fn light_lines(scene: &Scene, comparison: &ShadowComparison) -> Vec<String> {
             let light = &scene.lights[report.light];
             let name = if light.name.is_empty() { format!("light {}", report.light) } else { light.name.clone() };
             let c = &report.comparison;
-            match comparison.status[report.light] {
-                ShadowStatus::Mapped | ShadowStatus::MaskOnly => format!(
+            match not_compared_because(comparison.status[report.light]) {
+                None => format!(
                     "{name}: {:.3}% disagree ({:.3}% false, {:.3}% missed)",
                     100.0 * c.disagreement(),
                     100.0 * c.false_share(),
                     100.0 * c.missed_share()
                 ),
-                ShadowStatus::Off => format!("{name}: casts no shadows"),
-                ShadowStatus::NotShaded => format!("{name}: not shaded this frame"),
-                ShadowStatus::NoTile => format!("{name}: no free atlas tiles"),
-                ShadowStatus::Baked => format!("{name}: baked, not compared"),
+                Some(why) => format!("{name}: {why}"),
             }
         })
         .collect()

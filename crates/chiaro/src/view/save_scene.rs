@@ -7,7 +7,7 @@
 
 use anyhow::{Context, Result, anyhow, bail};
 use chiaro_render::View;
-use chiaro_scene::{Light, LightKind, LightMode, Scene, ShadowMode};
+use chiaro_scene::{Light, LightKind, Scene};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
@@ -40,11 +40,7 @@ pub fn save_scene(source: &Path, scene: &Scene, view: &View, target: &Path) -> R
     add_camera(&mut root, view).with_context(|| format!("{}", source.display()))?;
     let text = serde_json::to_vec_pretty(&root)?;
     let out = if is_glb { glb(&text, bin) } else { text };
-    let dir = target.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let mut file = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}", dir.display()))?;
-    std::io::Write::write_all(&mut file, &out).with_context(|| format!("{}", target.display()))?;
-    file.persist(target).with_context(|| format!("{}", target.display()))?;
-    Ok(())
+    crate::output::write_file(target, &out)
 }
 
 /// A GLB container of `json` and the original `bin` chunk (glTF 2.0, section 4.4).
@@ -96,22 +92,12 @@ fn write_lights(root: &mut Value, lights: &[Light]) -> Result<()> {
             gltf.insert("spot".into(), json!({ "innerConeAngle": inner_cone_rad, "outerConeAngle": outer_cone_rad }));
         }
         let extras = object(gltf.entry("extras").or_insert(Value::Null), &format!("light {index} extras"))?;
-        let shadows = match light.shadow.mode {
-            ShadowMode::None => "none",
-            ShadowMode::Hard => "hard",
-            ShadowMode::Soft => "soft",
-        };
-        let mode = match light.mode {
-            LightMode::Realtime => "realtime",
-            LightMode::Mixed => "mixed",
-            LightMode::Baked => "baked",
-        };
-        extras.insert("shadows".into(), json!(shadows));
+        extras.insert("shadows".into(), json!(light.shadow.mode.name()));
         extras.insert("shadowStrength".into(), json!(light.shadow.strength));
         extras.insert("shadowDepthBias".into(), json!(light.shadow.depth_bias));
         extras.insert("shadowNormalBias".into(), json!(light.shadow.normal_bias));
         extras.insert("shadowNearPlane".into(), json!(light.shadow.near_plane));
-        extras.insert("mode".into(), json!(mode));
+        extras.insert("mode".into(), json!(light.mode.name()));
     }
     Ok(())
 }
@@ -153,6 +139,7 @@ fn add_camera(root: &mut Value, view: &View) -> Result<()> {
 mod tests {
     use super::*;
     use chiaro_render::{FrameOptions, GpuContext, Renderer};
+    use chiaro_scene::ShadowMode;
     use glam::{Mat4, Vec3};
 
     fn shared(name: &str) -> PathBuf {
