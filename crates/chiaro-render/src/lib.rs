@@ -8,6 +8,7 @@
 //! GPU timings flow out, or the frame goes to a window's surface without a wait.
 
 pub mod context;
+pub mod debug_view;
 pub mod error;
 pub mod frame_data;
 pub mod gpu;
@@ -23,8 +24,9 @@ pub mod shaders;
 pub mod view;
 
 pub use context::GpuContext;
+pub use debug_view::{AovView, DebugView};
 pub use error::RenderError;
 pub use output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, ShadowStatus};
-pub use plan::{DebugView, FramePlan};
+pub use plan::FramePlan;
 pub use renderer::{PreparedScene, Renderer};
 pub use view::View;

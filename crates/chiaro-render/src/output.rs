@@ -1,9 +1,10 @@
 //! What a caller asks of a frame and what it gets back: the images read back, the AOVs,
 //! each light's shadow status, and the frame's timings.
 
+use crate::debug_view::DebugView;
+use crate::plan::FramePlan;
 use crate::plan::lights::LightId;
 use crate::plan::shadows::ShadowSlot;
-use crate::plan::{DebugView, FramePlan};
 use chiaro_scene::{LightMode, Scene};
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -15,12 +16,11 @@ pub struct FrameOptions {
     /// Copy the images back to the CPU, waiting for the frame (off for benchmarking and
     /// for frames that go to a window).
     pub readback: bool,
-    /// Tint the image by cascade.
-    pub debug_cascades: bool,
     /// Copy the shadow atlases back to the CPU.
     pub read_shadow_atlas: bool,
-    /// Show a view of the deferred path's inner workings instead of the image.
-    pub debug_view: Option<DebugView>,
+    /// A debug view the frame's passes draw (cascades, the deferred views); the others
+    /// are read back and coloured by the caller (see `DebugView::frame_options`).
+    pub debug: Option<DebugView>,
 }
 
 impl FrameOptions {

@@ -118,12 +118,7 @@ impl Renderer {
         settings: &Settings,
         options: FrameOptions,
     ) -> FramePlan {
-        let request = PlanRequest {
-            aovs: options.aovs,
-            debug_cascades: options.debug_cascades,
-            debug_view: options.debug_view,
-            shadow_aovs: options.shadow_aovs,
-        };
+        let request = PlanRequest { aovs: options.aovs, debug: options.debug, shadow_aovs: options.shadow_aovs };
         FramePlan::new(scene, &prepared.gpu.draws, view, settings, &mut self.atlas_tiles, request)
     }
 

@@ -224,7 +224,7 @@ fn a_far_small_point_light_shades_only_its_sphere() {
     let options = FrameOptions {
         readback: true,
         aovs: true,
-        debug_view: Some(chiaro_render::DebugView::LightOverdraw),
+        debug: Some(chiaro_render::DebugView::LightOverdraw),
         ..Default::default()
     };
     let settings = Settings::default();

@@ -168,7 +168,7 @@ fn each_tile_draws_only_the_casters_that_reach_it() {
 
 #[test]
 fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
-    use chiaro_render::plan::DebugView;
+    use chiaro_render::DebugView;
     use chiaro_render::plan::volumes::VolumeShape;
     use chiaro_scene::{LightBuffer, RenderPath};
     let scene = chiaro_scene::demo::demo_scene(100);
@@ -207,11 +207,10 @@ fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
     );
     // Debug views imply the deferred path, even when the settings say forward.
     settings.render.path = RenderPath::Forward;
-    let albedo = plan_with(&settings, PlanRequest { debug_view: Some(DebugView::GbufferAlbedo), ..Default::default() });
+    let albedo = plan_with(&settings, PlanRequest { debug: Some(DebugView::GbufferAlbedo), ..Default::default() });
     assert_eq!(albedo.path, RenderPath::Deferred);
     assert_eq!(albedo.passes, vec![PassId::GBuffer, PassId::DebugView]);
-    let overdraw =
-        plan_with(&settings, PlanRequest { debug_view: Some(DebugView::LightOverdraw), ..Default::default() });
+    let overdraw = plan_with(&settings, PlanRequest { debug: Some(DebugView::LightOverdraw), ..Default::default() });
     assert_eq!(overdraw.passes, vec![PassId::GBuffer, PassId::DeferredLights, PassId::DebugView]);
 }
 

@@ -26,7 +26,7 @@ fn deferred(
     let mut r = renderer();
     let prepared = r.prepare(scene).unwrap();
     let view = View::from_camera(scene, 0, 256, 256);
-    let options = FrameOptions { readback: true, debug_view, ..Default::default() };
+    let options = FrameOptions { readback: true, debug: debug_view, ..Default::default() };
     r.render(scene, &prepared, &view, &settings, options).unwrap()
 }
 

@@ -9,6 +9,7 @@ use anyhow::Result;
 use anyhow::bail;
 use chiaro_render::{DebugView, FrameOptions, GpuContext, Renderer};
 use chiaro_scene::RenderPath;
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -27,37 +28,38 @@ pub enum Aov {
     Lightmap,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Debug {
-    /// Tint the image by directional shadow cascade.
-    Cascades,
-    /// Also write the shadow atlases as `<stem>.shadow-atlas.png` (directional) and
-    /// `<stem>.other-shadow-atlas.png` (point and spot), depth as grey stretched from the
-    /// nearest caster (black) to the far plane (white).
-    ShadowAtlas,
-    /// The deferred path's G-buffer base colour, instead of the image.
-    GbufferAlbedo,
-    /// The deferred path's G-buffer shading normal as n * 0.5 + 0.5, instead of the image.
-    GbufferNormal,
-    /// How many light volumes shaded each pixel, as a heat map (blue 1, green 2, yellow
-    /// 4, red 8 or more), instead of the image.
-    LightOverdraw,
+/// The debug views `render --debug` takes, with their help.
+fn debug_values() -> impl TypedValueParser<Value = DebugView> {
+    let values = [
+        PossibleValue::new("cascades").help("Tint the image by directional shadow cascade"),
+        PossibleValue::new("shadow-atlas").help(
+            "Also write the shadow atlases as `<stem>.shadow-atlas.png` (directional) and \
+             `<stem>.other-shadow-atlas.png` (point and spot), depth as grey stretched from the \
+             nearest caster (black) to the far plane (white)",
+        ),
+        PossibleValue::new("gbuffer-albedo").help("The deferred path's G-buffer base colour, instead of the image"),
+        PossibleValue::new("gbuffer-normal")
+            .help("The deferred path's G-buffer shading normal as n * 0.5 + 0.5, instead of the image"),
+        PossibleValue::new("light-overdraw").help(
+            "How many light volumes shaded each pixel, as a heat map (blue 1, green 2, yellow 4, red 8 or \
+             more), instead of the image",
+        ),
+    ];
+    PossibleValuesParser::new(values).map(|name| DebugView::parse(&name).expect("a debug view's name"))
 }
 
-/// The deferred debug view asked for, if any (at most one).
-fn debug_view(debug: &[Debug]) -> Result<Option<DebugView>> {
-    let views: Vec<DebugView> = debug
-        .iter()
-        .filter_map(|d| match d {
-            Debug::GbufferAlbedo => Some(DebugView::GbufferAlbedo),
-            Debug::GbufferNormal => Some(DebugView::GbufferNormal),
-            Debug::LightOverdraw => Some(DebugView::LightOverdraw),
-            Debug::Cascades | Debug::ShadowAtlas => None,
-        })
-        .collect();
-    match views[..] {
+/// The debug view the frame's passes draw in place of the image, if any (at most one;
+/// the shadow atlases are written beside it).
+fn drawn_debug_view(debug: &[DebugView]) -> Result<Option<DebugView>> {
+    let mut drawn: Vec<DebugView> = Vec::new();
+    for &d in debug {
+        if d != DebugView::ShadowAtlases && !drawn.contains(&d) {
+            drawn.push(d);
+        }
+    }
+    match drawn[..] {
         [] => Ok(None),
-        [view] if !debug.contains(&Debug::Cascades) => Ok(Some(view)),
+        [view] => Ok(Some(view)),
         _ => bail!(
             "--debug: gbuffer-albedo, gbuffer-normal, light-overdraw and cascades each replace the image; \
              choose one"
@@ -93,8 +95,8 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub demo: DemoArgs,
     /// Debug views (repeatable).
-    #[arg(long, value_enum)]
-    pub debug: Vec<Debug>,
+    #[arg(long, value_parser = debug_values())]
+    pub debug: Vec<DebugView>,
     #[command(flatten)]
     pub shadow: ShadowArgs,
     #[command(flatten)]
@@ -116,7 +118,7 @@ fn planned_outputs(args: &RenderArgs, scene: &chiaro_scene::Scene) -> Vec<PathBu
     if args.aov.contains(&Aov::Shadow) {
         outputs.extend(scene.lights.iter().map(|l| aov_path(&args.output, &format!("shadow.{}", l.node))));
     }
-    if args.debug.contains(&Debug::ShadowAtlas) {
+    if args.debug.contains(&DebugView::ShadowAtlases) {
         for file in ["shadow-atlas.png", "other-shadow-atlas.png"] {
             outputs.push(sibling_path(&args.output, file));
         }
@@ -133,8 +135,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     args.shadow.apply(&mut settings)?;
     args.path.apply(&mut settings)?;
-    let debug_view = debug_view(&args.debug)?;
-    if args.debug.contains(&Debug::Cascades) && settings.render.path == RenderPath::Deferred {
+    let debug = drawn_debug_view(&args.debug)?;
+    if debug == Some(DebugView::Cascades) && settings.render.path == RenderPath::Deferred {
         tracing::info!("--debug cascades tints the forward path's image: rendering forward");
         settings.render.path = RenderPath::Forward;
         settings.lights.max_other_lights = None;
@@ -154,9 +156,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         aovs: wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Depth) || wants(Aov::Lightmap),
         shadow_aovs: wants(Aov::Shadow),
         readback: true,
-        debug_cascades: args.debug.contains(&Debug::Cascades),
-        read_shadow_atlas: args.debug.contains(&Debug::ShadowAtlas),
-        debug_view,
+        read_shadow_atlas: args.debug.contains(&DebugView::ShadowAtlases),
+        debug,
     };
     let frame = renderer.render(&scene, &prepared, &view, &settings, options)?;
     warn_if_clipped(&frame.hdr, settings.render.exposure_ev100);
@@ -195,7 +196,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     for (path, size, grey) in &atlases {
         files.push((path.clone(), Encoded::Png { width: *size, height: *size, rgba8: grey }));
     }
-    if args.debug.contains(&Debug::ShadowAtlas) && frame.shadow_atlases.is_empty() {
+    if args.debug.contains(&DebugView::ShadowAtlases) && frame.shadow_atlases.is_empty() {
         tracing::warn!("no light casts a shadow: no atlas to write");
     }
     write_group(files)?;

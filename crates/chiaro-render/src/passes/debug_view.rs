@@ -3,8 +3,9 @@
 //! counting variant) as a heat map.
 
 use super::fullscreen::{self, FullscreenDesc, texture_bind_group, texture_layout};
+use crate::debug_view::DebugView;
 use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
-use crate::plan::{DebugView, FramePlan, PassId};
+use crate::plan::{FramePlan, PassId};
 use crate::shaders;
 use std::collections::HashMap;
 
@@ -22,6 +23,7 @@ fn view_index(view: DebugView) -> f64 {
         DebugView::GbufferAlbedo => 0.0,
         DebugView::GbufferNormal => 1.0,
         DebugView::LightOverdraw => 2.0,
+        other => unreachable!("{other:?} is not drawn by the debug view pass"),
     }
 }
 
@@ -52,14 +54,14 @@ impl FramePass for DebugViewPass {
 
     fn io(&self, plan: &FramePlan) -> PassIo {
         let mut reads = vec![Resource::GBufferAlbedoMetallic, Resource::GBufferPacked];
-        if plan.request.debug_view == Some(DebugView::LightOverdraw) {
+        if plan.request.deferred_view() == Some(DebugView::LightOverdraw) {
             reads.push(Resource::Hdr);
         }
         PassIo { reads, writes: vec![Resource::Output] }
     }
 
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
-        let view = cx.plan.request.debug_view.expect("planned for a debug view");
+        let view = cx.plan.request.deferred_view().expect("planned for a debug view");
         let key = (view, cx.output_format);
         if !self.pipelines.contains_key(&key) {
             let constants = [("5", view_index(view))];

@@ -10,11 +10,12 @@
 use super::forward::HDR_FORMAT;
 use super::gbuffer::{LIGHT_BUFFER_LDR_FORMAT, light_target};
 use super::mesh::{STENCIL_SURFACE, scene_depth};
+use crate::debug_view::DebugView;
 use crate::gpu::GpuVolumeLight;
 use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
 use crate::plan::features::ShaderFeatures;
 use crate::plan::volumes::{VolumeMesh, VolumeShape, unit_pyramid, unit_sphere};
-use crate::plan::{DebugView, FramePlan, PassId};
+use crate::plan::{FramePlan, PassId};
 use crate::shaders;
 use chiaro_scene::LightBuffer;
 use std::collections::HashMap;
@@ -34,7 +35,7 @@ struct Variant {
 
 impl Variant {
     fn of(plan: &FramePlan) -> Variant {
-        let overdraw = plan.request.debug_view == Some(DebugView::LightOverdraw);
+        let overdraw = plan.request.debug == Some(DebugView::LightOverdraw);
         Variant { ldr: !overdraw && plan.light_buffer == LightBuffer::LdrExp2, overdraw, features: plan.features }
     }
 

@@ -12,6 +12,7 @@ pub mod lights;
 pub mod shadows;
 pub mod volumes;
 
+use crate::debug_view::DebugView;
 use crate::gpu::{GpuFrame, GpuLight, GpuVolumeLight};
 use crate::shader_constants::{
     DEBUG_VIEW_CASCADES, DEBUG_VIEW_NONE, MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS, MIXED_MODE_BAKED_INDIRECT,
@@ -73,28 +74,23 @@ impl PassId {
     }
 }
 
-/// Views of the deferred path's inner workings.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum DebugView {
-    /// The G-buffer's base colour.
-    GbufferAlbedo,
-    /// The G-buffer's shading normal as `n * 0.5 + 0.5`.
-    GbufferNormal,
-    /// How many light volumes shaded each pixel, as a heat map.
-    LightOverdraw,
-}
-
 /// What the caller wants from the frame besides the image.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PlanRequest {
     /// World position, normal and depth AOVs.
     pub aovs: bool,
-    /// Tint by cascade (forward path).
-    pub debug_cascades: bool,
-    /// A debug view of the deferred path (which it implies).
-    pub debug_view: Option<DebugView>,
+    /// A debug view drawn by the frame's passes: cascades tint the forward path's image,
+    /// the deferred views imply the deferred path.
+    pub debug: Option<DebugView>,
     /// Per-light shadow AOVs, which (like `aovs`) test against single-sampled depth.
     pub shadow_aovs: bool,
+}
+
+impl PlanRequest {
+    /// The deferred path's debug view asked for, if any.
+    pub fn deferred_view(&self) -> Option<DebugView> {
+        self.debug.filter(|d| d.is_deferred())
+    }
 }
 
 /// The frame's lights as index lists into `FramePlan::lights`; the shaders loop over
@@ -200,7 +196,7 @@ impl FramePlan {
             lights.push(FrameLight { id, range, shadow });
             shadowed.push(has_shadow);
         }
-        let path = if request.debug_view.is_some() { RenderPath::Deferred } else { settings.render.path };
+        let path = if request.deferred_view().is_some() { RenderPath::Deferred } else { settings.render.path };
         let light_buffer = settings.render.light_buffer;
         let mut frame_index = vec![None; scene.lights.len()];
         for (k, light) in lights.iter().enumerate() {
@@ -246,17 +242,15 @@ impl FramePlan {
         let msaa = if single { 1 } else { settings.render.msaa };
         let mut passes = Vec::new();
         // Debug views show no shading, so they need no shadows.
-        if !shadows.tiles.is_empty() && request.debug_view.is_none() {
+        if !shadows.tiles.is_empty() && request.deferred_view().is_none() {
             passes.push(PassId::Shadows);
         }
-        match (path, request.debug_view) {
+        match (path, request.deferred_view()) {
             (RenderPath::Forward, _) => passes.extend([PassId::DepthPrepass, PassId::Forward]),
-            (RenderPath::Deferred, Some(DebugView::GbufferAlbedo | DebugView::GbufferNormal)) => {
-                passes.push(PassId::GBuffer)
-            }
             (RenderPath::Deferred, Some(DebugView::LightOverdraw)) => {
                 passes.extend([PassId::GBuffer, PassId::DeferredLights])
             }
+            (RenderPath::Deferred, Some(_)) => passes.push(PassId::GBuffer),
             (RenderPath::Deferred, None) => {
                 passes.extend([PassId::GBuffer, PassId::DeferredLights]);
                 if light_buffer == LightBuffer::LdrExp2 {
@@ -270,7 +264,7 @@ impl FramePlan {
         if request.aovs {
             passes.push(PassId::Aov);
         }
-        passes.push(if request.debug_view.is_some() { PassId::DebugView } else { PassId::Tonemap });
+        passes.push(if request.deferred_view().is_some() { PassId::DebugView } else { PassId::Tonemap });
         let features = features::ShaderFeatures::of(scene, settings, &lights);
         FramePlan {
             view: *view,
@@ -364,7 +358,11 @@ impl FramePlan {
             camera_position_ws: view.eye(),
             exposure_scale: exposure_scale(settings.render.exposure_ev100),
             ambient: Vec3::from(settings.render.ambient),
-            debug_view: if self.request.debug_cascades { DEBUG_VIEW_CASCADES } else { DEBUG_VIEW_NONE },
+            debug_view: if self.request.debug == Some(DebugView::Cascades) {
+                DEBUG_VIEW_CASCADES
+            } else {
+                DEBUG_VIEW_NONE
+            },
             directional_light_count: self.lists.directional.len() as u32,
             shadowed_other_light_count: self.lists.shadowed_other.len() as u32,
             other_light_count: self.other_light_count() as u32,

@@ -4,21 +4,6 @@
 use chiaro_math::bounds::Aabb;
 use chiaro_math::culling::{ClusterGrid, LightLists};
 
-/// One of the frame's AOVs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AovView {
-    /// World position, each axis across the scene's bounds.
-    Position,
-    /// World normal as `n * 0.5 + 0.5`.
-    Normal,
-    /// View depth, logarithmic between the nearest and farthest surface.
-    Depth,
-    /// Baked irradiance from the lightmaps and probes.
-    Lightmap,
-    /// One light's shadow term (index in the scene's lights): white lit, black shadowed.
-    Shadow(usize),
-}
-
 /// Background pixels (no surface) in the AOV views.
 const NO_SURFACE: [u8; 4] = [24, 24, 32, 255];
 

@@ -24,14 +24,13 @@ use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::{Context, Result, anyhow};
 use camera::{CameraRig, Navigation};
-use chiaro_render::{FrameOptions, FrameOutput, GpuContext, PreparedScene, Renderer, View};
+use chiaro_render::{AovView, DebugView, FrameOptions, FrameOutput, GpuContext, PreparedScene, Renderer, View};
 use chiaro_scene::{LightKind, Scene, Settings};
 use clap::Args;
-use debug_images::AovView;
 use glam::Vec3;
 use lights_panel::Selection;
 use loader::Loader;
-use panel::{Debug, FrameSample, PanelState};
+use panel::{FrameSample, PanelState};
 use pick::Picker;
 use present::Compositor;
 use reference::{Disagreement, ReferenceJob};
@@ -64,6 +63,11 @@ const FRAME_FAILED: &str = "frame not rendered";
 /// Fly speed, in scene radii per second (x4 with Shift).
 const FLY_SPEED: f32 = 0.4;
 
+/// `--debug`'s value: a debug view, or none (a newtype, since clap reads a nested
+/// `Option` as an optional value).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DebugArg(pub Option<DebugView>);
+
 #[derive(Args)]
 pub struct ViewArgs {
     /// A .gltf or .glb file; without one, the built-in demo scene.
@@ -93,8 +97,8 @@ pub struct ViewArgs {
     /// light-overdraw, aov-position, aov-normal, aov-depth, aov-lightmap, clusters,
     /// shadow-atlases, reference (compared at once). With --screenshot, cascades and the
     /// G-buffer and overdraw views are written as `chiaro render --debug` writes them.
-    #[arg(long, value_parser = Debug::parse)]
-    pub debug: Option<Debug>,
+    #[arg(long, value_parser = |text: &str| panel::parse_debug(text).map(DebugArg))]
+    pub debug: Option<DebugArg>,
     /// Frames to show before exiting (1 to 100000).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub exit_after_frames: Option<u32>,
@@ -137,8 +141,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let mut loader = Loader::new(args.demo.clone(), args.bake.clone());
     loader.watch(&scene);
     let panel = PanelState {
-        debug: args.debug.unwrap_or_default(),
-        compare_requested: args.debug == Some(Debug::Reference),
+        debug: args.debug.and_then(|d| d.0),
+        compare_requested: args.debug == Some(DebugArg(Some(DebugView::Reference))),
         ..Default::default()
     };
     let mut app = App {
@@ -200,7 +204,7 @@ struct Gpu {
     compositor: Option<Compositor>,
     /// Images a debug view shows in place of the 3D view, and the view they belong to.
     debug_textures: Vec<egui::TextureHandle>,
-    debug_textures_for: Debug,
+    debug_textures_for: Option<DebugView>,
     /// The 3D view's top-left corner in the window, in physical pixels.
     view_origin: [u32; 2],
     /// Where the panel begins (and the window ends below): the view is cut there.
@@ -261,12 +265,12 @@ fn view_texture(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, 
 }
 
 /// What a frame shows in place of the lit 3D view, as images egui draws.
-fn debug_images(debug: Debug, frame: &FrameOutput, scene: &Scene) -> Vec<([usize; 2], Vec<[u8; 4]>)> {
+fn debug_images(debug: Option<DebugView>, frame: &FrameOutput, scene: &Scene) -> Vec<([usize; 2], Vec<[u8; 4]>)> {
     let size = [frame.width as usize, frame.height as usize];
     let aovs = frame.aovs.as_ref();
     let image = |pixels: Vec<[u8; 4]>| vec![(size, pixels)];
     match debug {
-        Debug::Atlases => frame
+        Some(DebugView::ShadowAtlases) => frame
             .shadow_atlases
             .iter()
             .map(|atlas| {
@@ -275,7 +279,7 @@ fn debug_images(debug: Debug, frame: &FrameOutput, scene: &Scene) -> Vec<([usize
                 ([side, side], pixels)
             })
             .collect(),
-        Debug::Aov(aov) => {
+        Some(DebugView::Aov(aov)) => {
             let Some(a) = aovs else { return Vec::new() };
             match aov {
                 AovView::Position => image(debug_images::position_image(&a.position_ws, &scene.bounds())),
@@ -288,7 +292,7 @@ fn debug_images(debug: Debug, frame: &FrameOutput, scene: &Scene) -> Vec<([usize
                 },
             }
         }
-        Debug::Clusters => match (aovs, &frame.plan.culled.grid) {
+        Some(DebugView::Clusters) => match (aovs, &frame.plan.culled.grid) {
             (Some(a), Some(grid)) => {
                 let most = (frame.plan.lights.len() as u32).clamp(1, 32);
                 image(debug_images::cluster_image(grid, &frame.plan.culled.lists, &a.depth, most))
@@ -299,21 +303,9 @@ fn debug_images(debug: Debug, frame: &FrameOutput, scene: &Scene) -> Vec<([usize
     }
 }
 
-fn frame_options(debug: Debug) -> FrameOptions {
-    match debug {
-        Debug::None | Debug::Reference => FrameOptions::default(),
-        Debug::Cascades => FrameOptions { debug_cascades: true, ..Default::default() },
-        Debug::View(v) => FrameOptions { debug_view: Some(v), ..Default::default() },
-        // Reading back waits for the frame: a debug view, not a fast one.
-        Debug::Atlases => FrameOptions { readback: true, read_shadow_atlas: true, ..Default::default() },
-        Debug::Aov(aov) => FrameOptions {
-            aovs: true,
-            shadow_aovs: matches!(aov, AovView::Shadow(_)),
-            readback: true,
-            ..Default::default()
-        },
-        Debug::Clusters => FrameOptions { aovs: true, readback: true, ..Default::default() },
-    }
+/// What the frame renders and reads back for the view shown.
+fn frame_options(debug: Option<DebugView>) -> FrameOptions {
+    debug.map_or_else(FrameOptions::default, DebugView::frame_options)
 }
 
 impl App {
@@ -399,7 +391,7 @@ impl App {
             view_texture_id,
             compositor,
             debug_textures: Vec::new(),
-            debug_textures_for: Debug::None,
+            debug_textures_for: None,
             view_origin: [0, 0],
             view_limit: [w, h],
         })
@@ -508,8 +500,8 @@ impl App {
         let status = format!("{} {}", if loaded.reload { "reloaded" } else { "opened" }, loaded.path.display());
         eprintln!("chiaro: {status}");
         self.panel.status = Some(status);
-        if matches!(self.panel.debug, Debug::Aov(AovView::Shadow(i)) if i >= self.scene.lights.len()) {
-            self.panel.debug = Debug::None;
+        if matches!(self.panel.debug, Some(DebugView::Aov(AovView::Shadow(i))) if i >= self.scene.lights.len()) {
+            self.panel.debug = None;
         }
         let keep_camera = loaded.reload && old.cameras.len() == self.scene.cameras.len();
         self.scene_path = Some(loaded.path);
@@ -624,11 +616,14 @@ impl App {
 }
 
 /// Whether the 3D view itself is shown (else a debug image is, or nothing yet).
-fn shows_view(debug: Debug, has_disagreement: bool) -> bool {
+fn shows_view(debug: Option<DebugView>, has_disagreement: bool) -> bool {
     match debug {
-        Debug::None | Debug::Cascades | Debug::View(_) => true,
-        Debug::Reference => !has_disagreement,
-        Debug::Aov(_) | Debug::Clusters | Debug::Atlases => false,
+        None
+        | Some(DebugView::Cascades | DebugView::GbufferAlbedo | DebugView::GbufferNormal | DebugView::LightOverdraw) => {
+            true
+        }
+        Some(DebugView::Reference) => !has_disagreement,
+        Some(DebugView::Aov(_) | DebugView::Clusters | DebugView::ShadowAtlases) => false,
     }
 }
 
@@ -692,7 +687,7 @@ impl App {
             }
         }
         let show_view = shows_view(debug, self.disagreement.is_some());
-        if debug == Debug::Reference
+        if debug == Some(DebugView::Reference)
             && gpu.debug_textures.is_empty()
             && let Some(d) = &self.disagreement
         {
@@ -771,9 +766,9 @@ impl App {
     }
 
     /// What the frame tells the panel, and the debug view's images.
-    fn take_frame(&mut self, gpu: &mut Gpu, debug: Debug, frame: &FrameOutput) -> Result<()> {
+    fn take_frame(&mut self, gpu: &mut Gpu, debug: Option<DebugView>, frame: &FrameOutput) -> Result<()> {
         let images = debug_images(debug, frame, &self.scene);
-        if !matches!(debug, Debug::Reference) {
+        if !matches!(debug, Some(DebugView::Reference)) {
             gpu.debug_textures = images
                 .into_iter()
                 .enumerate()
@@ -843,7 +838,7 @@ impl App {
                         });
                         ui.heading("View");
                         panel::debug_panel(ui, &mut self.panel, self.scene.lights.len(), comparing);
-                        if stale && debug == Debug::Reference {
+                        if stale && debug == Some(DebugView::Reference) {
                             ui.colored_label(egui::Color32::YELLOW, "the camera moved since: compare again");
                         }
                         ui.separator();
@@ -885,7 +880,7 @@ impl App {
                 ui.horizontal(|ui| {
                     for &(id, size) in &textures {
                         // Atlases side by side; any other image at the view's size.
-                        let shown = if debug == Debug::Atlases {
+                        let shown = if debug == Some(DebugView::ShadowAtlases) {
                             let side = (view_size.x / 2.0).min(view_size.y);
                             egui::vec2(side, side)
                         } else {
@@ -896,8 +891,8 @@ impl App {
                 });
                 if textures.is_empty() {
                     ui.label(match debug {
-                        Debug::Atlases => "No light casts a shadow.",
-                        Debug::Clusters => "No clusters: lights.culling is not clustered on this path.",
+                        Some(DebugView::ShadowAtlases) => "No light casts a shadow.",
+                        Some(DebugView::Clusters) => "No clusters: lights.culling is not clustered on this path.",
                         _ => "Nothing to show yet.",
                     });
                 }
@@ -966,7 +961,7 @@ impl App {
         let gpu = self.gpu.as_mut().ok_or_else(|| anyhow!("no frame was rendered"))?;
         // The debug views `chiaro render --debug` also has are written as it writes them.
         let options = match self.panel.debug {
-            d @ (Debug::Cascades | Debug::View(_)) => frame_options(d),
+            Some(d) if d == DebugView::Cascades || d.is_deferred() => d.frame_options(),
             _ => FrameOptions::default(),
         };
         let options = FrameOptions { readback: true, ..options };

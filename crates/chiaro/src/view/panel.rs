@@ -2,94 +2,26 @@
 //! list (lights_panel), the debug views, and the frame's timings with a small graph.
 
 use super::camera::Navigation;
-use super::debug_images::AovView;
 use super::lights_panel::LightsState;
 use chiaro_render::{DebugView, GpuFrameTimes};
 use std::collections::VecDeque;
 
-/// What the 3D view shows instead of the lit image.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Debug {
-    #[default]
-    None,
-    /// Tint by cascade (forward path).
-    Cascades,
-    /// A deferred-path view.
-    View(DebugView),
-    /// An AOV, read back and coloured on the CPU.
-    Aov(AovView),
-    /// Lights per cluster of the clustered forward path, as a heat map.
-    Clusters,
-    /// Both shadow atlases, side by side.
-    Atlases,
-    /// False and missed shadows against the ray-traced reference, on demand.
-    Reference,
+/// The name of the 3D view's debug view in the panel ("none" for the lit image).
+pub fn debug_label(debug: Option<DebugView>) -> String {
+    debug.map_or_else(|| "none".into(), DebugView::label)
 }
 
-impl Debug {
-    pub fn name(self) -> String {
-        match self {
-            Debug::None => "none".into(),
-            Debug::Cascades => "cascades".into(),
-            Debug::View(DebugView::GbufferAlbedo) => "gbuffer-albedo".into(),
-            Debug::View(DebugView::GbufferNormal) => "gbuffer-normal".into(),
-            Debug::View(DebugView::LightOverdraw) => "light-overdraw".into(),
-            Debug::Aov(AovView::Position) => "aov position".into(),
-            Debug::Aov(AovView::Normal) => "aov normal".into(),
-            Debug::Aov(AovView::Depth) => "aov depth".into(),
-            Debug::Aov(AovView::Lightmap) => "aov lightmap".into(),
-            Debug::Aov(AovView::Shadow(i)) => format!("aov shadow of light {i}"),
-            Debug::Clusters => "clusters".into(),
-            Debug::Atlases => "shadow atlases".into(),
-            Debug::Reference => "disagreement with the reference".into(),
-        }
+/// Parses the viewer's `--debug`: a debug view's name, or `none`.
+pub fn parse_debug(text: &str) -> Result<Option<DebugView>, String> {
+    if text == "none" {
+        return Ok(None);
     }
+    DebugView::parse(text).map(Some).map_err(|e| e.replace("(one of: ", "(one of: none, "))
+}
 
-    /// The name `--debug` takes (none for the per-light shadow AOVs).
-    pub fn cli_name(self) -> Option<&'static str> {
-        Some(match self {
-            Debug::None => "none",
-            Debug::Cascades => "cascades",
-            Debug::View(DebugView::GbufferAlbedo) => "gbuffer-albedo",
-            Debug::View(DebugView::GbufferNormal) => "gbuffer-normal",
-            Debug::View(DebugView::LightOverdraw) => "light-overdraw",
-            Debug::Aov(AovView::Position) => "aov-position",
-            Debug::Aov(AovView::Normal) => "aov-normal",
-            Debug::Aov(AovView::Depth) => "aov-depth",
-            Debug::Aov(AovView::Lightmap) => "aov-lightmap",
-            Debug::Aov(AovView::Shadow(_)) => return None,
-            Debug::Clusters => "clusters",
-            Debug::Atlases => "shadow-atlases",
-            Debug::Reference => "reference",
-        })
-    }
-
-    /// Parses `--debug`'s value.
-    pub fn parse(text: &str) -> Result<Debug, String> {
-        let views = Debug::all(0);
-        views.iter().copied().find(|d| d.cli_name() == Some(text)).ok_or_else(|| {
-            let names: Vec<&str> = views.iter().filter_map(|d| d.cli_name()).collect();
-            format!("'{text}' is not a debug view (one of: {})", names.join(", "))
-        })
-    }
-
-    /// Every view, with one shadow AOV per light.
-    pub fn all(lights: usize) -> Vec<Debug> {
-        let mut views = vec![
-            Debug::None,
-            Debug::Cascades,
-            Debug::View(DebugView::GbufferAlbedo),
-            Debug::View(DebugView::GbufferNormal),
-            Debug::View(DebugView::LightOverdraw),
-            Debug::Aov(AovView::Position),
-            Debug::Aov(AovView::Normal),
-            Debug::Aov(AovView::Depth),
-            Debug::Aov(AovView::Lightmap),
-        ];
-        views.extend((0..lights).map(|i| Debug::Aov(AovView::Shadow(i))));
-        views.extend([Debug::Clusters, Debug::Atlases, Debug::Reference]);
-        views
-    }
+/// The panel's choices: none, then every view, with one shadow AOV per light.
+pub fn debug_choices(lights: usize) -> Vec<Option<DebugView>> {
+    std::iter::once(None).chain(DebugView::all(lights).into_iter().map(Some)).collect()
 }
 
 #[cfg(test)]
@@ -98,12 +30,12 @@ mod tests {
 
     #[test]
     fn debug_views_parse_from_their_names() {
-        for d in Debug::all(0) {
-            let name = d.cli_name().expect("named");
-            assert_eq!(Debug::parse(name), Ok(d));
+        assert_eq!(parse_debug("none"), Ok(None));
+        for d in DebugView::all(0) {
+            assert_eq!(parse_debug(d.cli_name().expect("named")), Ok(Some(d)));
         }
-        let error = Debug::parse("wireframe").unwrap_err();
-        assert!(error.contains("'wireframe'") && error.contains("cascades, "), "{error}");
+        let error = parse_debug("wireframe").unwrap_err();
+        assert!(error.contains("'wireframe'") && error.contains("none, cascades, "), "{error}");
     }
 }
 
@@ -122,7 +54,7 @@ pub struct FrameSample {
 /// What the panel shows besides the settings.
 #[derive(Default)]
 pub struct PanelState {
-    pub debug: Debug,
+    pub debug: Option<DebugView>,
     pub navigation: Navigation,
     pub lights: LightsState,
     /// "Save settings" was pressed this frame.
@@ -209,12 +141,12 @@ pub fn open_panel(ui: &mut egui::Ui, state: &mut PanelState, loading: Option<&st
 
 /// The debug view choice and the reference comparison.
 pub fn debug_panel(ui: &mut egui::Ui, state: &mut PanelState, lights: usize, comparing: bool) {
-    egui::ComboBox::from_label("debug view").selected_text(state.debug.name()).show_ui(ui, |ui| {
-        for d in Debug::all(lights) {
-            ui.selectable_value(&mut state.debug, d, d.name());
+    egui::ComboBox::from_label("debug view").selected_text(debug_label(state.debug)).show_ui(ui, |ui| {
+        for d in debug_choices(lights) {
+            ui.selectable_value(&mut state.debug, d, debug_label(d));
         }
     });
-    if state.debug == Debug::Reference {
+    if state.debug == Some(DebugView::Reference) {
         ui.horizontal(|ui| {
             if ui.add_enabled(!comparing, egui::Button::new("compare with the reference")).clicked() {
                 state.compare_requested = true;
