@@ -1,10 +1,21 @@
 //! Composes the WESL shader sources (real `import`s between files) into one WGSL string
-//! per pass at build time; `shaders::*` includes the results. The constants the shaders
-//! share with Rust come from `src/shader_constants.rs` through WESL's `constants` module.
+//! per artifact at build time; the passes include the results (`wgsl!`). The artifacts
+//! are those the pass list (`src/passes/list.rs`) names; the constants the shaders share
+//! with Rust come from `src/shader_constants.rs` through WESL's `constants` module.
 
 #[path = "src/shader_constants.rs"]
 #[allow(dead_code)]
 mod shader_constants;
+
+include!("src/passes/list.rs");
+
+macro_rules! artifacts {
+    ($($module:ident: $ty:ident [$($artifact:literal),*],)*) => {
+        &[$($($artifact,)*)*]
+    };
+}
+
+const ARTIFACTS: &[&str] = frame_passes!(artifacts);
 
 fn main() {
     let mut compiler = wesl::Wesl::new("shaders");
@@ -14,18 +25,15 @@ fn main() {
     for &(name, value) in shader_constants::F32_CONSTANTS {
         compiler.add_constant(name, value.into());
     }
-    for (root, artifact) in [
-        ("package::forward", "forward"),
-        ("package::aov", "aov"),
-        ("package::shadow_aov", "shadow_aov"),
-        ("package::tonemap", "tonemap"),
-        ("package::shadow_caster", "shadow_caster"),
-        ("package::gbuffer", "gbuffer"),
-        ("package::deferred_light", "deferred_light"),
-        ("package::debug_view", "debug_view"),
-        ("package::ldr_decode", "ldr_decode"),
-    ] {
+    let mut done: Vec<&str> = Vec::new();
+    for &artifact in ARTIFACTS {
+        if done.contains(&artifact) {
+            continue;
+        }
+        done.push(artifact);
+        let root = format!("package::{artifact}");
         compiler.build_artifact(&root.parse().expect("module path"), artifact);
     }
     println!("cargo::rerun-if-changed=src/shader_constants.rs");
+    println!("cargo::rerun-if-changed=src/passes/list.rs");
 }

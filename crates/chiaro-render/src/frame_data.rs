@@ -8,7 +8,8 @@
 //! atlases flows out.
 
 use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuListRecord, GpuShadows};
-use crate::graph::{Resource, Targets};
+use crate::graph::Targets;
+use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::plan::FramePlan;
 use crate::scene::GpuScene;
 use crate::shader_constants::{MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS};
@@ -206,9 +207,9 @@ impl FrameData {
                 wgpu::BindGroupEntry { binding: 2, resource: self.light_list.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 3, resource: scene.objects.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 4, resource: self.shadows.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 5, resource: view(Resource::DirectionalShadowAtlas) },
+                wgpu::BindGroupEntry { binding: 5, resource: view(DIRECTIONAL_ATLAS) },
                 wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
-                wgpu::BindGroupEntry { binding: 7, resource: view(Resource::OtherShadowAtlas) },
+                wgpu::BindGroupEntry { binding: 7, resource: view(OTHER_ATLAS) },
                 wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&scene.cookies.flat) },
                 wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&scene.cookies.cube) },
                 wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::Sampler(&self.cookie_repeat) },

@@ -21,7 +21,11 @@ pub mod renderer;
 pub mod scene;
 pub mod shader_constants;
 pub mod shaders;
+mod unpack;
 pub mod view;
+
+/// The wgpu this crate renders with, for callers that lend it textures.
+pub use wgpu;
 
 pub use context::GpuContext;
 pub use debug_view::{AovView, DebugView};

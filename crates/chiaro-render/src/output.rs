@@ -2,6 +2,7 @@
 //! each light's shadow status, and the frame's timings.
 
 use crate::debug_view::DebugView;
+use crate::graph::{FrameGraph, Target};
 use crate::plan::FramePlan;
 use crate::plan::lights::LightId;
 use crate::plan::shadows::ShadowSlot;
@@ -102,8 +103,13 @@ pub struct FrameOutput {
     /// Shadow tiles rendered and caster draws issued into them.
     pub shadow_tiles: usize,
     pub shadow_caster_draws: usize,
+    /// Exported targets read back that have no field above (a new pass's output), as
+    /// tightly packed texels, layer after layer.
+    pub images: std::collections::BTreeMap<Target, Vec<u8>>,
     /// What the frame did.
     pub plan: FramePlan,
+    /// The passes that ran, in order, and the targets they used.
+    pub graph: FrameGraph,
 }
 
 impl FrameOutput {

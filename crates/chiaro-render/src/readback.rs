@@ -11,19 +11,20 @@ pub struct PendingCopy {
     padded_row: u32,
 }
 
-/// Records a copy of the whole of `texture` (`bytes_per_pixel` each) into `encoder`.
+/// Records a copy of the whole of `texture` (`bytes_per_pixel` each, every layer) into
+/// `encoder`.
 pub fn copy_texture(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
     texture: &wgpu::Texture,
     bytes_per_pixel: u32,
 ) -> PendingCopy {
-    let (width, height) = (texture.width(), texture.height());
+    let (width, height, layers) = (texture.width(), texture.height(), texture.depth_or_array_layers());
     let unpadded_row = width * bytes_per_pixel;
     let padded_row = unpadded_row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
-        size: padded_row as u64 * height as u64,
+        size: padded_row as u64 * height as u64 * layers as u64,
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
@@ -42,7 +43,8 @@ pub fn copy_texture(
     PendingCopy { buffer, unpadded_row, padded_row }
 }
 
-/// Waits once for the submitted copies and returns each one's tightly packed rows.
+/// Waits once for the submitted copies and returns each one's tightly packed rows (layer
+/// after layer).
 pub fn finish_copies(ctx: &GpuContext, copies: Vec<PendingCopy>) -> Result<Vec<Vec<u8>>, RenderError> {
     let receivers: Vec<_> = copies
         .iter()

@@ -5,32 +5,23 @@
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::frame_data::FrameData;
+use crate::graph::target::ATTACHMENT_COPY;
 use crate::graph::{
-    FramePass, GpuTimer, PassContext, PassStats, PrepareContext, Resource, TargetDesc, Targets, check_order,
+    FrameGraph, FramePass, GpuTimer, OUTPUT, PassContext, PassInit, PassStats, PrepareContext, Target, TargetDesc,
+    Targets,
 };
-use crate::output::{Aovs, AtlasImage, FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, f16_to_f32};
-use crate::passes::aov::{AOV_FORMAT, AovPass};
-use crate::passes::debug_view::DebugViewPass;
-use crate::passes::deferred_lights::DeferredLightsPass;
-use crate::passes::depth_prepass::DepthPrepassPass;
-use crate::passes::forward::{ForwardPass, HDR_FORMAT};
-use crate::passes::gbuffer::{
-    GBUFFER_ALBEDO_METALLIC_FORMAT, GBUFFER_PACKED_FORMAT, GBufferPass, LIGHT_BUFFER_LDR_FORMAT,
-};
-use crate::passes::ldr_decode::LdrDecodePass;
-use crate::passes::shadow_aov::{SHADOW_AOV_FORMAT, ShadowAovPass};
-use crate::passes::shadows::{SHADOW_FORMAT, ShadowPass};
-use crate::passes::tonemap::TonemapPass;
-use crate::plan::lights::LightId;
-use crate::plan::shadows::ShadowAtlasTiles;
-use crate::plan::{FramePlan, PassId, PlanRequest};
-use crate::readback::{PendingCopy, copy_texture, finish_copies};
+use crate::output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes};
+use crate::passes::forward::HDR;
+use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
+use crate::plan::shadows::{ShadowAtlas, ShadowAtlasTiles};
+use crate::plan::{FramePlan, PlanRequest};
+use crate::readback::{copy_texture, finish_copies};
 use crate::scene::{GpuScene, material_layout};
-use crate::shader_constants::{MAX_UNIFORM_LIGHTS, NO_LIGHT};
+use crate::unpack::unpack_images;
 use crate::view::View;
 use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::{Scene, Settings};
-use std::collections::{HashSet, VecDeque};
+use std::collections::VecDeque;
 use std::time::Instant;
 
 /// The tone-mapped image of offscreen frames.
@@ -49,9 +40,9 @@ pub struct Renderer {
     pub ctx: GpuContext,
     frame_data: FrameData,
     material_layout: wgpu::BindGroupLayout,
-    /// Every pass of the frame graph; the plan says which run and in what order.
+    /// Every pass of `passes::DECLARATIONS`, in the same order; the frame graph says which
+    /// run, and when.
     passes: Vec<Box<dyn FramePass>>,
-    shadow_aov: ShadowAovPass,
     targets: Targets,
     timer: Option<GpuTimer>,
     atlas_tiles: ShadowAtlasTiles,
@@ -65,32 +56,19 @@ impl Renderer {
         let device = &ctx.device;
         let frame_data = FrameData::new(device);
         let material_layout = material_layout(device);
-        let scene_layout = || {
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("scene pipeline layout"),
-                bind_group_layouts: &[Some(&frame_data.layout), Some(&material_layout)],
-                immediate_size: 0,
-            })
-        };
-        let passes: Vec<Box<dyn FramePass>> = vec![
-            Box::new(ShadowPass::new(&ctx, &material_layout)),
-            Box::new(DepthPrepassPass::new(device, scene_layout(), ctx.depth_format)),
-            Box::new(ForwardPass::new(device, scene_layout(), ctx.depth_format)),
-            Box::new(AovPass::new(device, &scene_layout(), ctx.depth_format)),
-            Box::new(TonemapPass::new(device)),
-            Box::new(GBufferPass::new(device, &scene_layout(), ctx.depth_format)),
-            Box::new(DeferredLightsPass::new(device, &frame_data.layout, ctx.depth_format)),
-            Box::new(LdrDecodePass::new(device)),
-            Box::new(DebugViewPass::new(device)),
-        ];
-        let shadow_aov = ShadowAovPass::new(device, &frame_data.layout, &material_layout, ctx.depth_format);
+        let passes = crate::passes::make_all(&PassInit {
+            ctx: &ctx,
+            device,
+            frame_layout: &frame_data.layout,
+            material_layout: &material_layout,
+            depth_format: ctx.depth_format,
+        });
         let timer = ctx.has_timestamps.then(|| GpuTimer::new(device, &ctx.queue));
         ctx.take_error()?;
         Ok(Renderer {
             frame_data,
             material_layout,
             passes,
-            shadow_aov,
             targets: Targets::default(),
             timer,
             atlas_tiles: ShadowAtlasTiles::default(),
@@ -108,9 +86,9 @@ impl Renderer {
         Ok(PreparedScene { gpu })
     }
 
-    /// The plan of the next frame, as `render` would make it (its shadow tiles are
-    /// allocated, so the next frame keeps them).
-    pub fn plan(
+    /// The plan of the next frame (its shadow tiles are allocated and its redraws
+    /// remembered: the frame must then be rendered).
+    fn plan(
         &mut self,
         scene: &Scene,
         prepared: &PreparedScene,
@@ -176,61 +154,7 @@ impl Renderer {
             if self.gpu_times.len() == MAX_KEPT_GPU_TIMES {
                 self.gpu_times.pop_front();
             }
-            self.gpu_times.push_back(GpuFrameTimes {
-                frame,
-                passes: passes.into_iter().map(|(pass, ms)| (pass.name(), ms)).collect(),
-            });
-        }
-    }
-
-    fn pass_mut(passes: &mut [Box<dyn FramePass>], id: PassId) -> &mut Box<dyn FramePass> {
-        passes.iter_mut().find(|p| p.id() == id).unwrap_or_else(|| panic!("no {} pass registered", id.name()))
-    }
-
-    /// Makes every target the frame writes, sized for the view and the plan's atlases.
-    fn ensure_targets(&mut self, plan: &FramePlan, written: &HashSet<Resource>, external_output: bool) {
-        let device = &self.ctx.device;
-        let (width, height) = (plan.view.width, plan.view.height);
-        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let sampled = wgpu::TextureUsages::TEXTURE_BINDING;
-        for (resource, size) in [
-            (Resource::DirectionalShadowAtlas, plan.shadows.directional_atlas_size),
-            (Resource::OtherShadowAtlas, plan.shadows.other_atlas_size),
-        ] {
-            // An atlas no light uses this frame keeps its texture (1 texel until first used).
-            if size > 0 || self.targets.texture(resource).is_none() {
-                let desc = TargetDesc {
-                    width: size.max(1),
-                    height: size.max(1),
-                    format: SHADOW_FORMAT,
-                    usage: attach | sampled,
-                    samples: 1,
-                };
-                self.targets.ensure(device, resource, desc);
-            }
-        }
-        for &resource in written {
-            let mut samples = 1;
-            let (format, usage) = match resource {
-                Resource::Depth => (self.ctx.depth_format, wgpu::TextureUsages::RENDER_ATTACHMENT),
-                Resource::DepthMultisampled => {
-                    samples = plan.msaa;
-                    (self.ctx.depth_format, wgpu::TextureUsages::RENDER_ATTACHMENT)
-                }
-                Resource::HdrMultisampled => {
-                    samples = plan.msaa;
-                    (HDR_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT)
-                }
-                Resource::Hdr => (HDR_FORMAT, attach | sampled),
-                Resource::GBufferAlbedoMetallic => (GBUFFER_ALBEDO_METALLIC_FORMAT, attach | sampled),
-                Resource::GBufferPacked => (GBUFFER_PACKED_FORMAT, attach | sampled),
-                Resource::LightBufferLdr => (LIGHT_BUFFER_LDR_FORMAT, attach | sampled),
-                Resource::AovPosition | Resource::AovNormalDepth | Resource::AovBaked => (AOV_FORMAT, attach),
-                Resource::AovShadow => (SHADOW_AOV_FORMAT, attach),
-                Resource::Output if !external_output => (OUTPUT_FORMAT, attach),
-                _ => continue,
-            };
-            self.targets.ensure(device, resource, TargetDesc { width, height, format, usage, samples });
+            self.gpu_times.push_back(GpuFrameTimes { frame, passes });
         }
     }
 
@@ -261,15 +185,10 @@ impl Renderer {
             .check_msaa(plan.msaa)
             .map_err(|e| RenderError::Unsupported(format!("render.msaa = {}: {e}", plan.msaa)))?;
 
-        let mut order = Vec::with_capacity(plan.passes.len() + 1);
-        for &id in &plan.passes {
-            order.push((id, Self::pass_mut(&mut self.passes, id).io(&plan)));
-        }
-        if options.shadow_aovs {
-            order.push((PassId::ShadowAov, ShadowAovPass::io()));
-        }
-        let written = check_order(&order)?;
-        self.ensure_targets(&plan, &written, output.is_some());
+        let graph = FrameGraph::compile(crate::passes::DECLARATIONS, &plan, self.ctx.depth_format)?;
+        tracing::debug!("{graph}");
+        let owned_output = output.is_none().then(|| TargetDesc::view_sized(OUTPUT_FORMAT, ATTACHMENT_COPY));
+        self.targets.ensure_for(&self.ctx.device, &graph, (view.width, view.height), owned_output);
         self.targets.set_external_output(output.map(|(view, _)| view.clone()));
         let output_format = output.map_or(OUTPUT_FORMAT, |(_, format)| format);
 
@@ -277,15 +196,15 @@ impl Renderer {
         self.frame_data.upload(device, queue, &plan, scene, settings);
         let frame_bind_group = self.frame_data.bind_group(device, &prepared.gpu, &self.targets);
         let prepare = PrepareContext { device, queue, plan: &plan, scene: &prepared.gpu, source: scene, output_format };
-        for &id in &plan.passes {
-            Self::pass_mut(&mut self.passes, id).prepare(&prepare);
+        for &i in &graph.order {
+            self.passes[i].prepare(&prepare);
         }
 
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let mut stats = PassStats::default();
-        for &id in &plan.passes {
-            let pass = self.passes.iter().find(|p| p.id() == id).expect("registered");
-            encoder.push_debug_group(id.name());
+        for (&i, &name) in graph.order.iter().zip(&graph.passes) {
+            let _span = tracing::debug_span!("pass", name).entered();
+            encoder.push_debug_group(name);
             let mut cx = PassContext {
                 device,
                 encoder: &mut encoder,
@@ -294,10 +213,10 @@ impl Renderer {
                 scene: &prepared.gpu,
                 frame_bind_group: &frame_bind_group,
                 targets: &self.targets,
-                timestamps: self.timer.as_mut().and_then(|t| t.pass(id)),
+                timestamps: self.timer.as_mut().and_then(|t| t.pass(name)),
                 stats: &mut stats,
             };
-            pass.record(&mut cx);
+            self.passes[i].record(&mut cx);
             encoder.pop_debug_group();
         }
         if let Some(timer) = &mut self.timer {
@@ -305,42 +224,14 @@ impl Renderer {
         }
 
         // Read-backs ride in the frame's own submission.
-        let mut copies = Vec::new();
-        let mut wanted = Vec::new();
-        if options.readback {
-            for (resource, bytes_per_pixel) in [
-                (Resource::Hdr, 8),
-                (Resource::Output, 4),
-                (Resource::AovPosition, 16),
-                (Resource::AovNormalDepth, 16),
-                (Resource::AovBaked, 16),
-            ] {
-                if written.contains(&resource)
-                    && let Some(texture) = self.targets.texture(resource)
-                {
-                    copies.push(copy_texture(device, &mut encoder, texture, bytes_per_pixel));
-                    wanted.push(resource);
-                }
-            }
-        }
-        let mut atlases = Vec::new();
-        if options.read_shadow_atlas {
-            for (name, resource, size) in [
-                ("directional", Resource::DirectionalShadowAtlas, plan.shadows.directional_atlas_size),
-                ("other", Resource::OtherShadowAtlas, plan.shadows.other_atlas_size),
-            ] {
-                if size > 0 {
-                    let texture = self.targets.texture(resource).expect("atlases are the renderer's");
-                    copies.push(copy_texture(device, &mut encoder, texture, 4));
-                    atlases.push((name, size));
-                }
-            }
-        }
-        let shadow_copies = if options.shadow_aovs {
-            self.record_shadow_aovs(scene, prepared, &plan, settings, &frame_bind_group, &mut encoder)
-        } else {
-            Vec::new()
-        };
+        let read = read_backs(&graph, &plan, options);
+        let copies = read
+            .iter()
+            .filter_map(|&(target, bytes_per_pixel)| {
+                let texture = self.targets.texture(target)?;
+                Some((target, copy_texture(device, &mut encoder, texture, bytes_per_pixel)))
+            })
+            .collect::<Vec<_>>();
         let cpu_prepare_ms = start.elapsed().as_secs_f64() * 1e3;
 
         self.throttle()?;
@@ -362,29 +253,17 @@ impl Renderer {
             shadow_atlases: Vec::new(),
             shadow_tiles: stats.shadow_tiles_rendered,
             shadow_caster_draws: stats.shadow_caster_draws,
+            images: Default::default(),
             plan,
+            graph,
         };
         if options.reads_back() {
-            let shadow_count = shadow_copies.len();
-            let mut bytes = finish_copies(&self.ctx, copies.into_iter().chain(shadow_copies).collect())?;
+            let (targets, copies): (Vec<Target>, Vec<_>) = copies.into_iter().unzip();
+            let bytes = finish_copies(&self.ctx, copies)?;
             self.in_flight.clear();
             timings.wall_ms = Some(start.elapsed().as_secs_f64() * 1e3);
-            let shadow_bytes = bytes.split_off(bytes.len() - shadow_count);
-            let atlas_bytes = bytes.split_off(bytes.len() - atlases.len());
             let exposure = exposure_scale(settings.render.exposure_ev100);
-            unpack_images(&mut out, &wanted, bytes, exposure);
-            out.shadow_atlases = atlases
-                .into_iter()
-                .zip(atlas_bytes)
-                .map(|((name, size), b)| AtlasImage { name, size, depths: bytemuck::cast_slice(&b).to_vec() })
-                .collect();
-            out.shadow_aovs = shadow_bytes
-                .iter()
-                .map(|b| {
-                    let pairs: &[[f32; 2]] = bytemuck::cast_slice(b);
-                    pairs.iter().map(|p| if p[1] > 0.5 { p[0] } else { f32::NAN }).collect()
-                })
-                .collect();
+            unpack_images(&mut out, targets.into_iter().zip(bytes).collect(), exposure);
             self.collect_gpu_times();
             if let Some(k) = self.gpu_times.iter().position(|t| t.frame == frame) {
                 timings.gpu_pass_ms = self.gpu_times.remove(k).expect("found").passes;
@@ -410,91 +289,32 @@ impl Renderer {
         }
         Ok(())
     }
-
-    /// One shadow AOV pass per scene light, each followed by a copy of its result.
-    fn record_shadow_aovs(
-        &mut self,
-        scene: &Scene,
-        prepared: &PreparedScene,
-        plan: &FramePlan,
-        settings: &Settings,
-        frame_bind_group: &wgpu::BindGroup,
-        encoder: &mut wgpu::CommandEncoder,
-    ) -> Vec<PendingCopy> {
-        let (device, queue) = (&self.ctx.device, &self.ctx.queue);
-        // Lights past the uniform light buffer cannot be reported.
-        let light_indices: Vec<u32> = (0..scene.lights.len())
-            .map(|i| {
-                plan.light_index(LightId(i as u32))
-                    .filter(|&k| k < MAX_UNIFORM_LIGHTS as usize)
-                    .map_or(NO_LIGHT, |k| k as u32)
-            })
-            .collect();
-        self.shadow_aov.prepare(device, queue, plan, &prepared.gpu, &light_indices);
-        let texture = self.targets.texture(Resource::AovShadow).expect("made for shadow AOVs");
-        let mut stats = PassStats::default();
-        (0..light_indices.len())
-            .map(|k| {
-                let mut cx = PassContext {
-                    device,
-                    encoder,
-                    plan,
-                    settings,
-                    scene: &prepared.gpu,
-                    frame_bind_group,
-                    targets: &self.targets,
-                    timestamps: None,
-                    stats: &mut stats,
-                };
-                self.shadow_aov.record(&mut cx, k);
-                copy_texture(device, encoder, texture, 8)
-            })
-            .collect()
-    }
 }
 
-/// Fills the output's images from the read-back bytes of `resources`, in order.
-fn unpack_images(out: &mut FrameOutput, resources: &[Resource], bytes: Vec<Vec<u8>>, exposure: f32) {
-    let mut position = None;
-    let mut normal = None;
-    let mut baked = None;
-    for (resource, b) in resources.iter().zip(bytes) {
-        match resource {
-            Resource::Hdr => {
-                let halves: &[u16] = bytemuck::cast_slice(&b);
-                out.hdr = halves
-                    .chunks_exact(4)
-                    .map(|p| {
-                        let c = [p[0], p[1], p[2], p[3]].map(f16_to_f32);
-                        [c[0] / exposure, c[1] / exposure, c[2] / exposure, c[3]]
-                    })
-                    .collect();
-            }
-            Resource::Output => out.ldr = b,
-            Resource::AovPosition => position = Some(b),
-            Resource::AovNormalDepth => normal = Some(b),
-            Resource::AovBaked => baked = Some(b),
-            _ => {}
+/// The targets a frame reads back, with their bytes per texel: with `readback`, the HDR
+/// image and the output (when the renderer owns it) and the exports; the shadow AOVs when
+/// asked for; the atlases in use when asked for.
+fn read_backs(graph: &FrameGraph, plan: &FramePlan, options: FrameOptions) -> Vec<(Target, u32)> {
+    let texel = |target: &Target| {
+        let (desc, _) = graph.targets[target];
+        desc.format.block_copy_size(None).expect("a colour or depth format")
+    };
+    let mut read = Vec::new();
+    if options.readback {
+        if graph.has(HDR) {
+            read.push((HDR, texel(&HDR)));
         }
+        read.push((OUTPUT, OUTPUT_FORMAT.block_copy_size(None).expect("colour")));
     }
-    if let (Some(position), Some(normal), Some(baked)) = (position, normal, baked) {
-        let position: &[[f32; 4]] = bytemuck::cast_slice(&position);
-        let normal: &[[f32; 4]] = bytemuck::cast_slice(&normal);
-        let baked: &[[f32; 4]] = bytemuck::cast_slice(&baked);
-        let mut a = Aovs::default();
-        for ((p, n), e) in position.iter().zip(normal).zip(baked) {
-            if p[3] > 0.5 {
-                a.position_ws.push([p[0], p[1], p[2]]);
-                a.normal_ws.push([n[0], n[1], n[2]]);
-                a.depth.push(n[3]);
-                a.baked_irradiance.push([e[0], e[1], e[2]]);
-            } else {
-                a.position_ws.push([f32::NAN; 3]);
-                a.normal_ws.push([f32::NAN; 3]);
-                a.depth.push(f32::INFINITY);
-                a.baked_irradiance.push([0.0; 3]);
+    if options.reads_back() {
+        read.extend(graph.exports.iter().map(|t| (*t, texel(t))));
+    }
+    if options.read_shadow_atlas {
+        for (atlas, target) in [(ShadowAtlas::Directional, DIRECTIONAL_ATLAS), (ShadowAtlas::Other, OTHER_ATLAS)] {
+            if plan.shadows.atlas_size(atlas) > 0 {
+                read.push((target, texel(&target)));
             }
         }
-        out.aovs = Some(a);
     }
+    read
 }

@@ -47,7 +47,7 @@ fn render_path(scene: &Scene, view: &View, settings: &Settings, path: RenderPath
 fn assert_paths_agree(name: &str, scene: &Scene, view: &View, settings: &Settings) -> f64 {
     let forward = render_path(scene, view, settings, RenderPath::Forward);
     let deferred = render_path(scene, view, settings, RenderPath::Deferred);
-    assert!(deferred.plan.passes.iter().any(|p| p.name() == "deferred lights"), "{name}: not deferred");
+    assert!(deferred.graph.passes.contains(&"deferred lights"), "{name}: not deferred");
     let lit = forward.hdr.iter().filter(|p| p[0].max(p[1]).max(p[2]) > BLACK).count();
     assert!(lit * 100 > forward.hdr.len(), "{name}: only {lit} pixels lit");
     let (within, worst) = agreement(&forward, &deferred, 0.02);

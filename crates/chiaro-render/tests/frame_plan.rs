@@ -3,10 +3,11 @@
 //! tiles stay with their lights from frame to frame, and casters are culled per tile.
 
 use chiaro_render::View;
+use chiaro_render::graph::FrameGraph;
 use chiaro_render::plan::draws::{Draw, GeometryLayout, scene_draws};
 use chiaro_render::plan::lights::LightId;
 use chiaro_render::plan::shadows::{ShadowAtlasTiles, ShadowSlot};
-use chiaro_render::plan::{FramePlan, PassId, PlanRequest};
+use chiaro_render::plan::{FramePlan, PlanRequest};
 use chiaro_render::shader_constants::{SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE, SHADOW_SLOT_REALTIME};
 use chiaro_scene::demo::demo_scene;
 use chiaro_scene::test_scenes::{add_box, floor_scene, point_light, unlit_settings};
@@ -30,6 +31,17 @@ fn first_plan(scene: &Scene, request: PlanRequest) -> FramePlan {
 fn first_plan_with(scene: &Scene, settings: &Settings, request: PlanRequest) -> FramePlan {
     let view = View::from_camera(scene, 0, 64, 64);
     FramePlan::new(scene, &draws(scene), &view, settings, &mut ShadowAtlasTiles::default(), request)
+}
+
+/// The frame graph of `plan`, compiled without a device.
+fn graph(plan: &FramePlan) -> FrameGraph {
+    let depth = chiaro_render::wgpu::TextureFormat::Depth32FloatStencil8;
+    FrameGraph::compile(chiaro_render::passes::DECLARATIONS, plan, depth).expect("a valid graph")
+}
+
+/// The passes the frame graph runs for `plan`, in order.
+fn passes(plan: &FramePlan) -> Vec<&'static str> {
+    graph(plan).passes
 }
 
 fn slot_of(plan: &FramePlan, light: usize) -> ShadowSlot {
@@ -80,12 +92,12 @@ fn the_demo_plans_lists_with_shadowed_lights_apart() {
     assert_eq!((frame.directional_light_count, frame.shadowed_other_light_count, frame.other_light_count), (1, 6, 8));
     // Sixteen point/spot tiles and four cascades: every tile has a light and a viewport.
     assert_eq!(plan.shadows.tiles.len(), 4 + 16);
-    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::DepthPrepass, PassId::Forward, PassId::Tonemap]);
+    assert_eq!(passes(&plan), vec!["shadows", "depth prepass", "forward", "tonemap"]);
     let printed = plan.to_string();
-    assert!(
-        printed.contains("9 lights") && printed.contains("passes: shadows, depth prepass, forward, tonemap"),
-        "{printed}"
-    );
+    assert!(printed.contains("9 lights") && printed.contains("20 drawn this frame"), "{printed}");
+    let printed = graph(&plan).to_string();
+    assert!(printed.contains("frame graph: shadows, depth prepass, forward, tonemap"), "{printed}");
+    assert!(printed.contains("hdr: Rgba16Float View, 1 sample(s), 1 layer(s), Transient"), "{printed}");
 }
 
 #[test]
@@ -157,13 +169,13 @@ fn each_tile_draws_only_the_casters_that_reach_it() {
     }
     assert_eq!(plan.shadows.tiles[0].casters, vec![0, 1], "+X face");
     assert_eq!(plan.shadows.tiles[1].casters, vec![0], "-X face");
-    assert_eq!(plan.passes, vec![PassId::Shadows, PassId::DepthPrepass, PassId::Forward, PassId::Aov, PassId::Tonemap]);
+    assert_eq!(passes(&plan), vec!["shadows", "depth prepass", "forward", "aov", "tonemap"]);
     // With shadows off, no tile and no shadow pass.
     let mut unshadowed = scene.clone();
     unshadowed.lights[0].shadow.mode = ShadowMode::None;
     let plan = first_plan(&unshadowed, PlanRequest::default());
     assert!(plan.shadows.tiles.is_empty());
-    assert_eq!(plan.passes, vec![PassId::DepthPrepass, PassId::Forward, PassId::Tonemap]);
+    assert_eq!(passes(&plan), vec!["depth prepass", "forward", "tonemap"]);
 }
 
 #[test]
@@ -179,7 +191,7 @@ fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
     let mut settings = unlit_settings();
     settings.render.path = RenderPath::Forward;
     let forward = plan_with(&settings, PlanRequest::default());
-    assert_eq!(forward.passes, vec![PassId::Shadows, PassId::DepthPrepass, PassId::Forward, PassId::Tonemap]);
+    assert_eq!(passes(&forward), vec!["shadows", "depth prepass", "forward", "tonemap"]);
     assert!(forward.volumes.is_empty());
     assert!(forward.shaded_other_lights() > 64, "clustered culling shades every visible light");
     settings.lights.culling = chiaro_scene::LightCulling::None;
@@ -188,7 +200,7 @@ fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
 
     settings.render.path = RenderPath::Deferred;
     let deferred = plan_with(&settings, PlanRequest::default());
-    assert_eq!(deferred.passes, vec![PassId::Shadows, PassId::GBuffer, PassId::DeferredLights, PassId::Tonemap]);
+    assert_eq!(passes(&deferred), vec!["shadows", "gbuffer", "deferred lights", "tonemap"]);
     let visible = deferred.shaded_other_lights();
     assert!(visible > 64, "the deferred path shades every visible light: {visible}");
     // One full-screen draw for the directional lights, then a volume per point and spot.
@@ -201,17 +213,14 @@ fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
 
     settings.render.light_buffer = LightBuffer::LdrExp2;
     let ldr = plan_with(&settings, PlanRequest { aovs: true, ..Default::default() });
-    assert_eq!(
-        ldr.passes,
-        vec![PassId::Shadows, PassId::GBuffer, PassId::DeferredLights, PassId::LdrDecode, PassId::Aov, PassId::Tonemap]
-    );
+    assert_eq!(passes(&ldr), vec!["shadows", "gbuffer", "deferred lights", "ldr decode", "aov", "tonemap"]);
     // Debug views imply the deferred path, even when the settings say forward.
     settings.render.path = RenderPath::Forward;
     let albedo = plan_with(&settings, PlanRequest { debug: Some(DebugView::GbufferAlbedo), ..Default::default() });
     assert_eq!(albedo.path, RenderPath::Deferred);
-    assert_eq!(albedo.passes, vec![PassId::GBuffer, PassId::DebugView]);
+    assert_eq!(passes(&albedo), vec!["gbuffer", "debug view"]);
     let overdraw = plan_with(&settings, PlanRequest { debug: Some(DebugView::LightOverdraw), ..Default::default() });
-    assert_eq!(overdraw.passes, vec![PassId::GBuffer, PassId::DeferredLights, PassId::DebugView]);
+    assert_eq!(passes(&overdraw), vec!["gbuffer", "deferred lights", "debug view"]);
 }
 
 #[test]

@@ -11,7 +11,7 @@ fn module(source: &str) -> naga::Module {
 }
 
 fn modules() -> Vec<(&'static str, naga::Module)> {
-    shaders::ALL.iter().map(|(name, source)| (*name, module(source))).collect()
+    shaders::all().into_iter().map(|(name, source)| (name, module(source))).collect()
 }
 
 /// Whether a (possibly WESL-mangled) declaration name is `name`: `package_common_frame_Frame`
@@ -26,7 +26,7 @@ fn is_named(declared: Option<&str>, name: &str) -> bool {
 
 #[test]
 fn every_shader_validates() {
-    for (name, source) in shaders::ALL {
+    for (name, source) in shaders::all() {
         let m = module(source);
         // Point cookies live in a cube array, which every Vulkan, Metal and DX12 device has.
         let capabilities = naga::valid::Capabilities::CUBE_ARRAY_TEXTURES;

@@ -4,6 +4,7 @@
 
 mod common;
 
+use chiaro_render::plan::shadows::ShadowAtlas;
 use chiaro_render::{FrameOptions, FrameOutput, Renderer, View};
 use chiaro_scene::{CastShadows, Light, LightKind, Scene, Settings};
 use common::*;
@@ -35,6 +36,11 @@ fn frame(renderer: &mut Renderer, scene: &Scene, settings: &Settings) -> FrameOu
     let view = View::from_camera(scene, 0, 128, 128);
     let prepared = renderer.prepare(scene).unwrap();
     renderer.render(scene, &prepared, &view, settings, FrameOptions { readback: true, ..Default::default() }).unwrap()
+}
+
+/// The atlas and light (scene index) of each tile the frame drew, as its plan says.
+fn redrawn(frame: &FrameOutput) -> Vec<(ShadowAtlas, u32)> {
+    frame.plan.shadows.redrawn_tiles().map(|(_, t)| (t.atlas, t.light.0)).collect()
 }
 
 fn assert_same_image(a: &FrameOutput, b: &FrameOutput, what: &str) {
@@ -73,6 +79,7 @@ fn a_moving_light_draws_only_its_own_tiles() {
     let moved = frame(&mut gpu, &scene, &s);
     println!("spot moved: {} tiles drawn", moved.shadow_tiles);
     assert_eq!(moved.shadow_tiles, 1, "the spot's tile alone");
+    assert_eq!(redrawn(&moved), [(ShadowAtlas::Other, 1)], "the spot (light 1) is the one drawn again");
     assert_same_image(&moved, &frame(&mut renderer(), &scene, &s), "moved spot");
 }
 
@@ -88,11 +95,22 @@ fn a_moving_object_draws_only_the_tiles_it_casts_into() {
     let moved = frame(&mut gpu, &scene, &s);
     println!("far box moved: {} tiles drawn", moved.shadow_tiles);
     assert!(moved.shadow_tiles >= 1 && moved.shadow_tiles <= 4, "{} tiles", moved.shadow_tiles);
+    let tiles = redrawn(&moved);
+    assert_eq!(tiles.len(), moved.shadow_tiles, "the plan's redraws are the tiles drawn");
+    assert!(tiles.iter().all(|&(atlas, light)| atlas == ShadowAtlas::Directional && light == 0), "{tiles:?}");
     assert_same_image(&moved, &frame(&mut renderer(), &scene, &s), "moved box");
     // The box by the point light moves: the point's faces it reaches are drawn again.
     scene.instances[2].world_from_local = Mat4::from_translation(Vec3::new(2.1, 0.4, 0.6));
     let moved = frame(&mut gpu, &scene, &s);
     println!("near box moved: {} tiles drawn", moved.shadow_tiles);
     assert!(moved.shadow_tiles > 1 && moved.shadow_tiles < 11, "{} tiles", moved.shadow_tiles);
+    let tiles = redrawn(&moved);
+    println!("near box moved: tiles drawn {tiles:?}");
+    let point_faces = tiles.iter().filter(|&&(atlas, _)| atlas == ShadowAtlas::Other).count();
+    assert!(
+        tiles.iter().all(|&(atlas, light)| atlas == ShadowAtlas::Directional || light == 2),
+        "only the point light's (light 2) faces among the point and spot tiles: {tiles:?}"
+    );
+    assert!((1..6).contains(&point_faces), "the faces the box reaches, not all six: {tiles:?}");
     assert_same_image(&moved, &frame(&mut renderer(), &scene, &s), "moved near box");
 }

@@ -62,16 +62,8 @@ fn json_report(
 ) -> serde_json::Value {
     let first = &frames[0];
     let median = |v: Vec<f64>| stats(v).median;
-    let passes: serde_json::Map<String, serde_json::Value> = gpu
-        .first()
-        .map(|g| {
-            g.passes
-                .iter()
-                .enumerate()
-                .map(|(i, (pass, _))| (pass.to_string(), median(gpu.iter().map(|f| f.passes[i].1).collect()).into()))
-                .collect()
-        })
-        .unwrap_or_default();
+    let passes: serde_json::Map<String, serde_json::Value> =
+        pass_times(gpu).into_iter().map(|(pass, times)| (pass.to_string(), median(times).into())).collect();
     serde_json::json!({
         "scene": args.scene.as_ref().map(|p| p.display().to_string()),
         "device": device,
@@ -94,6 +86,25 @@ fn json_report(
         "other_lights_dropped": first.other_lights_dropped(),
         "shadow_tiles_rendered": frames.iter().map(|f| f.shadow_tiles).collect::<Vec<_>>(),
     })
+}
+
+/// Each pass that ran in any of the frames (in the order it first ran), with its time in
+/// every frame: 0 where the frame graph did not run it (a shadow pass with every tile
+/// cached, say).
+fn pass_times(gpu: &[GpuFrameTimes]) -> Vec<(&'static str, Vec<f64>)> {
+    let mut names: Vec<&'static str> = Vec::new();
+    for (pass, _) in gpu.iter().flat_map(|f| &f.passes) {
+        if !names.contains(pass) {
+            names.push(pass);
+        }
+    }
+    names
+        .into_iter()
+        .map(|name| {
+            let times = gpu.iter().map(|f| f.passes.iter().find(|(p, _)| *p == name).map_or(0.0, |(_, ms)| *ms));
+            (name, times.collect())
+        })
+        .collect()
 }
 
 fn stats(mut v: Vec<f64>) -> Stats {
@@ -166,8 +177,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let mut rows: Vec<(String, Stats)> = vec![("frame (back to back)".into(), stats(intervals))];
     if !gpu.is_empty() {
         rows.push(("gpu frame (timestamps)".into(), stats(gpu.iter().map(GpuFrameTimes::total_ms).collect())));
-        for (i, (pass, _)) in gpu[0].passes.iter().enumerate() {
-            rows.push((format!("  gpu {pass} pass"), stats(gpu.iter().map(|f| f.passes[i].1).collect())));
+        for (pass, times) in pass_times(&gpu) {
+            rows.push((format!("  gpu {pass} pass"), stats(times)));
         }
         let shadow_share: Vec<f64> = gpu
             .iter()

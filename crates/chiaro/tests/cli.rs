@@ -240,8 +240,24 @@ fn triangle_without_camera_is_framed_and_rendered() {
 #[test]
 fn bench_prints_a_table() {
     let dir = tempfile::tempdir().unwrap();
+    // Without the shadow cache every frame draws its tiles, so the shadow pass has a row.
+    std::fs::write(dir.path().join("uncached.toml"), "[shadows]\ncache = false\n").unwrap();
     let run = chiaro(
-        &["bench", "--width", "64", "--height", "64", "--frames", "3", "--warmup", "1", "--demo-lights", "4"],
+        &[
+            "bench",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--frames",
+            "3",
+            "--warmup",
+            "1",
+            "--demo-lights",
+            "4",
+            "--settings",
+            "uncached.toml",
+        ],
         &[],
         dir.path(),
     );
@@ -283,9 +299,18 @@ fn bench_json_is_one_object_with_the_named_keys() {
         assert!(report[key].as_f64().is_some_and(|ms| ms > 0.0), "{key}: {report}");
     }
     let passes = report["passes"].as_object().expect("passes");
-    for pass in ["shadows", "depth prepass", "forward", "tonemap"] {
+    for pass in ["depth prepass", "forward", "tonemap"] {
         assert!(passes[pass].as_f64().is_some_and(|ms| ms > 0.0), "{pass}: {report}");
     }
+    // A still scene keeps its shadow tiles: after the warm-up frame no tile is drawn, and
+    // the frame graph runs no shadow pass.
+    let tiles = report["shadow_tiles_rendered"].as_array().expect("tiles per frame");
+    assert!(tiles.iter().all(|t| t.as_u64() == Some(0)), "{report}");
+    assert!(!passes.contains_key("shadows"), "{report}");
+    std::fs::write(dir.path().join("uncached.toml"), "[shadows]\ncache = false\n").unwrap();
+    let run = chiaro(&[&args[..], &["--json", "--settings", "uncached.toml"]].concat(), &[], dir.path());
+    let report: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert!(report["passes"]["shadows"].as_f64().is_some_and(|ms| ms > 0.0), "uncached: {report}");
     // The deferred path has one sample per pixel, and says so.
     let run = chiaro(&[&args[..], &["--json", "--path", "deferred"]].concat(), &[], dir.path());
     let report: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();

@@ -1,32 +1,55 @@
-//! A small frame graph. Each pass declares the resources it reads and writes; the graph
-//! checks that the plan's order satisfies them, makes the targets the passes need, and
-//! runs each pass inside a debug group with its own GPU timestamps. A new pass is a new
-//! module implementing `FramePass`, registered with the renderer, plus its `PassId` in
-//! the plan.
+//! The frame graph, after Filament's FrameGraph. Each pass declares in its `setup`
+//! (`PassType::setup`, from the plan alone) the targets it creates with their full
+//! descriptions, the targets it reads, writes and modifies, what it exports to the caller
+//! and any side effect; `compile` derives from those the passes that run, in order, and
+//! culls the ones whose outputs nobody reads; `Targets` makes and reuses the textures;
+//! `GpuTimer` times each pass. A pass's `prepare` and `record` only act on what the plan
+//! and its declarations say. A new pass is a module implementing `PassType` and
+//! `FramePass`, plus its line in `passes/list.rs`.
 
+pub mod compile;
+pub mod setup;
+pub mod target;
 pub mod targets;
 pub mod timer;
 
-use crate::error::RenderError;
-use crate::plan::{FramePlan, PassId};
+use crate::context::GpuContext;
+use crate::plan::FramePlan;
 use crate::scene::GpuScene;
 use chiaro_scene::{Scene, Settings};
-use std::collections::HashSet;
-pub use targets::{Resource, TargetDesc, Targets};
+pub use compile::FrameGraph;
+pub use setup::{Access, Lifetime, PassDeclaration, PassSetup};
+pub use target::{OUTPUT, Size, Target, TargetDesc};
+pub use targets::Targets;
 pub use timer::{GpuTimer, PassTimestamps};
-
-/// What a pass reads and writes this frame.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct PassIo {
-    pub reads: Vec<Resource>,
-    pub writes: Vec<Resource>,
-}
 
 /// Counts passes report, for benchmarks and tests.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PassStats {
     pub shadow_tiles_rendered: usize,
     pub shadow_caster_draws: usize,
+}
+
+/// What every pass is made from.
+pub struct PassInit<'a> {
+    pub ctx: &'a GpuContext,
+    pub device: &'a wgpu::Device,
+    /// Group 0 of the scene passes: frame, lights, objects, shadows.
+    pub frame_layout: &'a wgpu::BindGroupLayout,
+    /// Group 1 of the scene passes: a material.
+    pub material_layout: &'a wgpu::BindGroupLayout,
+    pub depth_format: wgpu::TextureFormat,
+}
+
+impl PassInit<'_> {
+    /// The pipeline layout of passes that draw the scene's meshes (frame, material).
+    pub fn scene_layout(&self) -> wgpu::PipelineLayout {
+        self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene pipeline layout"),
+            bind_group_layouts: &[Some(self.frame_layout), Some(self.material_layout)],
+            immediate_size: 0,
+        })
+    }
 }
 
 /// What a pass may use while it records.
@@ -46,7 +69,7 @@ pub struct PassContext<'a> {
 impl<'a> PassContext<'a> {
     /// Timestamp writes for a pass recorded as one wgpu render pass.
     pub fn timestamp_writes(&self) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
-        self.timestamps.map(|t| t.writes(true, true))
+        self.timestamps.and_then(|t| t.writes(true, true))
     }
 }
 
@@ -58,53 +81,22 @@ pub struct PrepareContext<'a> {
     pub scene: &'a GpuScene,
     /// The scene the GPU scene mirrors (its lights, for per-light data).
     pub source: &'a Scene,
-    /// The format of `Resource::Output` this frame.
+    /// The format of `OUTPUT` this frame.
     pub output_format: wgpu::TextureFormat,
 }
 
+/// A pass at work: the part the renderer calls each frame it runs.
 pub trait FramePass {
-    fn id(&self) -> PassId;
-    fn io(&self, plan: &FramePlan) -> PassIo;
     /// Makes the pipelines and uploads the data the frame will need.
     fn prepare(&mut self, cx: &PrepareContext<'_>);
     fn record(&self, cx: &mut PassContext<'_>);
 }
 
-/// Checks that every pass in `order` reads only what an earlier pass of the frame wrote
-/// or what persists across frames; returns the resources the frame writes.
-pub fn check_order(order: &[(PassId, PassIo)]) -> Result<HashSet<Resource>, RenderError> {
-    let mut written = HashSet::new();
-    for (pass, io) in order {
-        for r in &io.reads {
-            if !r.persistent() && !written.contains(r) {
-                return Err(RenderError::FrameGraph(format!(
-                    "the {} pass reads {r:?}, which no earlier pass writes",
-                    pass.name()
-                )));
-            }
-        }
-        written.extend(io.writes.iter().copied());
-    }
-    Ok(written)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_pass_may_not_read_what_no_earlier_pass_wrote() {
-        let forward = (
-            PassId::Forward,
-            PassIo {
-                reads: vec![Resource::DirectionalShadowAtlas, Resource::OtherShadowAtlas],
-                writes: vec![Resource::Hdr, Resource::Depth],
-            },
-        );
-        let tonemap = (PassId::Tonemap, PassIo { reads: vec![Resource::Hdr], writes: vec![Resource::Output] });
-        let written = check_order(&[forward.clone(), tonemap.clone()]).unwrap();
-        assert!(written.contains(&Resource::Output) && written.contains(&Resource::Depth));
-        let e = check_order(&[tonemap, forward]).unwrap_err();
-        assert!(e.to_string().contains("tonemap pass reads Hdr"), "{e}");
-    }
+/// A pass as the pass list knows it: its name, its declarations and how it is made.
+pub trait PassType: FramePass + Sized + 'static {
+    /// The name in timings, debug groups and the printed graph.
+    const NAME: &'static str;
+    /// Declares what the pass makes, reads and writes for `plan` (nothing: it does not run).
+    fn setup(plan: &FramePlan, pass: &mut PassSetup);
+    fn new(init: &PassInit<'_>) -> Self;
 }

@@ -1,81 +1,69 @@
-//! The textures a frame's passes read and write, named by `Resource` and kept from frame
-//! to frame: a target is made again only when its size or format changes. Transient
-//! targets live for one frame's work but are reused by the next; the shadow atlases
-//! persist (so that tiles can later be cached); the output may be a texture of the
-//! caller's, such as a window's surface.
+//! The textures behind a frame's targets, kept from frame to frame: a compiled graph's
+//! target descriptions flow in, views flow out to the passes. A texture is made again
+//! only when its description (at this view size) changes, so transient targets are
+//! reused by the next frame and persistent ones (the shadow atlases) keep their contents.
+//! The output may be a texture of the caller's, such as a window's surface.
 
+use super::compile::FrameGraph;
+use super::setup::Lifetime;
+use super::target::{OUTPUT, Size, Target, TargetDesc};
 use std::collections::HashMap;
 
-/// A texture of the frame, as passes declare what they read and write.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Resource {
-    DirectionalShadowAtlas,
-    OtherShadowAtlas,
-    /// Reverse-Z depth with stencil.
-    Depth,
-    /// Pre-exposed linear radiance.
-    Hdr,
-    /// The forward path's multisampled depth and radiance (`FramePlan::msaa` samples);
-    /// the radiance resolves into `Hdr`.
-    DepthMultisampled,
-    HdrMultisampled,
-    /// The deferred path's base colour and metallic.
-    GBufferAlbedoMetallic,
-    /// The deferred path's normals, view depth, roughness and flags.
-    GBufferPacked,
-    /// The deferred path's legacy LDR light buffer, exp2(-light).
-    LightBufferLdr,
-    /// World position, alpha 1 where a surface is.
-    AovPosition,
-    /// World normal and linear view depth.
-    AovNormalDepth,
-    /// Baked irradiance (RGB) and whether a bake lights the pixel (A).
-    AovBaked,
-    /// One light's shadow term and coverage.
-    AovShadow,
-    /// The tone-mapped, display-encoded image.
-    Output,
-}
-
-impl Resource {
-    /// Lives across frames rather than being written afresh by each.
-    pub fn persistent(self) -> bool {
-        matches!(self, Resource::DirectionalShadowAtlas | Resource::OtherShadowAtlas)
-    }
-}
-
+/// A description resolved to texels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct TargetDesc {
-    pub width: u32,
-    pub height: u32,
-    pub format: wgpu::TextureFormat,
-    pub usage: wgpu::TextureUsages,
-    pub samples: u32,
+struct Made {
+    width: u32,
+    height: u32,
+    desc: TargetDesc,
 }
 
-struct Target {
-    desc: TargetDesc,
+struct Texture {
+    made: Made,
     texture: wgpu::Texture,
     view: wgpu::TextureView,
 }
 
-/// The frame's textures by resource, and an output view the caller may lend instead.
+/// The frame's textures by target, and an output view the caller may lend instead.
 #[derive(Default)]
 pub struct Targets {
-    owned: HashMap<Resource, Target>,
+    owned: HashMap<Target, Texture>,
     external_output: Option<wgpu::TextureView>,
 }
 
 impl Targets {
-    /// Makes `resource` match `desc`; returns whether it was (re)created, so its old
-    /// contents are gone.
-    pub fn ensure(&mut self, device: &wgpu::Device, resource: Resource, desc: TargetDesc) -> bool {
-        if self.owned.get(&resource).is_some_and(|t| t.desc == desc) {
-            return false;
+    /// Makes every target of `graph` for a `width` x `height` view, and the output (in
+    /// `output_format`) unless the caller lends one.
+    pub fn ensure_for(
+        &mut self,
+        device: &wgpu::Device,
+        graph: &FrameGraph,
+        (width, height): (u32, u32),
+        output: Option<TargetDesc>,
+    ) {
+        for (&target, &(desc, lifetime)) in &graph.targets {
+            if lifetime == Lifetime::Persistent && desc.size == Size::Square(0) {
+                // Unused this frame: keep what it holds, or make a placeholder to bind.
+                if !self.owned.contains_key(&target) {
+                    self.ensure(device, target, Made { width: 1, height: 1, desc });
+                }
+                continue;
+            }
+            let (w, h) = desc.extent(width, height);
+            self.ensure(device, target, Made { width: w, height: h, desc });
         }
+        if let Some(desc) = output {
+            self.ensure(device, OUTPUT, Made { width, height, desc });
+        }
+    }
+
+    fn ensure(&mut self, device: &wgpu::Device, target: Target, made: Made) {
+        if self.owned.get(&target).is_some_and(|t| t.made == made) {
+            return;
+        }
+        let desc = made.desc;
         let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(&format!("{resource:?}")),
-            size: wgpu::Extent3d { width: desc.width, height: desc.height, depth_or_array_layers: 1 },
+            label: Some(target.0),
+            size: wgpu::Extent3d { width: made.width, height: made.height, depth_or_array_layers: desc.layers },
             mip_level_count: 1,
             sample_count: desc.samples,
             dimension: wgpu::TextureDimension::D2,
@@ -83,30 +71,49 @@ impl Targets {
             usage: desc.usage,
             view_formats: &[],
         });
-        let view = texture.create_view(&Default::default());
-        self.owned.insert(resource, Target { desc, texture, view });
-        true
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(if desc.layers > 1 {
+                wgpu::TextureViewDimension::D2Array
+            } else {
+                wgpu::TextureViewDimension::D2
+            }),
+            ..Default::default()
+        });
+        self.owned.insert(target, Texture { made, texture, view });
     }
 
-    /// Renders the output into `view` (owned by the caller) until `clear_external_output`.
+    /// Renders the output into `view` (owned by the caller) until set back to `None`.
     pub fn set_external_output(&mut self, view: Option<wgpu::TextureView>) {
         self.external_output = view;
     }
 
-    pub fn view(&self, resource: Resource) -> &wgpu::TextureView {
-        if resource == Resource::Output
+    /// The whole of `target` (every layer).
+    pub fn view(&self, target: Target) -> &wgpu::TextureView {
+        if target == OUTPUT
             && let Some(view) = &self.external_output
         {
             return view;
         }
-        &self.owned.get(&resource).unwrap_or_else(|| panic!("{resource:?} was never made")).view
+        &self.owned.get(&target).unwrap_or_else(|| panic!("{target} was never made")).view
+    }
+
+    /// One layer of an array target, to render into.
+    pub fn layer_view(&self, target: Target, layer: u32) -> wgpu::TextureView {
+        let texture = self.texture(target).unwrap_or_else(|| panic!("{target} was never made"));
+        texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(target.0),
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_array_layer: layer,
+            array_layer_count: Some(1),
+            ..Default::default()
+        })
     }
 
     /// The texture of an owned target (the external output has none to read back).
-    pub fn texture(&self, resource: Resource) -> Option<&wgpu::Texture> {
-        if resource == Resource::Output && self.external_output.is_some() {
+    pub fn texture(&self, target: Target) -> Option<&wgpu::Texture> {
+        if target == OUTPUT && self.external_output.is_some() {
             return None;
         }
-        self.owned.get(&resource).map(|t| &t.texture)
+        self.owned.get(&target).map(|t| &t.texture)
     }
 }

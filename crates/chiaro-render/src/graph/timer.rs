@@ -2,7 +2,6 @@
 //! passes get two queries each, resolved into a buffer that is mapped when the GPU is
 //! done with it; `collect` hands over the frames that have finished.
 
-use crate::plan::PassId;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -19,19 +18,20 @@ pub struct PassTimestamps<'a> {
 
 impl<'a> PassTimestamps<'a> {
     /// Writes for a render pass that is the pass's `first` and/or `last` (a pass recorded
-    /// as several wgpu passes marks its start in the first and its end in the last).
-    pub fn writes(&self, first: bool, last: bool) -> wgpu::RenderPassTimestampWrites<'a> {
-        wgpu::RenderPassTimestampWrites {
+    /// as several wgpu passes marks its start in the first and its end in the last; the
+    /// ones between get none).
+    pub fn writes(&self, first: bool, last: bool) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
+        (first || last).then_some(wgpu::RenderPassTimestampWrites {
             query_set: self.query_set,
             beginning_of_pass_write_index: first.then_some(self.begin),
             end_of_pass_write_index: last.then_some(self.begin + 1),
-        }
+        })
     }
 }
 
 struct Pending {
     frame: u64,
-    passes: Vec<PassId>,
+    passes: Vec<&'static str>,
     buffer: wgpu::Buffer,
     mapped: Arc<AtomicBool>,
     map_requested: bool,
@@ -42,7 +42,7 @@ pub struct GpuTimer {
     resolve: wgpu::Buffer,
     period_ns: f64,
     /// Passes given queries this frame, in order.
-    current: Vec<PassId>,
+    current: Vec<&'static str>,
     pending: Vec<Pending>,
     free: Vec<wgpu::Buffer>,
 }
@@ -70,7 +70,7 @@ impl GpuTimer {
     }
 
     /// Queries for `pass` in this frame; `None` once the frame has used them all.
-    pub fn pass(&mut self, pass: PassId) -> Option<PassTimestamps<'_>> {
+    pub fn pass(&mut self, pass: &'static str) -> Option<PassTimestamps<'_>> {
         let slot = self.current.len() as u32;
         if slot >= MAX_TIMED_PASSES {
             return None;
@@ -119,7 +119,7 @@ impl GpuTimer {
 
     /// Pass times (ms) of every frame whose queries have been read back, oldest first.
     /// Callers poll the device first; this never waits.
-    pub fn collect(&mut self) -> Vec<(u64, Vec<(PassId, f64)>)> {
+    pub fn collect(&mut self) -> Vec<(u64, Vec<(&'static str, f64)>)> {
         let mut done = Vec::new();
         let mut still_pending = Vec::new();
         for p in self.pending.drain(..) {

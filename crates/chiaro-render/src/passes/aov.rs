@@ -1,12 +1,19 @@
 //! The AOV pass: world position, shading normal, linear view depth and baked irradiance
 //! of the surface the forward pass kept in each pixel (it tests against its depth).
 
-use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
-use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
-use crate::plan::{FramePlan, PassId};
+use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
+use crate::graph::target::ATTACHMENT_COPY;
+use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
+use crate::plan::FramePlan;
 use crate::shaders;
 
 pub const AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// World position, alpha 1 where a surface is.
+pub const POSITION: Target = Target("aov position");
+/// World normal and linear view depth.
+pub const NORMAL_DEPTH: Target = Target("aov normal depth");
+/// Baked irradiance (RGB) and whether a bake lights the pixel (A).
+pub const BAKED: Target = Target("aov baked");
 
 pub struct AovPass {
     pipelines: MeshPipelines,
@@ -14,9 +21,29 @@ pub struct AovPass {
     baked: MeshPipelines,
 }
 
+impl PassType for AovPass {
+    const NAME: &'static str = "aov";
+
+    /// Asked for by the caller (AOVs test against single-sampled depth, which the plan
+    /// then gives the frame).
+    fn setup(plan: &FramePlan, pass: &mut PassSetup) {
+        if !plan.request.aovs {
+            return;
+        }
+        pass.modify(DEPTH);
+        for target in [POSITION, NORMAL_DEPTH, BAKED] {
+            pass.create(target, TargetDesc::view_sized(AOV_FORMAT, ATTACHMENT_COPY)).export(target);
+        }
+    }
+
+    fn new(init: &PassInit<'_>) -> AovPass {
+        AovPass::make(init.device, &init.scene_layout(), init.depth_format)
+    }
+}
+
 impl AovPass {
-    pub fn new(device: &wgpu::Device, layout: &wgpu::PipelineLayout, depth_format: wgpu::TextureFormat) -> AovPass {
-        let module = shaders::module(device, "aov", shaders::AOV);
+    fn make(device: &wgpu::Device, layout: &wgpu::PipelineLayout, depth_format: wgpu::TextureFormat) -> AovPass {
+        let module = shaders::module(device, "aov", crate::wgsl!("aov"));
         let desc = |label, fragment_entry, color_formats| MeshPipelinesDesc {
             label,
             module: module.clone(),
@@ -38,17 +65,6 @@ impl AovPass {
 }
 
 impl FramePass for AovPass {
-    fn id(&self) -> PassId {
-        PassId::Aov
-    }
-
-    fn io(&self, _plan: &FramePlan) -> PassIo {
-        PassIo {
-            reads: vec![Resource::Depth],
-            writes: vec![Resource::AovPosition, Resource::AovNormalDepth, Resource::AovBaked, Resource::Depth],
-        }
-    }
-
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         self.pipelines.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
         self.baked.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
@@ -59,10 +75,10 @@ impl FramePass for AovPass {
         let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("aov pass"),
             color_attachments: &[
-                cleared(cx.targets.view(Resource::AovPosition), wgpu::Color::TRANSPARENT),
-                cleared(cx.targets.view(Resource::AovNormalDepth), wgpu::Color::TRANSPARENT),
+                cleared(cx.targets.view(POSITION), wgpu::Color::TRANSPARENT),
+                cleared(cx.targets.view(NORMAL_DEPTH), wgpu::Color::TRANSPARENT),
             ],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(Resource::Depth), true)),
+            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
             timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
@@ -72,8 +88,8 @@ impl FramePass for AovPass {
         drop(pass);
         let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("aov baked pass"),
-            color_attachments: &[cleared(cx.targets.view(Resource::AovBaked), wgpu::Color::TRANSPARENT)],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(Resource::Depth), true)),
+            color_attachments: &[cleared(cx.targets.view(BAKED), wgpu::Color::TRANSPARENT)],
+            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
             timestamp_writes: None,
             occlusion_query_set: None,
             multiview_mask: None,

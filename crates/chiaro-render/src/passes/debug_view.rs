@@ -4,8 +4,10 @@
 
 use super::fullscreen::{self, FullscreenDesc, texture_bind_group, texture_layout};
 use crate::debug_view::DebugView;
-use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
-use crate::plan::{FramePlan, PassId};
+use super::forward::HDR;
+use super::gbuffer::{GBUFFER_ALBEDO_METALLIC, GBUFFER_PACKED};
+use crate::graph::{FramePass, OUTPUT, PassContext, PassInit, PassSetup, PassType, PrepareContext};
+use crate::plan::FramePlan;
 use crate::shaders;
 use std::collections::HashMap;
 
@@ -27,8 +29,21 @@ fn view_index(view: DebugView) -> f64 {
     }
 }
 
-impl DebugViewPass {
-    pub fn new(device: &wgpu::Device) -> DebugViewPass {
+impl PassType for DebugViewPass {
+    const NAME: &'static str = "debug view";
+
+    /// Writes the output after tone mapping would, so a deferred debug view replaces the
+    /// image (and the passes only the image needed are culled).
+    fn setup(plan: &FramePlan, pass: &mut PassSetup) {
+        let Some(view) = plan.request.deferred_view() else { return };
+        pass.read(GBUFFER_ALBEDO_METALLIC).read(GBUFFER_PACKED).write(OUTPUT);
+        if view == DebugView::LightOverdraw {
+            pass.read(HDR);
+        }
+    }
+
+    fn new(init: &PassInit<'_>) -> DebugViewPass {
+        let device = init.device;
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let layout =
             texture_layout(device, "debug view layout", &[unfilterable, wgpu::TextureSampleType::Uint, unfilterable]);
@@ -38,7 +53,7 @@ impl DebugViewPass {
             immediate_size: 0,
         });
         DebugViewPass {
-            module: shaders::module(device, "debug view", shaders::DEBUG_VIEW),
+            module: shaders::module(device, "debug view", crate::wgsl!("debug_view")),
             layout,
             pipeline_layout,
             pipelines: HashMap::new(),
@@ -48,18 +63,6 @@ impl DebugViewPass {
 }
 
 impl FramePass for DebugViewPass {
-    fn id(&self) -> PassId {
-        PassId::DebugView
-    }
-
-    fn io(&self, plan: &FramePlan) -> PassIo {
-        let mut reads = vec![Resource::GBufferAlbedoMetallic, Resource::GBufferPacked];
-        if plan.request.deferred_view() == Some(DebugView::LightOverdraw) {
-            reads.push(Resource::Hdr);
-        }
-        PassIo { reads, writes: vec![Resource::Output] }
-    }
-
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         let view = cx.plan.request.deferred_view().expect("planned for a debug view");
         let key = (view, cx.output_format);
@@ -84,13 +87,13 @@ impl FramePass for DebugViewPass {
     fn record(&self, cx: &mut PassContext<'_>) {
         let key = self.key.expect("prepared");
         // The albedo target (same format) stands in for the count the view does not read.
-        let count = if key.0 == DebugView::LightOverdraw { Resource::Hdr } else { Resource::GBufferAlbedoMetallic };
+        let count = if key.0 == DebugView::LightOverdraw { HDR } else { GBUFFER_ALBEDO_METALLIC };
         let bind_group = texture_bind_group(
             cx.device,
             &self.layout,
             &[
-                cx.targets.view(Resource::GBufferAlbedoMetallic),
-                cx.targets.view(Resource::GBufferPacked),
+                cx.targets.view(GBUFFER_ALBEDO_METALLIC),
+                cx.targets.view(GBUFFER_PACKED),
                 cx.targets.view(count),
             ],
         );
@@ -98,7 +101,7 @@ impl FramePass for DebugViewPass {
         fullscreen::draw(
             cx.encoder,
             "debug view pass",
-            cx.targets.view(Resource::Output),
+            cx.targets.view(OUTPUT),
             &self.pipelines[&key],
             &bind_group,
             timestamp_writes,

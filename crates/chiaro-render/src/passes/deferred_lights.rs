@@ -7,17 +7,20 @@
 //! shade (the seeds' fallback). Every draw tests `STENCIL_SURFACE`, so the sky is never
 //! shaded.
 
-use super::forward::HDR_FORMAT;
-use super::gbuffer::{LIGHT_BUFFER_LDR_FORMAT, light_target};
-use super::mesh::{STENCIL_SURFACE, scene_depth};
+use super::forward::{HDR, HDR_FORMAT};
+use super::gbuffer::{
+    GBUFFER_ALBEDO_METALLIC, GBUFFER_PACKED, LIGHT_BUFFER_LDR, LIGHT_BUFFER_LDR_FORMAT, light_target, light_target_desc,
+};
+use super::mesh::{DEPTH, STENCIL_SURFACE, scene_depth};
+use super::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::debug_view::DebugView;
 use crate::gpu::GpuVolumeLight;
-use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
+use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target};
+use crate::plan::FramePlan;
 use crate::plan::features::ShaderFeatures;
 use crate::plan::volumes::{VolumeMesh, VolumeShape, unit_pyramid, unit_sphere};
-use crate::plan::{FramePlan, PassId};
 use crate::shaders;
-use chiaro_scene::LightBuffer;
+use chiaro_scene::{LightBuffer, RenderPath};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
@@ -39,8 +42,8 @@ impl Variant {
         Variant { ldr: !overdraw && plan.light_buffer == LightBuffer::LdrExp2, overdraw, features: plan.features }
     }
 
-    fn target(self) -> Resource {
-        if self.ldr { Resource::LightBufferLdr } else { Resource::Hdr }
+    fn target(self) -> Target {
+        if self.ldr { LIGHT_BUFFER_LDR } else { HDR }
     }
 }
 
@@ -136,8 +139,37 @@ fn stencil(
     wgpu::StencilState { front: face, back: face, read_mask: read, write_mask: write }
 }
 
+impl PassType for DeferredLightsPass {
+    const NAME: &'static str = "deferred lights";
+
+    /// Light adds to the G-buffer pass's emissive and ambient light; the overdraw view
+    /// counts volumes from zero instead, into the HDR target.
+    fn setup(plan: &FramePlan, pass: &mut PassSetup) {
+        if plan.path != RenderPath::Deferred {
+            return;
+        }
+        pass.read(DIRECTIONAL_ATLAS).read(OTHER_ATLAS).read(GBUFFER_ALBEDO_METALLIC).read(GBUFFER_PACKED);
+        // Stencil marks go into the depth target's stencil.
+        pass.modify(DEPTH);
+        let target = Variant::of(plan).target();
+        if target == light_target(plan.light_buffer) {
+            if Variant::of(plan).overdraw {
+                pass.write(target);
+            } else {
+                pass.modify(target);
+            }
+        } else {
+            pass.create(target, light_target_desc(LightBuffer::Hdr));
+        }
+    }
+
+    fn new(init: &PassInit<'_>) -> DeferredLightsPass {
+        DeferredLightsPass::make(init.device, init.frame_layout, init.depth_format)
+    }
+}
+
 impl DeferredLightsPass {
-    pub fn new(
+    fn make(
         device: &wgpu::Device,
         frame_layout: &wgpu::BindGroupLayout,
         depth_format: wgpu::TextureFormat,
@@ -181,7 +213,7 @@ impl DeferredLightsPass {
         let stride = (size_of::<GpuVolumeLight>() as u64).div_ceil(alignment) * alignment;
         let volumes = volume_buffer(device, stride * 64);
         DeferredLightsPass {
-            module: shaders::module(device, "deferred lights", shaders::DEFERRED_LIGHT),
+            module: shaders::module(device, "deferred lights", crate::wgsl!("deferred_light")),
             volume_bind_group: volume_bind_group(device, &volume_layout, &volumes),
             gbuffer_layout,
             volume_layout,
@@ -337,26 +369,6 @@ impl DeferredLightsPass {
 }
 
 impl FramePass for DeferredLightsPass {
-    fn id(&self) -> PassId {
-        PassId::DeferredLights
-    }
-
-    fn io(&self, plan: &FramePlan) -> PassIo {
-        let target = Variant::of(plan).target();
-        let mut reads = vec![
-            Resource::DirectionalShadowAtlas,
-            Resource::OtherShadowAtlas,
-            Resource::GBufferAlbedoMetallic,
-            Resource::GBufferPacked,
-            Resource::Depth,
-        ];
-        // The overdraw count starts from zero; light adds to the G-buffer pass's.
-        if target == light_target(plan.light_buffer) {
-            reads.push(target);
-        }
-        PassIo { reads, writes: vec![target, Resource::Depth] }
-    }
-
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         self.variant = Variant::of(cx.plan);
         if !self.pipelines.contains_key(&self.variant) {
@@ -386,11 +398,11 @@ impl FramePass for DeferredLightsPass {
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
-                    resource: wgpu::BindingResource::TextureView(cx.targets.view(Resource::GBufferAlbedoMetallic)),
+                    resource: wgpu::BindingResource::TextureView(cx.targets.view(GBUFFER_ALBEDO_METALLIC)),
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: wgpu::BindingResource::TextureView(cx.targets.view(Resource::GBufferPacked)),
+                    resource: wgpu::BindingResource::TextureView(cx.targets.view(GBUFFER_PACKED)),
                 },
             ],
         });
@@ -406,7 +418,7 @@ impl FramePass for DeferredLightsPass {
                 resolve_target: None,
                 ops: wgpu::Operations { load, store: wgpu::StoreOp::Store },
             })],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(Resource::Depth), true)),
+            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
             timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,

@@ -2,32 +2,38 @@
 //! forward pass, testing for equal depth, shades each pixel once however much the
 //! scene's surfaces overlap. Alpha-tested and blended draws are left to the forward pass.
 
-use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, scene_depth};
-use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
-use crate::plan::{FramePlan, PassId};
+use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, depth_desc, forward_depth, scene_depth};
+use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext};
+use crate::plan::FramePlan;
 use crate::shaders;
+use chiaro_scene::RenderPath;
 
 pub struct DepthPrepassPass {
     pipelines: MeshPipelines,
 }
 
-impl DepthPrepassPass {
-    pub fn new(
-        device: &wgpu::Device,
-        layout: wgpu::PipelineLayout,
-        depth_format: wgpu::TextureFormat,
-    ) -> DepthPrepassPass {
+impl PassType for DepthPrepassPass {
+    const NAME: &'static str = "depth prepass";
+
+    /// The forward path's depth target is made here.
+    fn setup(plan: &FramePlan, pass: &mut PassSetup) {
+        if plan.path == RenderPath::Forward {
+            pass.create(forward_depth(plan), depth_desc(pass.depth_format, plan.msaa));
+        }
+    }
+
+    fn new(init: &PassInit<'_>) -> DepthPrepassPass {
         DepthPrepassPass {
             pipelines: MeshPipelines::new(MeshPipelinesDesc {
                 label: "depth prepass",
                 // The forward pass's own vertex stage, whose position is invariant.
-                module: shaders::module(device, "forward", shaders::FORWARD),
+                module: shaders::module(init.device, "forward", crate::wgsl!("forward")),
                 fragment_entry: None,
-                layout,
+                layout: init.scene_layout(),
                 color_formats: Vec::new(),
                 blends: false,
                 depth_test: DepthTest::Nearest,
-                depth_format,
+                depth_format: init.depth_format,
                 marks_stencil: false,
                 constants: Vec::new(),
                 alpha_test_override: None,
@@ -36,20 +42,7 @@ impl DepthPrepassPass {
     }
 }
 
-/// The depth target the forward path draws into: multisampled with MSAA.
-pub fn forward_depth(plan: &FramePlan) -> Resource {
-    if plan.msaa > 1 { Resource::DepthMultisampled } else { Resource::Depth }
-}
-
 impl FramePass for DepthPrepassPass {
-    fn id(&self) -> PassId {
-        PassId::DepthPrepass
-    }
-
-    fn io(&self, plan: &FramePlan) -> PassIo {
-        PassIo { reads: Vec::new(), writes: vec![forward_depth(plan)] }
-    }
-
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         self.pipelines.prepare(cx.device, &cx.scene.draws, &cx.plan.prepass_draws, cx.plan.msaa);
     }

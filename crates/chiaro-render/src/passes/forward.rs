@@ -4,11 +4,12 @@
 //! target. On the deferred path it draws only the transparent draws, over the lit
 //! G-buffer's image and depth.
 
-use super::depth_prepass::forward_depth;
-use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, scene_depth};
-use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
+use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, forward_depth, scene_depth};
+use super::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
+use crate::graph::target::ATTACHMENT_SAMPLED;
+use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
+use crate::plan::FramePlan;
 use crate::plan::features::ShaderFeatures;
-use crate::plan::{FramePlan, PassId};
 use crate::shader_constants::{LIGHT_CULLING_CLUSTERED, LIGHT_CULLING_NONE, LIGHT_CULLING_PER_OBJECT};
 use crate::shaders;
 use chiaro_math::tonemap::exposure_scale;
@@ -16,6 +17,10 @@ use chiaro_scene::{LightCulling, RenderPath};
 use std::collections::HashMap;
 
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Pre-exposed linear radiance, single-sampled: what tone mapping reads.
+pub const HDR: Target = Target("hdr");
+/// The forward path's multisampled radiance, resolved into `HDR`.
+pub const HDR_MULTISAMPLED: Target = Target("hdr multisampled");
 
 pub struct ForwardPass {
     module: wgpu::ShaderModule,
@@ -25,16 +30,43 @@ pub struct ForwardPass {
     pipelines: HashMap<Variant, MeshPipelines>,
 }
 
-impl ForwardPass {
-    pub fn new(device: &wgpu::Device, layout: wgpu::PipelineLayout, depth_format: wgpu::TextureFormat) -> ForwardPass {
-        ForwardPass {
-            module: shaders::module(device, "forward", shaders::FORWARD),
-            layout,
-            depth_format,
-            pipelines: HashMap::new(),
+impl PassType for ForwardPass {
+    const NAME: &'static str = "forward";
+
+    /// The forward path makes the HDR image (through multisampled targets with MSAA) over
+    /// the prepass's depth; the deferred path adds its transparent draws, if any, to the
+    /// lit G-buffer's image.
+    fn setup(plan: &FramePlan, pass: &mut PassSetup) {
+        if forward_draws(plan).is_empty() && plan.path == RenderPath::Deferred {
+            return;
+        }
+        pass.read(DIRECTIONAL_ATLAS).read(OTHER_ATLAS).modify(forward_depth(plan));
+        match plan.path {
+            RenderPath::Deferred => {
+                pass.modify(HDR);
+            }
+            RenderPath::Forward => {
+                let hdr = TargetDesc::view_sized(HDR_FORMAT, ATTACHMENT_SAMPLED);
+                pass.create(HDR, hdr);
+                if plan.msaa > 1 {
+                    let samples = hdr.with_samples(plan.msaa);
+                    pass.create(HDR_MULTISAMPLED, TargetDesc { usage: wgpu::TextureUsages::RENDER_ATTACHMENT, ..samples });
+                }
+            }
         }
     }
 
+    fn new(init: &PassInit<'_>) -> ForwardPass {
+        ForwardPass {
+            module: shaders::module(init.device, "forward", crate::wgsl!("forward")),
+            layout: init.scene_layout(),
+            depth_format: init.depth_format,
+            pipelines: HashMap::new(),
+        }
+    }
+}
+
+impl ForwardPass {
     fn pipelines_for(&self, variant: Variant) -> MeshPipelines {
         let mode = match variant.culling {
             LightCulling::None => LIGHT_CULLING_NONE,
@@ -61,22 +93,6 @@ impl ForwardPass {
 }
 
 impl FramePass for ForwardPass {
-    fn id(&self) -> PassId {
-        PassId::Forward
-    }
-
-    fn io(&self, plan: &FramePlan) -> PassIo {
-        let mut reads = vec![Resource::DirectionalShadowAtlas, Resource::OtherShadowAtlas, forward_depth(plan)];
-        let mut writes = vec![Resource::Hdr, forward_depth(plan)];
-        if plan.path == RenderPath::Deferred {
-            reads.push(Resource::Hdr);
-        }
-        if plan.msaa > 1 {
-            writes.push(Resource::HdrMultisampled);
-        }
-        PassIo { reads, writes }
-    }
-
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         let key = Variant::of(cx.plan);
         if !self.pipelines.contains_key(&key) {
@@ -92,7 +108,7 @@ impl FramePass for ForwardPass {
             glam::Vec3::from(cx.settings.render.background) * exposure_scale(cx.settings.render.exposure_ev100);
         let clear = wgpu::Color { r: background.x as f64, g: background.y as f64, b: background.z as f64, a: 0.0 };
         let deferred = cx.plan.path == RenderPath::Deferred;
-        let hdr = cx.targets.view(Resource::Hdr);
+        let hdr = cx.targets.view(HDR);
         let color = if deferred {
             wgpu::RenderPassColorAttachment {
                 view: hdr,
@@ -103,7 +119,7 @@ impl FramePass for ForwardPass {
         } else if cx.plan.msaa > 1 {
             // The samples are resolved (averaged) into the HDR target, before tone mapping.
             wgpu::RenderPassColorAttachment {
-                view: cx.targets.view(Resource::HdrMultisampled),
+                view: cx.targets.view(HDR_MULTISAMPLED),
                 depth_slice: None,
                 resolve_target: Some(hdr),
                 ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Discard },

@@ -3,13 +3,14 @@
 //! the light accumulation target, and stencil bit `STENCIL_SURFACE` where a surface is,
 //! so that the light volumes never shade the sky.
 
-use super::forward::HDR_FORMAT;
-use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, STENCIL_SURFACE, cleared, scene_depth};
-use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
-use crate::plan::{FramePlan, PassId};
+use super::forward::{HDR, HDR_FORMAT};
+use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, STENCIL_SURFACE, cleared, depth_desc, scene_depth};
+use crate::graph::target::ATTACHMENT_SAMPLED;
+use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
+use crate::plan::FramePlan;
 use crate::shaders;
 use chiaro_math::tonemap::exposure_scale;
-use chiaro_scene::LightBuffer;
+use chiaro_scene::{LightBuffer, RenderPath};
 use std::collections::HashMap;
 
 /// Base colour (linear) and metallic.
@@ -19,12 +20,28 @@ pub const GBUFFER_PACKED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba
 /// The legacy LDR light buffer: exp2(-light) in 8 bits.
 pub const LIGHT_BUFFER_LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
+/// The deferred path's base colour and metallic.
+pub const GBUFFER_ALBEDO_METALLIC: Target = Target("gbuffer albedo metallic");
+/// The deferred path's normals, view depth, roughness and flags.
+pub const GBUFFER_PACKED: Target = Target("gbuffer packed");
+/// The deferred path's legacy LDR light buffer, exp2(-light).
+pub const LIGHT_BUFFER_LDR: Target = Target("light buffer ldr");
+
 /// Where the deferred path accumulates light.
-pub fn light_target(light_buffer: LightBuffer) -> Resource {
+pub fn light_target(light_buffer: LightBuffer) -> Target {
     match light_buffer {
-        LightBuffer::Hdr => Resource::Hdr,
-        LightBuffer::LdrExp2 => Resource::LightBufferLdr,
+        LightBuffer::Hdr => HDR,
+        LightBuffer::LdrExp2 => LIGHT_BUFFER_LDR,
     }
+}
+
+/// The light target's description.
+pub fn light_target_desc(light_buffer: LightBuffer) -> TargetDesc {
+    let format = match light_buffer {
+        LightBuffer::Hdr => HDR_FORMAT,
+        LightBuffer::LdrExp2 => LIGHT_BUFFER_LDR_FORMAT,
+    };
+    TargetDesc::view_sized(format, ATTACHMENT_SAMPLED)
 }
 
 pub struct GBufferPass {
@@ -35,16 +52,33 @@ pub struct GBufferPass {
     pipelines: HashMap<(LightBuffer, bool), MeshPipelines>,
 }
 
-impl GBufferPass {
-    pub fn new(device: &wgpu::Device, layout: &wgpu::PipelineLayout, depth_format: wgpu::TextureFormat) -> GBufferPass {
+impl PassType for GBufferPass {
+    const NAME: &'static str = "gbuffer";
+
+    /// The deferred path's G-buffer, depth and light target are made here.
+    fn setup(plan: &FramePlan, pass: &mut PassSetup) {
+        if plan.path != RenderPath::Deferred {
+            return;
+        }
+        let gbuffer = |format| TargetDesc::view_sized(format, ATTACHMENT_SAMPLED);
+        let depth = depth_desc(pass.depth_format, 1);
+        pass.create(light_target(plan.light_buffer), light_target_desc(plan.light_buffer))
+            .create(GBUFFER_ALBEDO_METALLIC, gbuffer(GBUFFER_ALBEDO_METALLIC_FORMAT))
+            .create(GBUFFER_PACKED, gbuffer(GBUFFER_PACKED_FORMAT))
+            .create(DEPTH, depth);
+    }
+
+    fn new(init: &PassInit<'_>) -> GBufferPass {
         GBufferPass {
-            module: shaders::module(device, "gbuffer", shaders::GBUFFER),
-            layout: layout.clone(),
-            depth_format,
+            module: shaders::module(init.device, "gbuffer", crate::wgsl!("gbuffer")),
+            layout: init.scene_layout(),
+            depth_format: init.depth_format,
             pipelines: HashMap::new(),
         }
     }
+}
 
+impl GBufferPass {
     fn create(&self, (light_buffer, baked): (LightBuffer, bool)) -> MeshPipelines {
         let ldr_exp2 = light_buffer == LightBuffer::LdrExp2;
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
@@ -78,22 +112,6 @@ fn opaque_draws(plan: &FramePlan) -> &[u32] {
 }
 
 impl FramePass for GBufferPass {
-    fn id(&self) -> PassId {
-        PassId::GBuffer
-    }
-
-    fn io(&self, plan: &FramePlan) -> PassIo {
-        PassIo {
-            reads: Vec::new(),
-            writes: vec![
-                light_target(plan.light_buffer),
-                Resource::GBufferAlbedoMetallic,
-                Resource::GBufferPacked,
-                Resource::Depth,
-            ],
-        }
-    }
-
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         let key = pipeline_key(cx.plan);
         if !self.pipelines.contains_key(&key) {
@@ -118,11 +136,11 @@ impl FramePass for GBufferPass {
             label: Some("gbuffer pass"),
             color_attachments: &[
                 cleared(cx.targets.view(light_target(cx.plan.light_buffer)), light_clear),
-                cleared(cx.targets.view(Resource::GBufferAlbedoMetallic), wgpu::Color::TRANSPARENT),
+                cleared(cx.targets.view(GBUFFER_ALBEDO_METALLIC), wgpu::Color::TRANSPARENT),
                 // View depth 0 marks "no surface".
-                cleared(cx.targets.view(Resource::GBufferPacked), wgpu::Color::TRANSPARENT),
+                cleared(cx.targets.view(GBUFFER_PACKED), wgpu::Color::TRANSPARENT),
             ],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(Resource::Depth), false)),
+            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), false)),
             timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,

@@ -3,10 +3,28 @@
 //! the loop that binds materials and issues the draws in the plan's order.
 
 use crate::gpu::GpuVertex;
+use crate::graph::{Target, TargetDesc};
+use crate::plan::FramePlan;
 use crate::plan::draws::Draw;
 use crate::scene::GpuScene;
 use chiaro_scene::AlphaMode;
 use std::collections::HashMap;
+
+/// Reverse-Z scene depth with stencil, single-sampled: the deferred path's, and the
+/// forward path's without MSAA.
+pub const DEPTH: Target = Target("depth");
+/// The forward path's multisampled depth (`FramePlan::msaa` samples).
+pub const DEPTH_MULTISAMPLED: Target = Target("depth multisampled");
+
+/// The depth target the forward path draws into: multisampled with MSAA.
+pub fn forward_depth(plan: &FramePlan) -> Target {
+    if plan.msaa > 1 { DEPTH_MULTISAMPLED } else { DEPTH }
+}
+
+/// A scene depth target of `samples` per pixel in the device's `format`.
+pub fn depth_desc(format: wgpu::TextureFormat, samples: u32) -> TargetDesc {
+    TargetDesc::view_sized(format, wgpu::TextureUsages::RENDER_ATTACHMENT).with_samples(samples)
+}
 
 #[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
 pub struct MeshPipelineKey {

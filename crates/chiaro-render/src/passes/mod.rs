@@ -1,16 +1,41 @@
-//! One module per pass, each owning its pipelines and bind group layouts: the shadow
-//! atlases, forward lighting, the deferred path's G-buffer, light volumes, LDR decoding
-//! and debug views, AOVs, tone mapping, and the per-light shadow AOV.
+//! One module per pass, each owning its pipelines and bind group layouts and declaring,
+//! in its `setup`, the targets it makes, reads and writes: the shadow atlases, the depth
+//! prepass, forward lighting, the deferred path's G-buffer, light volumes, LDR decoding
+//! and debug views, the AOVs, the per-light shadow AOV and tone mapping. `list.rs` names
+//! them all; `fullscreen` and `mesh` are helpers they share.
 
-pub mod aov;
-pub mod debug_view;
-pub mod deferred_lights;
-pub mod depth_prepass;
-pub mod forward;
+use crate::graph::{FramePass, PassDeclaration, PassInit, PassType};
+
 pub mod fullscreen;
-pub mod gbuffer;
-pub mod ldr_decode;
 pub mod mesh;
-pub mod shadow_aov;
-pub mod shadows;
-pub mod tonemap;
+
+include!("list.rs");
+
+macro_rules! declare_passes {
+    ($($module:ident: $ty:ident [$($artifact:literal),*],)*) => {
+        $(pub mod $module;)*
+
+        /// Every pass's name and setup, in list order: enough to compile a frame's graph
+        /// without a device.
+        pub const DECLARATIONS: &[PassDeclaration] = &[$(PassDeclaration {
+            name: <$module::$ty as PassType>::NAME,
+            setup: <$module::$ty as PassType>::setup,
+        }),*];
+
+        /// Makes every pass, in list order.
+        pub fn make_all(init: &PassInit<'_>) -> Vec<Box<dyn FramePass>> {
+            vec![$(Box::new(<$module::$ty as PassType>::new(init))),*]
+        }
+
+        /// The composed WGSL of every shader artifact the passes use, by name.
+        pub fn shader_sources() -> Vec<(&'static str, &'static str)> {
+            let mut sources: Vec<(&'static str, &'static str)> =
+                vec![$($(($artifact, crate::wgsl!($artifact))),*),*];
+            sources.sort();
+            sources.dedup();
+            sources
+        }
+    };
+}
+
+frame_passes!(declare_passes);

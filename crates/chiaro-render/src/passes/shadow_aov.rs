@@ -1,17 +1,21 @@
-//! The shadow AOV pass, run once per scene light after the frame: the shadow term the
+//! The shadow AOV pass, when the caller asks for it: per scene light, the shadow term the
 //! shading used for that light (1 lit, 0 shadowed) and coverage, for the surface the
-//! forward pass kept in each pixel. Not part of the frame's pass list: the renderer runs
-//! it per light when shadow AOVs are asked for.
+//! camera passes kept in each pixel, one layer of an array target per light.
 
-use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
+use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
+use super::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::gpu::GpuAovLight;
-use crate::graph::{PassContext, PassIo, Resource};
+use crate::graph::target::ATTACHMENT_COPY;
+use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::plan::FramePlan;
-use crate::scene::GpuScene;
+use crate::plan::lights::LightId;
+use crate::shader_constants::{MAX_UNIFORM_LIGHTS, NO_LIGHT};
 use crate::shaders;
 
 /// Shadow term, coverage.
 pub const SHADOW_AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// One layer per scene light, in scene order.
+pub const SHADOW: Target = Target("aov shadow");
 
 pub struct ShadowAovPass {
     pipelines: MeshPipelines,
@@ -21,8 +25,25 @@ pub struct ShadowAovPass {
     stride: u64,
 }
 
+impl PassType for ShadowAovPass {
+    const NAME: &'static str = "shadow aov";
+
+    fn setup(plan: &FramePlan, pass: &mut PassSetup) {
+        let lights = plan.scene_light_count() as u32;
+        if !plan.request.shadow_aovs || lights == 0 {
+            return;
+        }
+        let desc = TargetDesc::view_sized(SHADOW_AOV_FORMAT, ATTACHMENT_COPY).with_layers(lights);
+        pass.read(DIRECTIONAL_ATLAS).read(OTHER_ATLAS).modify(DEPTH).create(SHADOW, desc).export(SHADOW);
+    }
+
+    fn new(init: &PassInit<'_>) -> ShadowAovPass {
+        ShadowAovPass::make(init.device, init.frame_layout, init.material_layout, init.depth_format)
+    }
+}
+
 impl ShadowAovPass {
-    pub fn new(
+    fn make(
         device: &wgpu::Device,
         frame_layout: &wgpu::BindGroupLayout,
         material_layout: &wgpu::BindGroupLayout,
@@ -50,7 +71,7 @@ impl ShadowAovPass {
         ShadowAovPass {
             pipelines: MeshPipelines::new(MeshPipelinesDesc {
                 label: "shadow aov",
-                module: shaders::module(device, "shadow aov", shaders::SHADOW_AOV),
+                module: shaders::module(device, "shadow aov", crate::wgsl!("shadow_aov")),
                 fragment_entry: Some("fs_shadow_aov"),
                 layout,
                 color_formats: vec![SHADOW_AOV_FORMAT],
@@ -67,24 +88,22 @@ impl ShadowAovPass {
         }
     }
 
-    pub fn io() -> PassIo {
-        PassIo {
-            reads: vec![Resource::Depth, Resource::DirectionalShadowAtlas, Resource::OtherShadowAtlas],
-            writes: vec![Resource::AovShadow, Resource::Depth],
-        }
-    }
+}
 
+impl FramePass for ShadowAovPass {
     /// Uploads the lights to report, one per scene light: its index in the frame's light
-    /// buffer (`NO_LIGHT` where the frame does not shade it). Makes the pipelines.
-    pub fn prepare(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        plan: &FramePlan,
-        scene: &GpuScene,
-        light_indices: &[u32],
-    ) {
-        self.pipelines.prepare(device, &scene.draws, &plan.camera_draws, 1);
+    /// buffer (`NO_LIGHT` where the frame does not shade it, or past the uniform light
+    /// buffer, which the shader reads). Makes the pipelines.
+    fn prepare(&mut self, cx: &PrepareContext<'_>) {
+        let (device, plan) = (cx.device, cx.plan);
+        let light_indices: Vec<u32> = (0..plan.scene_light_count())
+            .map(|i| {
+                plan.light_index(LightId(i as u32))
+                    .filter(|&k| k < MAX_UNIFORM_LIGHTS as usize)
+                    .map_or(NO_LIGHT, |k| k as u32)
+            })
+            .collect();
+        self.pipelines.prepare(device, &cx.scene.draws, &plan.camera_draws, 1);
         let size = self.stride * light_indices.len().max(1) as u64;
         if self.lights.as_ref().is_none_or(|(buffer, _)| buffer.size() < size) {
             let buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -114,22 +133,28 @@ impl ShadowAovPass {
             let value = GpuAovLight { light_index, _pad: [0; 3] };
             bytes[at..at + size_of::<GpuAovLight>()].copy_from_slice(bytemuck::bytes_of(&value));
         }
-        queue.write_buffer(buffer, 0, &bytes);
+        cx.queue.write_buffer(buffer, 0, &bytes);
     }
 
-    /// Records the pass for the `k`th of the prepared lights.
-    pub fn record(&self, cx: &mut PassContext<'_>, k: usize) {
+    /// One wgpu pass per scene light, each into its layer; the first carries the start
+    /// timestamp, the last the end.
+    fn record(&self, cx: &mut PassContext<'_>) {
         let (_, light_bind_group) = self.lights.as_ref().expect("prepared");
-        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shadow aov pass"),
-            color_attachments: &[cleared(cx.targets.view(Resource::AovShadow), wgpu::Color::TRANSPARENT)],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(Resource::Depth), true)),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, cx.frame_bind_group, &[]);
-        pass.set_bind_group(2, light_bind_group, &[(k as u64 * self.stride) as u32]);
-        self.pipelines.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
+        let count = cx.plan.scene_light_count();
+        for k in 0..count {
+            let layer = cx.targets.layer_view(SHADOW, k as u32);
+            let timestamp_writes = cx.timestamps.as_ref().and_then(|t| t.writes(k == 0, k + 1 == count));
+            let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow aov pass"),
+                color_attachments: &[cleared(&layer, wgpu::Color::TRANSPARENT)],
+                depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
+                timestamp_writes,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, cx.frame_bind_group, &[]);
+            pass.set_bind_group(2, light_bind_group, &[(k as u64 * self.stride) as u32]);
+            self.pipelines.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
+        }
     }
 }

@@ -1,22 +1,33 @@
 //! The shadow pass: casters drawn into their tiles of both atlases, depth only, from the
-//! tiles and caster lists the plan made. With `shadows.cache`, a tile is drawn only when
-//! what it would hold changed (its light's projection, bias, tile, or any caster's
-//! `caster_key`); the others keep last frame's depths. Pipelines vary by slope bias, cull mode, winding,
-//! depth clamping and how the material casts (solid, alpha-tested or dithered: the last
-//! two sample the material's base colour alpha), since those are pipeline state in wgpu.
+//! tiles and caster lists the plan made. The atlases persist from frame to frame; the plan
+//! says which tiles are drawn again (`plan::shadow_cache`), and the pass runs only when
+//! some are. Pipelines vary by slope bias, cull mode, winding, depth clamping and how the
+//! material casts (solid, alpha-tested or dithered: the last two sample the material's
+//! base colour alpha), since those are pipeline state in wgpu.
 
-use crate::context::GpuContext;
 use crate::gpu::{GpuCasterView, GpuVertex};
-use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
+use crate::graph::target::ATTACHMENT_SAMPLED;
+use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
+use crate::plan::FramePlan;
 use crate::plan::shadows::{CasterTile, ShadowAtlas};
-use crate::plan::{FramePlan, PassId};
 use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES};
 use crate::shaders;
 use chiaro_scene::{CastShadows, ShadowCasting};
 use std::collections::HashMap;
-use std::hash::{Hash, Hasher};
 
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The directional lights' cascades.
+pub const DIRECTIONAL_ATLAS: Target = Target("directional shadow atlas");
+/// The point and spot lights' tiles.
+pub const OTHER_ATLAS: Target = Target("other shadow atlas");
+
+/// The atlas target of each atlas.
+fn atlas_target(atlas: ShadowAtlas) -> Target {
+    match atlas {
+        ShadowAtlas::Directional => DIRECTIONAL_ATLAS,
+        ShadowAtlas::Other => OTHER_ATLAS,
+    }
+}
 const TOTAL_TILES: u64 = (MAX_DIRECTIONAL_SHADOW_TILES + MAX_OTHER_SHADOW_TILES) as u64;
 
 #[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
@@ -46,26 +57,6 @@ pub struct ShadowPass {
     unclipped_depth: bool,
     /// Writes the far plane over one tile: a cleared tile inside a pass that keeps the rest.
     clear_tile: wgpu::RenderPipeline,
-    /// Per (atlas, tile index), the content key of what the atlas holds there, and where.
-    cached: HashMap<(ShadowAtlas, u32), CachedTile>,
-    /// Per tile of this frame's plan, whether it is drawn.
-    dirty: Vec<bool>,
-    /// Each atlas's size when last drawn: a new size is a new texture, holding nothing.
-    atlas_sizes: HashMap<ShadowAtlas, u32>,
-}
-
-/// The content key of a cached tile, and its viewport (x, y, size).
-type CachedTile = (u64, (u32, u32, u32));
-
-/// What a tile holds: equal keys, equal depths.
-fn tile_key(tile: &CasterTile, atlas_size: u32, draws: &[crate::plan::draws::Draw]) -> u64 {
-    let mut h = std::hash::DefaultHasher::new();
-    (tile.viewport, atlas_size, tile.slope_bias.to_bits()).hash(&mut h);
-    tile.clip_from_world.to_cols_array().map(f32::to_bits).hash(&mut h);
-    for &d in &tile.casters {
-        draws[d as usize].caster_key.hash(&mut h);
-    }
-    h.finish()
 }
 
 fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
@@ -78,9 +69,25 @@ fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
     }
 }
 
-impl ShadowPass {
-    pub fn new(ctx: &GpuContext, material_layout: &wgpu::BindGroupLayout) -> ShadowPass {
-        let device = &ctx.device;
+impl PassType for ShadowPass {
+    const NAME: &'static str = "shadows";
+
+    /// Both atlases persist; they are written (and the pass runs) only when the plan
+    /// draws a tile again, which later frames then trust: a side effect.
+    fn setup(plan: &FramePlan, pass: &mut PassSetup) {
+        let shadows = &plan.shadows;
+        for atlas in [ShadowAtlas::Directional, ShadowAtlas::Other] {
+            let desc = TargetDesc::square(shadows.atlas_size(atlas), SHADOW_FORMAT, ATTACHMENT_SAMPLED);
+            pass.persistent(atlas_target(atlas), desc);
+            if shadows.redrawn_tiles().any(|(_, t)| t.atlas == atlas) {
+                pass.modify(atlas_target(atlas)).side_effect();
+            }
+        }
+    }
+
+    fn new(init: &PassInit<'_>) -> ShadowPass {
+        let device = init.device;
+        let material_layout = init.material_layout;
         let alignment = device.limits().min_uniform_buffer_offset_alignment as u64;
         let stride = (size_of::<GpuCasterView>() as u64).div_ceil(alignment) * alignment;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -118,7 +125,7 @@ impl ShadowPass {
             bind_group_layouts: &[Some(&layout), Some(material_layout)],
             immediate_size: 0,
         });
-        let module = shaders::module(device, "shadow caster", shaders::SHADOW_CASTER);
+        let module = shaders::module(device, "shadow caster", crate::wgsl!("shadow_caster"));
         let clear_tile = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("clear shadow tile"),
             layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -148,9 +155,6 @@ impl ShadowPass {
         ShadowPass {
             module,
             clear_tile,
-            cached: HashMap::new(),
-            dirty: Vec::new(),
-            atlas_sizes: HashMap::new(),
             views: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("caster views"),
                 size: stride * TOTAL_TILES,
@@ -166,7 +170,9 @@ impl ShadowPass {
             pipelines: HashMap::new(),
         }
     }
+}
 
+impl ShadowPass {
     fn create(&self, device: &wgpu::Device, key: CasterKey) -> wgpu::RenderPipeline {
         let (layout, vertex_entry, fragment_entry) = match key.casting {
             ShadowCasting::Clip => (&self.alpha_pipeline_layout, "vs_caster_alpha", Some("fs_caster_clip")),
@@ -213,50 +219,8 @@ impl ShadowPass {
 }
 
 impl FramePass for ShadowPass {
-    fn id(&self) -> PassId {
-        PassId::Shadows
-    }
-
-    fn io(&self, _plan: &FramePlan) -> PassIo {
-        PassIo { reads: vec![], writes: vec![Resource::DirectionalShadowAtlas, Resource::OtherShadowAtlas] }
-    }
-
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         let tiles = &cx.plan.shadows.tiles;
-        let shadows = &cx.plan.shadows;
-        if !cx.plan.shadow_cache {
-            // The atlases are cleared whole: only this frame's tiles will hold anything.
-            self.cached.clear();
-        }
-        for (atlas, size) in
-            [(ShadowAtlas::Directional, shadows.directional_atlas_size), (ShadowAtlas::Other, shadows.other_atlas_size)]
-        {
-            if size > 0 && self.atlas_sizes.insert(atlas, size).is_some_and(|old| old != size) {
-                self.cached.retain(|&(a, _), _| a != atlas);
-            }
-        }
-        self.dirty = tiles
-            .iter()
-            .map(|tile| {
-                let size = match tile.atlas {
-                    ShadowAtlas::Directional => shadows.directional_atlas_size,
-                    ShadowAtlas::Other => shadows.other_atlas_size,
-                };
-                let key = tile_key(tile, size, &cx.scene.draws);
-                let kept = self.cached.insert((tile.atlas, tile.tile), (key, tile.viewport)).map(|c| c.0) == Some(key);
-                !(kept && cx.plan.shadow_cache)
-            })
-            .collect();
-        // A tile drawn now overwrites whatever other tiles (of an older layout) held there.
-        for (tile, _) in tiles.iter().zip(&self.dirty).filter(|(_, dirty)| **dirty) {
-            let overlaps = |(x, y, s): (u32, u32, u32)| {
-                let (tx, ty, ts) = tile.viewport;
-                x < tx + ts && tx < x + s && y < ty + ts && ty < y + s
-            };
-            self.cached.retain(|&(atlas, index), &mut (_, viewport)| {
-                atlas != tile.atlas || index == tile.tile || !overlaps(viewport)
-            });
-        }
         debug_assert!(tiles.len() as u64 <= TOTAL_TILES);
         let mut bytes = vec![0u8; (self.stride * tiles.len() as u64) as usize];
         for (i, tile) in tiles.iter().enumerate() {
@@ -296,22 +260,19 @@ impl FramePass for ShadowPass {
         }));
     }
 
-    /// One wgpu pass per atlas that has tiles this frame. Without the cache, each is
-    /// cleared and every tile drawn; with it, the atlas is kept and only the tiles whose
-    /// content changed are cleared and drawn. The first carries the start timestamp, the
+    /// One wgpu pass per atlas that has tiles to draw this frame. Without the cache, each
+    /// is cleared and every tile drawn; with it, the atlas is kept and only the tiles the
+    /// plan draws again are cleared and drawn. The first carries the start timestamp, the
     /// last the end.
     fn record(&self, cx: &mut PassContext<'_>) {
-        let tiles = &cx.plan.shadows.tiles;
         let bind_group = self.bind_group.as_ref().expect("prepared");
-        let atlases: Vec<(ShadowAtlas, Resource)> = [
-            (ShadowAtlas::Directional, Resource::DirectionalShadowAtlas),
-            (ShadowAtlas::Other, Resource::OtherShadowAtlas),
-        ]
-        .into_iter()
-        .filter(|(atlas, _)| tiles.iter().any(|t| t.atlas == *atlas))
-        .collect();
-        for (k, &(atlas, resource)) in atlases.iter().enumerate() {
-            let timestamp_writes = cx.timestamps.as_ref().map(|t| t.writes(k == 0, k + 1 == atlases.len()));
+        let shadows = &cx.plan.shadows;
+        let atlases: Vec<ShadowAtlas> = [ShadowAtlas::Directional, ShadowAtlas::Other]
+            .into_iter()
+            .filter(|&atlas| shadows.redrawn_tiles().any(|(_, t)| t.atlas == atlas))
+            .collect();
+        for (k, &atlas) in atlases.iter().enumerate() {
+            let timestamp_writes = cx.timestamps.as_ref().and_then(|t| t.writes(k == 0, k + 1 == atlases.len()));
             let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(match atlas {
                     ShadowAtlas::Directional => "directional shadow pass",
@@ -319,7 +280,7 @@ impl FramePass for ShadowPass {
                 }),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: cx.targets.view(resource),
+                    view: cx.targets.view(atlas_target(atlas)),
                     depth_ops: Some(wgpu::Operations {
                         load: if cx.plan.shadow_cache { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(1.0) },
                         store: wgpu::StoreOp::Store,
@@ -332,7 +293,7 @@ impl FramePass for ShadowPass {
             });
             pass.set_vertex_buffer(0, cx.scene.vertices.slice(..));
             pass.set_index_buffer(cx.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-            for (i, tile) in tiles.iter().enumerate().filter(|(i, t)| t.atlas == atlas && self.dirty[*i]) {
+            for (i, tile) in shadows.redrawn_tiles().filter(|(_, t)| t.atlas == atlas) {
                 let (x, y, size) = tile.viewport;
                 pass.push_debug_group(&format!("shadow tile {} of light {}", tile.tile, tile.light.0));
                 pass.set_viewport(x as f32, y as f32, size as f32, size as f32, 0.0, 1.0);

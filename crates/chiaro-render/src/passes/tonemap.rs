@@ -2,8 +2,9 @@
 //! texture of the renderer's or a surface the caller lends (pipelines per output format;
 //! a linear format gets the sRGB encoding in the shader).
 
-use crate::graph::{FramePass, PassContext, PassIo, PrepareContext, Resource};
-use crate::plan::{FramePlan, PassId};
+use super::forward::HDR;
+use crate::graph::{FramePass, OUTPUT, PassContext, PassInit, PassSetup, PassType, PrepareContext};
+use crate::plan::FramePlan;
 use crate::shaders;
 use std::collections::HashMap;
 
@@ -15,8 +16,16 @@ pub struct TonemapPass {
     format: Option<wgpu::TextureFormat>,
 }
 
-impl TonemapPass {
-    pub fn new(device: &wgpu::Device) -> TonemapPass {
+impl PassType for TonemapPass {
+    const NAME: &'static str = "tonemap";
+
+    /// Always declared: a debug view that writes the output after it culls it.
+    fn setup(_plan: &FramePlan, pass: &mut PassSetup) {
+        pass.read(HDR).write(OUTPUT);
+    }
+
+    fn new(init: &PassInit<'_>) -> TonemapPass {
+        let device = init.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tonemap layout"),
             entries: &[wgpu::BindGroupLayoutEntry {
@@ -36,14 +45,16 @@ impl TonemapPass {
             immediate_size: 0,
         });
         TonemapPass {
-            module: shaders::module(device, "tonemap", shaders::TONEMAP),
+            module: shaders::module(device, "tonemap", crate::wgsl!("tonemap")),
             layout,
             pipeline_layout,
             pipelines: HashMap::new(),
             format: None,
         }
     }
+}
 
+impl TonemapPass {
     fn create(&self, device: &wgpu::Device, format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
         let constants = [("0", if format.is_srgb() { 0.0 } else { 1.0 })];
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -71,14 +82,6 @@ impl TonemapPass {
 }
 
 impl FramePass for TonemapPass {
-    fn id(&self) -> PassId {
-        PassId::Tonemap
-    }
-
-    fn io(&self, _plan: &FramePlan) -> PassIo {
-        PassIo { reads: vec![Resource::Hdr], writes: vec![Resource::Output] }
-    }
-
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         if !self.pipelines.contains_key(&cx.output_format) {
             let pipeline = self.create(cx.device, cx.output_format);
@@ -93,14 +96,14 @@ impl FramePass for TonemapPass {
             layout: &self.layout,
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
-                resource: wgpu::BindingResource::TextureView(cx.targets.view(Resource::Hdr)),
+                resource: wgpu::BindingResource::TextureView(cx.targets.view(HDR)),
             }],
         });
         let pipeline = &self.pipelines[&self.format.expect("prepared")];
         let timestamp_writes = cx.timestamp_writes();
         let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("tonemap pass"),
-            color_attachments: &[super::mesh::cleared(cx.targets.view(Resource::Output), wgpu::Color::BLACK)],
+            color_attachments: &[super::mesh::cleared(cx.targets.view(OUTPUT), wgpu::Color::BLACK)],
             depth_stencil_attachment: None,
             timestamp_writes,
             occlusion_query_set: None,

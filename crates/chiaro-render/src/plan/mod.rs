@@ -1,14 +1,17 @@
 //! The frame plan: everything a frame will do, decided on the CPU before anything is
 //! recorded. A scene, its draws, a view and the settings flow in; the lights the frame
 //! shades (with stable ids), their light lists and shadow slots, the shadow tiles with
-//! their casters, the camera's draw order and the passes to run flow out. Passes only
-//! record what the plan says, and tests inspect plans without a GPU.
+//! their casters and which of them are drawn again, the camera's draw order, the light
+//! volumes and the shader features flow out. Passes declare and record only what the plan
+//! says (the frame graph decides from their declarations which run), and tests inspect
+//! plans without a GPU.
 
 pub mod cookies;
 pub mod culling;
 pub mod draws;
 pub mod features;
 pub mod lights;
+pub mod shadow_cache;
 pub mod shadows;
 pub mod volumes;
 
@@ -30,49 +33,6 @@ use lights::{FrameLight, LightId, choose_lights, gpu_light};
 use shadows::{ShadowAtlasTiles, ShadowPlan, ShadowSlot, plan_shadows};
 use std::fmt;
 use volumes::{VolumeDraw, light_volume};
-
-/// The passes a frame can run, in the order they run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum PassId {
-    /// Casters into both shadow atlases.
-    Shadows,
-    /// The forward path's opaque draws into depth alone, so that the forward pass shades
-    /// each pixel once.
-    DepthPrepass,
-    /// Every light over every visible draw into the HDR target.
-    Forward,
-    /// World position, normal and view depth.
-    Aov,
-    /// The HDR target to the display-referred output.
-    Tonemap,
-    /// One light's shadow term (run once per light, after the frame).
-    ShadowAov,
-    /// The deferred path's surfaces, emissive and ambient light.
-    GBuffer,
-    /// The deferred path's light volumes.
-    DeferredLights,
-    /// The LDR light buffer back to radiance.
-    LdrDecode,
-    /// A G-buffer or overdraw view straight to the output.
-    DebugView,
-}
-
-impl PassId {
-    pub fn name(self) -> &'static str {
-        match self {
-            PassId::Shadows => "shadows",
-            PassId::DepthPrepass => "depth prepass",
-            PassId::Forward => "forward",
-            PassId::Aov => "aov",
-            PassId::Tonemap => "tonemap",
-            PassId::ShadowAov => "shadow aov",
-            PassId::GBuffer => "gbuffer",
-            PassId::DeferredLights => "deferred lights",
-            PassId::LdrDecode => "ldr decode",
-            PassId::DebugView => "debug view",
-        }
-    }
-}
 
 /// What the caller wants from the frame besides the image.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -136,7 +96,6 @@ pub struct FramePlan {
     /// Per scene light, the shadow mask channel it reads: the bake's, unless the mixed
     /// mode (baked-indirect) uses no masks.
     mask_channels: Vec<Option<u8>>,
-    pub passes: Vec<PassId>,
     /// Per scene light (by `LightId`), its index in `lights`, if the frame shades it.
     frame_index: Vec<Option<u32>>,
     /// Directional lights over the limit, and visible point and spot lights over
@@ -173,7 +132,8 @@ impl FramePlan {
                 scene.baked.as_ref().and_then(|b| b.channel(i)).filter(|_| used)
             })
             .collect();
-        let (shadows, slots) = plan_shadows(scene, draws, view, settings, &choice.directional, &choice.other, atlases);
+        let (mut shadows, slots) =
+            plan_shadows(scene, draws, view, settings, &choice.directional, &choice.other, atlases);
         let mut lights = Vec::with_capacity(choice.directional.len() + choice.other.len());
         let mut lists = LightLists::default();
         // Per light, whether its loop needs a shadow lookup.
@@ -240,31 +200,13 @@ impl FramePlan {
         // AOVs test against single-sampled depth, and the G-buffer has one sample.
         let single = path == RenderPath::Deferred || request.aovs || request.shadow_aovs;
         let msaa = if single { 1 } else { settings.render.msaa };
-        let mut passes = Vec::new();
-        // Debug views show no shading, so they need no shadows.
-        if !shadows.tiles.is_empty() && request.deferred_view().is_none() {
-            passes.push(PassId::Shadows);
-        }
-        match (path, request.deferred_view()) {
-            (RenderPath::Forward, _) => passes.extend([PassId::DepthPrepass, PassId::Forward]),
-            (RenderPath::Deferred, Some(DebugView::LightOverdraw)) => {
-                passes.extend([PassId::GBuffer, PassId::DeferredLights])
-            }
-            (RenderPath::Deferred, Some(_)) => passes.push(PassId::GBuffer),
-            (RenderPath::Deferred, None) => {
-                passes.extend([PassId::GBuffer, PassId::DeferredLights]);
-                if light_buffer == LightBuffer::LdrExp2 {
-                    passes.push(PassId::LdrDecode);
-                }
-                if transparent_from < camera_draws.len() {
-                    passes.push(PassId::Forward);
-                }
-            }
-        }
-        if request.aovs {
-            passes.push(PassId::Aov);
-        }
-        passes.push(if request.deferred_view().is_some() { PassId::DebugView } else { PassId::Tonemap });
+        // A debug view of the G-buffer shades nothing, so it draws no shadow tiles (and
+        // the cache keeps what the atlases hold for the next lit frame).
+        shadows.redraw = if request.deferred_view().is_some() {
+            vec![false; shadows.tiles.len()]
+        } else {
+            atlases.cache.redraws(&shadows, draws, settings.shadows.cache)
+        };
         let features = features::ShaderFeatures::of(scene, settings, &lights);
         FramePlan {
             view: *view,
@@ -280,7 +222,6 @@ impl FramePlan {
             volumes,
             cookie_layers: cookie_slots(scene).into_iter().map(|slot| slot.map(|(_, layer)| layer)).collect(),
             mask_channels,
-            passes,
             frame_index,
             dropped_directional: choice.dropped_directional,
             dropped_other: choice.selection.dropped,
@@ -295,6 +236,11 @@ impl FramePlan {
     /// The shadow mask channel the light with `id` reads this frame.
     pub fn mask_channel(&self, id: LightId) -> Option<u8> {
         self.mask_channels.get(id.index()).copied().flatten()
+    }
+
+    /// How many lights the scene has (shaded this frame or not).
+    pub fn scene_light_count(&self) -> usize {
+        self.frame_index.len()
     }
 
     /// Where the light with `id` sits in `lights`, if the frame shades it.
@@ -383,7 +329,8 @@ impl FramePlan {
 }
 
 impl fmt::Display for FramePlan {
-    /// One line per light, then the shadow tiles and the passes.
+    /// One line per light, then the shadow tiles (those drawn again marked) and the
+    /// light culling.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
@@ -403,21 +350,23 @@ impl fmt::Display for FramePlan {
         let s = &self.shadows;
         writeln!(
             f,
-            "  shadow tiles: {} (atlases {} and {} texels{})",
+            "  shadow tiles: {}, {} drawn this frame (atlases {} and {} texels{})",
             s.tiles.len(),
+            s.redraw.iter().filter(|&&r| r).count(),
             s.directional_atlas_size,
             s.other_atlas_size,
             if s.tiles_kept { ", tiles kept from the last frame" } else { "" }
         )?;
-        for t in &s.tiles {
+        for (t, redraw) in s.tiles.iter().zip(&s.redraw) {
             writeln!(
                 f,
-                "    {:?} tile {} light {} viewport {:?}, {} casters",
+                "    {:?} tile {} light {} viewport {:?}, {} casters{}",
                 t.atlas,
                 t.tile,
                 t.light.0,
                 t.viewport,
-                t.casters.len()
+                t.casters.len(),
+                if *redraw { ", drawn" } else { ", kept" }
             )?;
         }
         let lists = &self.culled.lists;
@@ -434,7 +383,6 @@ impl fmt::Display for FramePlan {
                 longest
             )?;
         }
-        let passes: Vec<&str> = self.passes.iter().map(|p| p.name()).collect();
-        write!(f, "  passes: {}", passes.join(", "))
+        Ok(())
     }
 }

@@ -6,6 +6,7 @@
 
 use super::draws::Draw;
 use super::lights::LightId;
+use super::shadow_cache::TileCache;
 use crate::gpu::{GpuAtlas, GpuCascade, GpuShadowFade, GpuShadowTile, GpuShadows};
 use crate::shader_constants::{
     CASCADE_BLEND_DITHER, CASCADE_BLEND_HARD, CASCADE_BLEND_SOFT, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES,
@@ -73,6 +74,8 @@ pub struct ShadowAtlasTiles {
     pub other: TileAllocator<(LightId, u32)>,
     /// Each point and spot light's coverage tier last frame (`tiers::coverage_tier`).
     pub other_tiers: std::collections::HashMap<LightId, u32>,
+    /// What the atlases hold, so that unchanged tiles are not drawn again.
+    pub cache: TileCache,
 }
 
 impl Default for ShadowAtlasTiles {
@@ -81,6 +84,7 @@ impl Default for ShadowAtlasTiles {
             directional: TileAllocator::new(MAX_DIRECTIONAL_SHADOW_TILES as usize),
             other: TileAllocator::new(MAX_OTHER_SHADOW_TILES as usize),
             other_tiers: std::collections::HashMap::new(),
+            cache: TileCache::default(),
         }
     }
 }
@@ -97,6 +101,24 @@ pub struct ShadowPlan {
     pub cascade_spheres: Vec<Sphere>,
     /// Every shadowed light kept the tiles it had last frame.
     pub tiles_kept: bool,
+    /// Per tile, whether this frame draws it (`shadow_cache::TileCache`); the others keep
+    /// the depths an earlier frame drew. None are drawn for a frame that shades nothing.
+    pub redraw: Vec<bool>,
+}
+
+impl ShadowPlan {
+    /// The side of `atlas` in texels this frame.
+    pub fn atlas_size(&self, atlas: ShadowAtlas) -> u32 {
+        match atlas {
+            ShadowAtlas::Directional => self.directional_atlas_size,
+            ShadowAtlas::Other => self.other_atlas_size,
+        }
+    }
+
+    /// The tiles this frame draws, with their index in `tiles`.
+    pub fn redrawn_tiles(&self) -> impl Iterator<Item = (usize, &CasterTile)> {
+        self.tiles.iter().enumerate().filter(|(i, _)| self.redraw[*i])
+    }
 }
 
 /// The slot of each input light, in input order.
@@ -146,6 +168,7 @@ pub fn plan_shadows(
         tiles: Vec::new(),
         cascade_spheres: Vec::new(),
         tiles_kept: true,
+        redraw: Vec::new(),
     };
     let directional_slots = plan_directional(&mut plan, scene, view, settings, max_distance, directional, atlases);
     let other_slots = plan_other(&mut plan, scene, view, settings, other, atlases);

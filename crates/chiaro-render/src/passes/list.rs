@@ -1,0 +1,20 @@
+// The frame's passes, one line each: its module, its type, and the shader artifacts
+// (top-level files of `shaders/`) it uses. Where two passes write the same target, the
+// one listed first runs first; otherwise the graph orders and culls them. build.rs reads
+// this list too, to compose each artifact. A new pass is a new module and one line here.
+macro_rules! frame_passes {
+    ($then:ident) => {
+        $then! {
+            shadows: ShadowPass ["shadow_caster"],
+            depth_prepass: DepthPrepassPass ["forward"],
+            gbuffer: GBufferPass ["gbuffer"],
+            deferred_lights: DeferredLightsPass ["deferred_light"],
+            ldr_decode: LdrDecodePass ["ldr_decode"],
+            forward: ForwardPass ["forward"],
+            aov: AovPass ["aov"],
+            shadow_aov: ShadowAovPass ["shadow_aov"],
+            tonemap: TonemapPass ["tonemap"],
+            debug_view: DebugViewPass ["debug_view"],
+        }
+    };
+}
