@@ -148,8 +148,9 @@ fn probes_cover_the_scene_bounds_and_refuse_absurd_counts() {
     assert!(e.contains("bake.probe_spacing"), "{e}");
 }
 
-fn shared_scene(dir: &Path) -> PathBuf {
-    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets/ShadowsSpot/glTF");
+/// ShadowsSpot from the repository's test scenes, copied into `dir` (the tests edit it).
+fn spot_scene_copy(dir: &Path) -> PathBuf {
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets/ShadowsSpot/glTF");
     for file in ["shadows-spot.gltf", "shadows-spot.bin"] {
         std::fs::copy(source.join(file), dir.join(file)).unwrap();
     }
@@ -159,7 +160,7 @@ fn shared_scene(dir: &Path) -> PathBuf {
 #[test]
 fn a_bake_directory_is_read_back_for_its_scene_and_refused_for_another() {
     let dir = tempfile::tempdir().unwrap();
-    let path = shared_scene(dir.path());
+    let path = spot_scene_copy(dir.path());
     let mut scene = chiaro_scene::load_gltf(&path).unwrap();
     for light in &mut scene.lights {
         light.mode = LightMode::Baked;
@@ -227,7 +228,7 @@ fn a_bake_directory_is_read_back_for_its_scene_and_refused_for_another() {
 #[test]
 fn writing_replaces_an_old_bake_and_an_interrupt_leaves_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    let path = shared_scene(dir.path());
+    let path = spot_scene_copy(dir.path());
     let scene = chiaro_scene::load_gltf(&path).unwrap();
     let s = settings(1, 0, 1.0);
     let result = bake(&scene, &s, &Silent, &AtomicBool::new(false)).unwrap();

@@ -3,6 +3,7 @@
 //! light from the probes. On the software device, like every GPU test.
 
 use chiaro_bake::{Silent, bake};
+use chiaro_compare::assert_agrees_with_reference;
 use chiaro_math::light::{distance_attenuation, spot_angle_params, spot_attenuation};
 use chiaro_render::{FrameOptions, FrameOutput, GpuContext, Renderer, View};
 use chiaro_scene::test_scenes::{add_box, floor_scene};
@@ -159,7 +160,7 @@ fn baked_shadows_agree_with_the_traced_reference() {
     );
     assert!(comparison.compared > 5000, "{comparison:?}");
     assert!(shadowed > 300, "the boxes shadow the floor: {shadowed} pixels");
-    assert!(comparison.disagreement() < 0.005, "{comparison:?}");
+    assert_agrees_with_reference("baked spot shadow", &comparison);
 }
 
 #[test]

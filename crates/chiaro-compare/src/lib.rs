@@ -11,6 +11,9 @@ use chiaro_trace::{
 };
 use glam::Vec3;
 
+mod threshold;
+pub use threshold::{MAX_DISAGREEMENT, assert_agrees_with_reference};
+
 /// One light's verdict.
 #[derive(Clone, Debug)]
 pub struct LightReport {

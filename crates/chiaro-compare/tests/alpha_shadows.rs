@@ -5,7 +5,7 @@
 
 mod common;
 
-use chiaro_compare::ShadowComparison;
+use chiaro_compare::{ShadowComparison, assert_agrees_with_reference};
 use chiaro_render::ShadowStatus;
 use chiaro_scene::{
     AlphaMode, CastShadows, ColorSpace, Image, Light, LightKind, Material, Mesh, MeshInstance, SamplerDesc, Scene,
@@ -96,14 +96,7 @@ fn assert_checker_shadow(label: &str, light: Light, under: impl Fn(Vec3) -> bool
     assert_eq!(result.status[0], ShadowStatus::Mapped, "{label}");
     let c = &result.reports[0].comparison;
     assert!(c.compared > 4000, "{label}: only {} compared", c.compared);
-    assert!(
-        c.disagreement() < 0.005,
-        "{label}: {:.3}% disagree ({} false, {} missed of {})",
-        100.0 * c.disagreement(),
-        c.false_shadow,
-        c.missed_shadow,
-        c.compared
-    );
+    assert_agrees_with_reference(label, c);
     // A checkerboard, not a solid rectangle: about half of the footprint is lit.
     let (lit, shadowed) = checker_counts(&result, under);
     println!(
@@ -183,6 +176,6 @@ fn a_transparent_pane_darkens_its_shadow_in_proportion_to_opacity() {
         );
         assert!((mean - (1.0 - alpha)).abs() < 0.05, "alpha {alpha}, {filter}: mean shadow term {mean}");
         assert!(spread < max_spread, "alpha {alpha}, {filter}: the dither leaves a spread of {spread}");
-        assert!(result.reports[0].comparison.disagreement() < 0.005, "alpha {alpha}");
+        assert_agrees_with_reference(&format!("alpha {alpha}, {filter}"), &result.reports[0].comparison);
     }
 }

@@ -5,7 +5,7 @@
 
 mod common;
 
-use chiaro_compare::ShadowComparison;
+use chiaro_compare::{ShadowComparison, assert_agrees_with_reference};
 use chiaro_render::View;
 use chiaro_scene::{CastShadows, Light, LightKind, Scene};
 use chiaro_trace::{PixelVerdict, classify_pixels};
@@ -52,14 +52,7 @@ fn box_shadow_matches_the_reference_with_every_filter_and_cascade_count() {
             let c = &result.reports[0].comparison;
             let shadowed = verdicts(&scene, &result).iter().filter(|v| **v == PixelVerdict::AgreeShadowed).count();
             assert!(shadowed > 300, "{filter}, {cascades} cascades: only {shadowed} shadowed pixels agree");
-            assert!(
-                c.disagreement() < 0.005,
-                "{filter}, {cascades} cascades: {:.3}% disagree ({} false, {} missed of {})",
-                100.0 * c.disagreement(),
-                c.false_shadow,
-                c.missed_shadow,
-                c.compared
-            );
+            assert_agrees_with_reference(&format!("{filter}, {cascades} cascades"), c);
         }
     }
 }
@@ -126,7 +119,7 @@ fn cast_and_receive_flags_are_honoured() {
     let result = compare(&scene, &unlit_settings(), 160);
     // The reference honours the same flags, so agreement means both are right...
     let c = &result.reports[0].comparison;
-    assert!(c.disagreement() < 0.005, "{:.3}% disagree", 100.0 * c.disagreement());
+    assert_agrees_with_reference("cast and receive flags", c);
     // ...and there is a shadow (from the shadows-only box) but no visible box there.
     let shadowed = result.rendered[0].iter().filter(|v| **v < 0.5).count();
     assert!(shadowed > 100, "the shadows-only box casts: {shadowed}");
@@ -162,6 +155,6 @@ fn soft_and_dithered_cascade_transitions_keep_shadows_in_place() {
         let result = compare(&scene, &settings, 192);
         let c = &result.reports[0].comparison;
         assert!(c.compared > 10_000);
-        assert!(c.disagreement() < 0.005, "{blend:?}: {:.3}% disagree", 100.0 * c.disagreement());
+        assert_agrees_with_reference(&format!("{blend:?} cascade blend"), c);
     }
 }

@@ -1,4 +1,4 @@
-//! The corpus the mutators start from: every scene of `../shared/assets`, made
+//! The corpus the mutators start from: every scene of the repository's `tests/assets`, made
 //! self-contained (buffers inlined as data URIs, images swapped for a 1x1 PNG so that
 //! each input loads in milliseconds), one of them packed as a GLB, and a few settings
 //! files that cover every section.
@@ -10,9 +10,9 @@ use std::path::{Path, PathBuf};
 /// A 1x1 PNG, standing in for the assets' textures.
 const TINY_PNG: &str = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9awAAAABJRU5ErkJggg==";
 
-/// The shared assets folder, beside the repository.
-pub fn shared_assets() -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets"))
+/// The repository's test scenes (`tests/assets`, with their licenses and provenance).
+pub fn test_assets() -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets"))
 }
 
 fn gltf_files(dir: &Path, found: &mut Vec<PathBuf>) -> std::io::Result<()> {
@@ -78,12 +78,12 @@ pub fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
     out
 }
 
-/// The glTF seeds: each shared asset inlined, and the smallest also as a GLB.
+/// The glTF seeds: each test scene inlined, and the smallest also as a GLB.
 pub fn gltf_seeds() -> anyhow::Result<Vec<Vec<u8>>> {
     let mut files = Vec::new();
-    gltf_files(&shared_assets(), &mut files)?;
+    gltf_files(&test_assets(), &mut files)?;
     files.sort();
-    anyhow::ensure!(!files.is_empty(), "no glTF files under {}", shared_assets().display());
+    anyhow::ensure!(!files.is_empty(), "no glTF files under {}", test_assets().display());
     let mut seeds = Vec::new();
     let mut smallest: Option<(Value, Vec<u8>)> = None;
     for path in &files {

@@ -1,8 +1,8 @@
 //! The deferred path against the forward path: the same scene, view and settings give the
-//! same HDR radiance, per pixel within 2% relative on at least 99.5% of the pixels, on
-//! the demo, every scene in ../shared/assets and generated scenes with every light type
-//! (shadowed, with cookies, transparent surfaces, the camera inside light volumes and
-//! volumes cut by a finite far plane).
+//! same HDR radiance, per pixel within 2% relative on at least 99.5% of the pixels and
+//! within 25% on every pixel, on the demo, every scene in the repository's tests/assets
+//! and generated scenes with every light type (shadowed, with cookies, transparent
+//! surfaces, the camera inside light volumes and volumes cut by a finite far plane).
 
 mod common;
 
@@ -18,13 +18,23 @@ use glam::{Vec2, Vec3, Vec4};
 /// Pixels below this radiance count as black: their relative difference is noise.
 const BLACK: f32 = 1e-4;
 
+/// The largest relative difference any one pixel may show: about twice the worst measured
+/// on lavapipe (11.6% in the cookie scene, 10.3% in LightsPunctualLamp, under 2% in every
+/// other scene). A pixel that one path leaves unlit differs by up to 100%, and one that
+/// gets a light twice by up to 50%; a few such pixels pass the 99.5% share but not this.
+const MAX_WORST_PIXEL: f32 = 0.25;
+
 /// Share of pixels whose radiance agrees within `tolerance` (relative, per channel, with
-/// `BLACK` as the floor), and the worst pixel's difference.
+/// `BLACK` as the floor), and the worst pixel's difference (infinite for a NaN, which
+/// `f32::max` would otherwise pass over).
 fn agreement(a: &FrameOutput, b: &FrameOutput, tolerance: f32) -> (f64, f32) {
     let mut within = 0;
     let mut worst = 0.0f32;
     for (p, q) in a.hdr.iter().zip(&b.hdr) {
-        let d = (0..3).map(|c| (p[c] - q[c]).abs() / p[c].abs().max(q[c].abs()).max(BLACK)).fold(0.0, f32::max);
+        let d = (0..3)
+            .map(|c| (p[c] - q[c]).abs() / p[c].abs().max(q[c].abs()).max(BLACK))
+            .map(|d| if d.is_nan() { f32::INFINITY } else { d })
+            .fold(0.0, f32::max);
         if d <= tolerance {
             within += 1;
         }
@@ -53,6 +63,7 @@ fn assert_paths_agree(name: &str, scene: &Scene, view: &View, settings: &Setting
     let (within, worst) = agreement(&forward, &deferred, 0.02);
     println!("{name}: {:.3}% of pixels within 2%, worst {:.2}%", 100.0 * within, 100.0 * worst);
     assert!(within >= 0.995, "{name}: only {:.3}% of pixels within 2%", 100.0 * within);
+    assert!(worst <= MAX_WORST_PIXEL, "{name}: a pixel differs by {:.2}%", 100.0 * worst);
     within
 }
 
@@ -74,7 +85,7 @@ fn the_demo_agrees_with_its_default_settings_and_with_many_lights() {
 }
 
 #[test]
-fn every_shared_scene_agrees() {
+fn every_test_scene_agrees() {
     let settings = Settings::default();
     for path in asset_scenes() {
         let scene = load_gltf(&path).unwrap_or_else(|e| panic!("{e}"));

@@ -13,8 +13,12 @@ use common::renderer;
 const SIZE: u32 = 256;
 const REFERENCE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/demo_256.png");
 const DEFERRED_REFERENCE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/demo_256_deferred.png");
-/// Mean FLIP error allowed against the reference; a moved light scores several times this.
+/// Mean FLIP error allowed against the reference.
 const MAX_MEAN_FLIP: f32 = 0.005;
+/// How far above `MAX_MEAN_FLIP` a spot light moved 2 m must score, so that a change of
+/// that size cannot pass for the rasterizers' differences. Measured on lavapipe: 0.0118,
+/// 2.4 times the limit (the unchanged frame scores 0.0025).
+const MOVED_LIGHT_MARGIN: f32 = 2.0;
 
 fn render_rgb(scene: &Scene) -> Vec<u8> {
     render_path(scene, RenderPath::Forward)
@@ -73,5 +77,6 @@ fn the_metric_notices_a_moved_light() {
     let spot = scene.lights.iter_mut().find(|l| l.name.starts_with("spot")).unwrap();
     spot.world_from_light.w_axis.x += 2.0;
     let mean = mean_flip(&reference(), &render_rgb(&scene));
-    assert!(mean > MAX_MEAN_FLIP, "moving a spot light scored only {mean}");
+    eprintln!("a spot moved 2 m: mean FLIP {mean}, {:.1} times the limit", mean / MAX_MEAN_FLIP);
+    assert!(mean > MOVED_LIGHT_MARGIN * MAX_MEAN_FLIP, "moving a spot light scored only {mean}");
 }

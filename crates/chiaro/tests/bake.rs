@@ -9,7 +9,7 @@ use std::path::Path;
 
 /// ShadowsSpot copied into `dir`, its light made baked.
 fn baked_spot_scene(dir: &Path) {
-    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets/ShadowsSpot/glTF");
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets/ShadowsSpot/glTF");
     std::fs::copy(source.join("shadows-spot.bin"), dir.join("shadows-spot.bin")).unwrap();
     let text = std::fs::read_to_string(source.join("shadows-spot.gltf")).unwrap();
     let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();

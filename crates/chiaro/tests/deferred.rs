@@ -90,21 +90,29 @@ fn bad_cookies_name_the_file_and_the_light() {
     );
 }
 
+/// `chiaro bench --json` on the demo at 48x48 for two frames, with `files` in its folder:
+/// the report it prints.
+fn bench_json(files: &[(&str, &[u8])], args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["bench", "--json", "--width", "48", "--height", "48", "--frames", "2"];
+    all.extend(args);
+    let (_, run) = run_in(files, &all);
+    serde_json::from_str(&run.stdout).unwrap_or_else(|e| panic!("bench --json printed no JSON ({e}): {}", run.stdout))
+}
+
 #[test]
 fn the_path_comes_from_the_flag_or_the_settings() {
-    let (_, run) = run_in(&[], &["bench", "--width", "48", "--height", "48", "--frames", "2", "--path", "deferred"]);
-    assert!(run.stdout.contains("Deferred path"), "{}", run.stdout);
-    for row in ["gpu gbuffer pass", "gpu deferred lights pass", "gpu tonemap pass"] {
-        assert!(run.stdout.contains(row), "no '{row}': {}", run.stdout);
+    let report = bench_json(&[], &["--path", "deferred"]);
+    assert_eq!(report["path"], "deferred", "{report}");
+    let passes = report["passes"].as_object().unwrap_or_else(|| panic!("no passes: {report}"));
+    for pass in ["gbuffer", "deferred lights", "tonemap"] {
+        assert!(passes.contains_key(pass), "no '{pass}' pass: {report}");
     }
-    assert!(!run.stdout.contains("gpu forward pass"), "the demo has nothing transparent: {}", run.stdout);
+    assert!(!passes.contains_key("forward"), "the demo has nothing transparent: {report}");
 
     let settings = b"[render]\npath = \"deferred\"\nlight_buffer = \"ldr-exp2\"\n[lights]\nmax_other_lights = 1000\nculling = \"none\"\n";
-    let (_, run) = run_in(
-        &[("settings.toml", settings)],
-        &["bench", "--settings", "settings.toml", "--width", "48", "--height", "48", "--frames", "2"],
-    );
-    assert!(run.stdout.contains("gpu ldr decode pass"), "{}", run.stdout);
+    let report = bench_json(&[("settings.toml", settings)], &["--settings", "settings.toml"]);
+    assert_eq!(report["path"], "deferred", "{report}");
+    assert!(report["passes"].get("ldr decode").is_some(), "no 'ldr decode' pass: {report}");
     // The flag wins over the file, and a forward path without culling cannot shade 1000
     // lights.
     expect_failure(

@@ -36,9 +36,9 @@ pub fn surface_pixels(frame: &FrameOutput) -> Vec<(usize, Vec3, Vec3, Vec3)> {
         .collect()
 }
 
-/// Every glTF scene under ../shared/assets.
+/// Every glTF scene in the repository's tests/assets.
 pub fn asset_scenes() -> Vec<PathBuf> {
-    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets"));
+    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets"));
     let mut scenes = Vec::new();
     let mut stack = vec![root.clone()];
     while let Some(dir) = stack.pop() {
@@ -53,6 +53,6 @@ pub fn asset_scenes() -> Vec<PathBuf> {
         }
     }
     scenes.sort();
-    assert!(scenes.len() >= 6, "expected the six shared scenes under {}, found {scenes:?}", root.display());
+    assert!(scenes.len() >= 6, "expected the six test scenes under {}, found {scenes:?}", root.display());
     scenes
 }

@@ -1,6 +1,6 @@
-//! Every scene in ../shared/assets loads and renders on the GPU: finite radiance, its
-//! lights (unshadowed) reach some of what the camera sees, and the AOVs cover the same
-//! pixels.
+//! Every scene in the repository's tests/assets loads and renders on the GPU: finite
+//! radiance, its lights (unshadowed) reach some of what the camera sees, and the AOVs
+//! cover the same pixels.
 
 mod common;
 
@@ -9,7 +9,7 @@ use chiaro_scene::load_gltf;
 use common::*;
 
 #[test]
-fn every_shared_scene_renders() {
+fn every_test_scene_renders() {
     let mut renderer = renderer();
     let settings = unlit_settings();
     for path in asset_scenes() {

@@ -1,0 +1,133 @@
+//! Materials and their textures: PBR factors, texture transforms, samplers and images
+//! (PNG in two bit depths, formats it cannot read) in; `Material`, decoded `Image`s and
+//! generated tangents, or an error naming the image, out.
+
+use super::{TempDir, data_uri, f32_bytes, invalid_message, load_doc, png_bytes, textured_doc, triangle_doc};
+use crate::types::{AlphaMode, ColorSpace, SamplerDesc, UvTransform, WrapMode};
+use glam::{Vec2, Vec3, Vec4};
+use serde_json::json;
+
+#[test]
+fn unsupported_image_formats_name_the_image() {
+    let dir = TempDir::new("gif");
+    dir.write("tex.gif", b"GIF89a\x01\0\x01\0\0\0\0;");
+    let message = invalid_message(load_doc(&dir, &textured_doc(json!({ "uri": "tex.gif" }))));
+    assert!(message.starts_with("image 0 (tex.gif): unsupported image format"), "{message}");
+
+    dir.write("tex.png", b"definitely not a png");
+    let message = invalid_message(load_doc(&dir, &textured_doc(json!({ "uri": "tex.png" }))));
+    assert!(message.starts_with("image 0 (tex.png): unsupported image format"), "{message}");
+
+    let doc = textured_doc(json!({ "uri": "tex.png", "mimeType": "image/ktx2" }));
+    let message = invalid_message(load_doc(&dir, &doc));
+    assert!(message.contains("image/ktx2"), "{message}");
+
+    // An image with a bufferView and no mimeType: the gltf crate's wrapper would panic.
+    let message = invalid_message(load_doc(&dir, &textured_doc(json!({ "bufferView": 0 }))));
+    assert!(message.starts_with("image 0: unsupported image format"), "{message}");
+}
+
+#[test]
+fn materials_textures_and_generated_tangents() {
+    let dir = TempDir::new("material");
+    let mut rgba = image::RgbaImage::new(2, 1);
+    rgba.put_pixel(1, 0, image::Rgba([10, 20, 30, 255]));
+    dir.write("color.png", &png_bytes(rgba.into()));
+    let grey16 = image::ImageBuffer::<image::Luma<u16>, _>::from_raw(1, 1, vec![65535u16]).unwrap();
+    dir.write("orm.png", &png_bytes(image::DynamicImage::ImageLuma16(grey16)));
+
+    // A quad facing +Z with upright glTF UVs (v = 0 at the top, y = 1).
+    let mut bytes = f32_bytes(&[
+        0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0, // POSITION
+        0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, // NORMAL
+        0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, // TEXCOORD_0
+    ]);
+    bytes.extend([0u8, 1, 2, 0, 2, 3]);
+    let mut doc = triangle_doc();
+    doc["meshes"][0]["primitives"][0] = json!({
+        "attributes": { "POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2, "TEXCOORD_1": 2 },
+        "indices": 3, "material": 0
+    });
+    doc["accessors"] = json!([
+        { "bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0] },
+        { "bufferView": 0, "byteOffset": 48, "componentType": 5126, "count": 4, "type": "VEC3" },
+        { "bufferView": 0, "byteOffset": 96, "componentType": 5126, "count": 4, "type": "VEC2" },
+        { "bufferView": 0, "byteOffset": 128, "componentType": 5121, "count": 6, "type": "SCALAR" }
+    ]);
+    doc["bufferViews"] = json!([{ "buffer": 0, "byteLength": bytes.len() }]);
+    doc["buffers"] = json!([{ "byteLength": bytes.len(), "uri": data_uri(&bytes) }]);
+    doc["extensionsUsed"] = json!(["KHR_texture_transform", "KHR_materials_emissive_strength"]);
+    doc["materials"] = json!([{
+        "name": "painted",
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [0.5, 0.5, 0.5, 1.0],
+            "baseColorTexture": { "index": 0, "extensions": { "KHR_texture_transform": {
+                "offset": [0.5, 0.0], "rotation": 0.25, "scale": [2.0, 2.0], "texCoord": 1 } } },
+            "metallicFactor": 0.25, "roughnessFactor": 0.75,
+            "metallicRoughnessTexture": { "index": 1 }
+        },
+        "normalTexture": { "index": 0, "scale": 0.5,
+            "extensions": { "KHR_texture_transform": { "scale": [3.0, 3.0] } } },
+        "occlusionTexture": { "index": 1, "strength": 0.25 },
+        "emissiveFactor": [1.0, 0.5, 0.0],
+        "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": 4.0 } },
+        "alphaMode": "MASK", "alphaCutoff": 0.3, "doubleSided": true
+    }, { "name": "unused image", "emissiveTexture": { "index": 2 } }]);
+    doc["samplers"] = json!([{ "magFilter": 9728, "minFilter": 9729, "wrapS": 33071, "wrapT": 33648 }]);
+    doc["textures"] = json!([{ "source": 0, "sampler": 0 }, { "source": 1 }, { "source": 0 }]);
+    doc["images"] = json!([{ "uri": "color.png" }, { "uri": "orm.png" }, { "uri": "never-read.png" }]);
+    let scene = load_doc(&dir, &doc).unwrap();
+
+    // Image 0 is both colour and normal map: decoded once, as sRGB.
+    assert_eq!(scene.images.len(), 2);
+    let color = &scene.images[0];
+    assert_eq!((color.width, color.height), (2, 1));
+    assert_eq!(color.color_space, ColorSpace::Srgb);
+    assert_eq!(&color.rgba8[4..], &[10, 20, 30, 255]);
+    assert_eq!(color.name, "color.png");
+    let orm = &scene.images[1];
+    assert_eq!(orm.color_space, ColorSpace::Linear);
+    assert_eq!(orm.rgba8, vec![255, 255, 255, 255]);
+
+    let m = &scene.materials[0];
+    assert_eq!(m.name, "painted");
+    assert_eq!(m.base_color, Vec4::new(0.5, 0.5, 0.5, 1.0));
+    assert_eq!((m.metallic, m.roughness), (0.25, 0.75));
+    assert_eq!(m.emissive, Vec3::new(4.0, 2.0, 0.0));
+    assert_eq!(m.alpha_mode, AlphaMode::Mask);
+    assert_eq!(m.alpha_cutoff, 0.3);
+    assert!(m.double_sided);
+    assert_eq!((m.normal_scale, m.occlusion_strength), (0.5, 0.25));
+    let base = m.base_color_texture.unwrap();
+    assert_eq!(base.image, 0);
+    assert_eq!(base.tex_coord, 1);
+    assert_eq!(
+        base.transform,
+        UvTransform { offset: Vec2::new(0.5, 0.0), rotation_rad: 0.25, scale: Vec2::splat(2.0) }
+    );
+    assert_eq!(
+        base.sampler,
+        SamplerDesc {
+            wrap_u: WrapMode::ClampToEdge,
+            wrap_v: WrapMode::MirroredRepeat,
+            mag_linear: false,
+            min_linear: true,
+            mipmaps: false,
+        }
+    );
+    let normal = m.normal_texture.unwrap();
+    assert_eq!(normal.image, 0);
+    assert_eq!(normal.transform.scale, Vec2::splat(3.0));
+    assert_eq!(m.metallic_roughness_texture.unwrap().image, 1);
+    assert_eq!(m.occlusion_texture.unwrap().sampler, SamplerDesc::default());
+    // The second material's image was never decoded (its file does not exist) but
+    // materials still refer into `Scene::images`.
+    assert_eq!(scene.materials[1].emissive_texture.unwrap().image, 0);
+
+    let p = &scene.meshes[0].primitives[0];
+    assert_eq!(p.triangle_count(), 2);
+    for t in &p.tangents {
+        assert!(t.truncate().distance(Vec3::X) < 1e-5, "{t}");
+        assert_eq!(t.w, 1.0);
+    }
+}
