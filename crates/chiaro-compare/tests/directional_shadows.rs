@@ -6,9 +6,9 @@
 mod common;
 
 use chiaro_compare::ShadowComparison;
+use chiaro_compare::{PixelVerdict, classify_pixels};
 use chiaro_render::View;
 use chiaro_scene::{CastShadows, Light, LightKind, Scene};
-use chiaro_trace::{PixelVerdict, classify_pixels};
 use common::*;
 use glam::Vec3;
 

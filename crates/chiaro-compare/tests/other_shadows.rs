@@ -5,10 +5,10 @@
 mod common;
 
 use chiaro_compare::ShadowComparison;
+use chiaro_compare::{PixelVerdict, classify_pixels};
 use chiaro_math::shadow::other::cube_face;
 use chiaro_render::ShadowStatus;
 use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene};
-use chiaro_trace::{PixelVerdict, classify_pixels};
 use common::*;
 use glam::Vec3;
 

@@ -391,14 +391,10 @@ impl Light {
         self.world_from_light.w_axis.truncate()
     }
 
-    /// The range a point or spot light is shaded (and baked) with: its own, or the distance
-    /// at which its peak illuminance falls to `range_threshold_lux`, at most
-    /// `MAX_SHADED_RANGE_M`.
+    /// The range a point or spot light is shaded, baked and judged with, metres:
+    /// `chiaro_math::light::shaded_range` of its own range and peak intensity.
     pub fn shaded_range(&self, range_threshold_lux: f32) -> f32 {
-        let range = self.range.unwrap_or_else(|| {
-            chiaro_math::light::derived_range(self.intensity * self.color.max_element(), range_threshold_lux)
-        });
-        range.min(chiaro_math::light::MAX_SHADED_RANGE_M)
+        chiaro_math::light::shaded_range(self.range, self.intensity * self.color.max_element(), range_threshold_lux)
     }
 
     /// Unit direction the light shines in (-Z of its node); unused by point lights.
