@@ -9,7 +9,6 @@ pub mod error;
 pub mod files;
 pub mod gltf_import;
 pub mod settings;
-mod settings_text;
 pub mod shapes;
 pub mod test_scenes;
 pub mod types;
