@@ -47,17 +47,7 @@ impl Loader<'_> {
             self.tally.without_positions += 1;
             return Ok(None);
         };
-        let has = |wanted: fn(&Semantic) -> bool| {
-            primitive.attributes.keys().any(|s| match s {
-                Checked::Valid(s) => wanted(s),
-                Checked::Invalid => false,
-            })
-        };
-        self.tally.vertex_colors += usize::from(has(|s| matches!(s, Semantic::Colors(_))));
-        self.tally.extra_uv_sets += usize::from(has(|s| matches!(s, Semantic::TexCoords(2..))));
-        if primitive.targets.as_ref().is_some_and(|t| !t.is_empty()) {
-            self.tally.morph_targets += 1;
-        }
+        self.count_ignored_attributes(primitive);
 
         let mut positions: Vec<Vec3> = self
             .read_floats::<3>(position_accessor, &format!("POSITION of {label}"))?
@@ -76,19 +66,7 @@ impl Loader<'_> {
             }
         };
 
-        let indices = match primitive.indices {
-            Some(accessor) => {
-                let indices = self.read_indices(accessor.value(), &format!("indices of {label}"))?;
-                if let Some(&bad) = indices.iter().find(|&&i| i as usize >= vertex_count) {
-                    return Err(
-                        self.invalid(format!("{label}: index {bad} is out of range for {vertex_count} vertices"))
-                    );
-                }
-                indices
-            }
-            None => (0..vertex_count as u32).collect(),
-        };
-        let mut indices = triangle_list(mode, indices);
+        let mut indices = self.triangle_indices(primitive, mode, vertex_count, label)?;
         if indices.is_empty() {
             return Ok(None);
         }
@@ -145,15 +123,10 @@ impl Loader<'_> {
         let material = primitive.material.map(|m| m.value());
         let normal_map_uv_set =
             material.and_then(|m| materials.get(m)).and_then(|m| m.normal_texture).map(|t| t.tex_coord);
-        let tangents = match (tangents.take(), normal_map_uv_set) {
-            (Some(tangents), _) => tangents,
-            (None, Some(set)) => {
-                let uvs = if set == 1 { &uv1 } else { &uv0 };
-                vertex_gen::mikktspace_tangents(&positions, &normals, uvs, &indices)
-                    .unwrap_or_else(|| vertex_gen::perpendicular_tangents(&normals))
-            }
-            (None, None) => vertex_gen::perpendicular_tangents(&normals),
-        };
+        let tangents = tangents.take().unwrap_or_else(|| {
+            let uvs = if normal_map_uv_set == Some(1) { &uv1 } else { &uv0 };
+            generated_tangents(&positions, &normals, normal_map_uv_set.map(|_| uvs.as_slice()), &indices)
+        });
 
         let bounds = Aabb::from_points(positions.iter().copied());
         Ok(Some(Primitive {
@@ -168,6 +141,63 @@ impl Loader<'_> {
             lightmap_uv: Vec::new(),
         }))
     }
+}
+
+impl Loader<'_> {
+    /// Counts the attributes Chiaro reads past: vertex colours, UV sets past the second,
+    /// morph targets.
+    fn count_ignored_attributes(&mut self, primitive: &json::mesh::Primitive) {
+        use json::mesh::Semantic;
+        let has = |wanted: fn(&Semantic) -> bool| {
+            primitive.attributes.keys().any(|s| match s {
+                Checked::Valid(s) => wanted(s),
+                Checked::Invalid => false,
+            })
+        };
+        self.tally.vertex_colors += usize::from(has(|s| matches!(s, Semantic::Colors(_))));
+        self.tally.extra_uv_sets += usize::from(has(|s| matches!(s, Semantic::TexCoords(2..))));
+        if primitive.targets.as_ref().is_some_and(|t| !t.is_empty()) {
+            self.tally.morph_targets += 1;
+        }
+    }
+
+    /// The primitive's triangles as a list: its indices (each checked against
+    /// `vertex_count`) or, without any, the vertices in order.
+    fn triangle_indices(
+        &self,
+        primitive: &json::mesh::Primitive,
+        mode: json::mesh::Mode,
+        vertex_count: usize,
+        label: &str,
+    ) -> Result<Vec<u32>, SceneError> {
+        let indices = match primitive.indices {
+            Some(accessor) => {
+                let indices = self.read_indices(accessor.value(), &format!("indices of {label}"))?;
+                if let Some(&bad) = indices.iter().find(|&&i| i as usize >= vertex_count) {
+                    return Err(
+                        self.invalid(format!("{label}: index {bad} is out of range for {vertex_count} vertices"))
+                    );
+                }
+                indices
+            }
+            None => (0..vertex_count as u32).collect(),
+        };
+        Ok(triangle_list(mode, indices))
+    }
+}
+
+/// Tangents for a primitive whose file gives none: MikkTSpace's over the normal map's UV
+/// set where there is a normal map (`normal_map_uvs`), any perpendicular ones otherwise
+/// or where MikkTSpace fails.
+fn generated_tangents(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    normal_map_uvs: Option<&[Vec2]>,
+    indices: &[u32],
+) -> Vec<Vec4> {
+    normal_map_uvs
+        .and_then(|uvs| vertex_gen::mikktspace_tangents(positions, normals, uvs, indices))
+        .unwrap_or_else(|| vertex_gen::perpendicular_tangents(normals))
 }
 
 /// Strips and fans become lists with the winding glTF 2.0 §3.7.2.1 gives them: strip
