@@ -26,6 +26,7 @@ fn material(name: &str, color: Vec3, metallic: f32, roughness: f32) -> Material 
 /// Default shadowed lights of the demo: four spots and two points fill the other-light
 /// atlas's 16 tiles, as in chiaro-bench.
 pub const DEMO_SHADOWED_SPOTS: usize = 4;
+/// Default number of the demo's point lights that cast shadows.
 pub const DEMO_SHADOWED_POINTS: usize = 2;
 
 /// The demo scene with `other_lights` point and spot lights (alternating, spots first),

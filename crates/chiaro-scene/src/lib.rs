@@ -3,6 +3,8 @@
 //! Files flow in, `Scene` values flow out; nothing here touches the GPU, so the render
 //! crate and the tests share one description of what was loaded.
 
+#![warn(missing_docs)]
+
 pub mod baked;
 pub mod demo;
 pub mod error;
