@@ -58,50 +58,30 @@ impl Loader<'_> {
             return Err(self.invalid(format!("{label}: POSITION {v} is not finite")));
         }
         let vertex_count = positions.len();
-        let check_count = |name: &str, count: usize| {
-            if count == vertex_count {
-                Ok(())
-            } else {
-                Err(self.invalid(format!("{label}: {name} has {count} values but POSITION has {vertex_count}")))
-            }
-        };
-
         let mut indices = self.triangle_indices(primitive, mode, vertex_count, label)?;
         if indices.is_empty() {
             return Ok(None);
         }
-
+        let read = |accessor, name: &str| self.vertex_attribute::<3>(accessor, name, label, vertex_count);
         let read_uv = |set: u32| -> Result<Vec<Vec2>, SceneError> {
-            match attribute(Semantic::TexCoords(set)) {
-                Some(accessor) => {
-                    let name = format!("TEXCOORD_{set}");
-                    let uvs = self.read_floats::<2>(accessor, &format!("{name} of {label}"))?;
-                    check_count(&name, uvs.len())?;
-                    Ok(uvs
-                        .into_iter()
-                        .map(Vec2::from_array)
-                        .map(|uv| if uv.is_finite() { uv } else { Vec2::ZERO })
-                        .collect())
-                }
-                None => Ok(vec![Vec2::ZERO; vertex_count]),
-            }
+            let Some(accessor) = attribute(Semantic::TexCoords(set)) else {
+                return Ok(vec![Vec2::ZERO; vertex_count]);
+            };
+            let uvs = self.vertex_attribute::<2>(accessor, &format!("TEXCOORD_{set}"), label, vertex_count)?;
+            Ok(uvs.into_iter().map(Vec2::from_array).map(|uv| if uv.is_finite() { uv } else { Vec2::ZERO }).collect())
         };
         let mut uv0 = read_uv(0)?;
         let mut uv1 = read_uv(1)?;
-
-        let mut normals = match attribute(Semantic::Normals) {
+        let mut normals: Option<Vec<Vec3>> = match attribute(Semantic::Normals) {
             Some(accessor) => {
-                let normals = self.read_floats::<3>(accessor, &format!("NORMAL of {label}"))?;
-                check_count("NORMAL", normals.len())?;
-                Some(normals.into_iter().map(|n| Vec3::from_array(n).normalize_or(Vec3::Z)).collect::<Vec<_>>())
+                Some(read(accessor, "NORMAL")?.into_iter().map(|n| Vec3::from_array(n).normalize_or(Vec3::Z)).collect())
             }
             None => None,
         };
         // Tangents are only trusted alongside the file's own normals (glTF 2.0 §3.7.2.1).
         let mut tangents = match (attribute(Semantic::Tangents), &normals) {
             (Some(accessor), Some(normals)) => {
-                let tangents = self.read_floats::<4>(accessor, &format!("TANGENT of {label}"))?;
-                check_count("TANGENT", tangents.len())?;
+                let tangents = self.vertex_attribute::<4>(accessor, "TANGENT", label, vertex_count)?;
                 let mut tangents: Vec<Vec4> = tangents.into_iter().map(Vec4::from_array).collect();
                 vertex_gen::repair_tangents(&mut tangents, normals);
                 Some(tangents)
@@ -159,6 +139,23 @@ impl Loader<'_> {
         if primitive.targets.as_ref().is_some_and(|t| !t.is_empty()) {
             self.tally.morph_targets += 1;
         }
+    }
+
+    /// Vertex attribute `name` of the primitive `label` from `accessor`: exactly one value
+    /// per vertex.
+    fn vertex_attribute<const N: usize>(
+        &self,
+        accessor: usize,
+        name: &str,
+        label: &str,
+        vertex_count: usize,
+    ) -> Result<Vec<[f32; N]>, SceneError> {
+        let values = self.read_floats::<N>(accessor, &format!("{name} of {label}"))?;
+        if values.len() != vertex_count {
+            let count = values.len();
+            return Err(self.invalid(format!("{label}: {name} has {count} values but POSITION has {vertex_count}")));
+        }
+        Ok(values)
     }
 
     /// The primitive's triangles as a list: its indices (each checked against
