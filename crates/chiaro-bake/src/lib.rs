@@ -18,5 +18,6 @@ pub mod tracer;
 
 pub use bake::{BakeError, BakeResult, BakeStats, Progress, Silent, bake};
 pub use bake_dir::{
-    FORMAT_VERSION, LoadedBake, Manifest, apply_bake_dir, default_bake_dir, read_bake_dir, scene_hash, write_bake_dir,
+    BakeDirError, FORMAT_VERSION, LoadedBake, Manifest, apply_bake_dir, default_bake_dir, read_bake_dir, scene_hash,
+    write_bake_dir,
 };

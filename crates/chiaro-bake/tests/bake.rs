@@ -187,7 +187,7 @@ fn a_bake_directory_is_read_back_for_its_scene_and_refused_for_another() {
     let mut bytes = std::fs::read(&bin).unwrap();
     bytes[0] ^= 1;
     std::fs::write(&bin, &bytes).unwrap();
-    let e = read_bake_dir(&out, &scene).err().unwrap();
+    let e = read_bake_dir(&out, &scene).err().unwrap().to_string();
     assert!(e.contains("another version of the scene"), "{e}");
     let mut untouched = scene.clone();
     assert!(apply_bake_dir(&out, &mut untouched).is_err());
@@ -201,19 +201,19 @@ fn a_bake_directory_is_read_back_for_its_scene_and_refused_for_another() {
     let mut doc: serde_json::Value = serde_json::from_str(&original).unwrap();
     doc["probes"]["counts"] = serde_json::json!([4194304, 2097152, 2097152]);
     std::fs::write(&manifest, doc.to_string()).unwrap();
-    let e = read_bake_dir(&out, &scene).err().unwrap();
+    let e = read_bake_dir(&out, &scene).err().unwrap().to_string();
     assert!(e.contains("probe grid"), "{e}");
     doc["probes"]["counts"] = serde_json::json!([0, 1, 1]);
     std::fs::write(&manifest, doc.to_string()).unwrap();
-    assert!(read_bake_dir(&out, &scene).err().unwrap().contains("probe grid"));
+    assert!(read_bake_dir(&out, &scene).err().unwrap().to_string().contains("probe grid"));
     let mut doc: serde_json::Value = serde_json::from_str(&original).unwrap();
     doc["lightmap_size"] = serde_json::json!(1 << 20);
     std::fs::write(&manifest, doc.to_string()).unwrap();
-    assert!(read_bake_dir(&out, &scene).err().unwrap().contains("atlases"));
+    assert!(read_bake_dir(&out, &scene).err().unwrap().to_string().contains("atlases"));
     let mut doc: serde_json::Value = serde_json::from_str(&original).unwrap();
     doc["lightmap_size"] = serde_json::json!(doc["lightmap_size"].as_u64().unwrap() * 2);
     std::fs::write(&manifest, doc.to_string()).unwrap();
-    assert!(read_bake_dir(&out, &scene).err().unwrap().contains("as the manifest says"));
+    assert!(read_bake_dir(&out, &scene).err().unwrap().to_string().contains("as the manifest says"));
     std::fs::write(&manifest, &original).unwrap();
     assert!(read_bake_dir(&out, &scene).is_ok());
 
@@ -221,7 +221,7 @@ fn a_bake_directory_is_read_back_for_its_scene_and_refused_for_another() {
     let manifest = out.join("manifest.json");
     let text = std::fs::read_to_string(&manifest).unwrap().replace("\"format_version\": 1", "\"format_version\": 99");
     std::fs::write(&manifest, text).unwrap();
-    let e = read_bake_dir(&out, &scene).err().unwrap();
+    let e = read_bake_dir(&out, &scene).err().unwrap().to_string();
     assert!(e.contains("format version 99"), "{e}");
 }
 

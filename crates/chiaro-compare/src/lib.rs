@@ -1,126 +1,19 @@
-//! Rendered shadows against the ray-traced reference: renders a frame with its shadow
-//! AOVs (chiaro-render), traces the same camera and resolution on the CPU (chiaro-trace),
-//! and judges each light with chiaro_trace::compare. It sits above both crates so that
-//! the renderer does not depend on the tracer.
+//! Rendered shadows against the ray-traced reference. `verdict` judges a rendered shadow
+//! term pixel by pixel against chiaro-trace's reference (agreeing, false shadow, missed
+//! shadow), counts the verdicts per light and paints them; `comparison` renders a view
+//! with chiaro-render, traces it and applies the verdicts to every light. It sits above
+//! both crates so that the renderer does not depend on the tracer.
 
-use chiaro_render::plan::lights::effective_range;
-use chiaro_render::{FrameOptions, PreparedScene, RenderError, Renderer, ShadowStatus, View};
-use chiaro_scene::{Scene, Settings};
-use chiaro_trace::{
-    LightComparison, PixelCamera, PixelVerdict, ShadowReference, classify_pixels, trace_shadow_reference,
-};
-use glam::Vec3;
-
+pub mod comparison;
 mod threshold;
+pub mod verdict;
+
+pub use comparison::{
+    LightReport, RenderedShadows, ShadowComparison, compare_rendered, compare_shadows, not_compared_because,
+    render_shadows,
+};
 pub use threshold::{MAX_DISAGREEMENT, assert_agrees_with_reference};
-
-/// One light's verdict.
-#[derive(Clone, Debug)]
-pub struct LightReport {
-    /// Index in `Scene::lights`.
-    pub light: usize,
-    pub comparison: LightComparison,
-    /// RGBA8 difference image (see chiaro_trace::PixelVerdict::color).
-    pub difference: Vec<[u8; 4]>,
-}
-
-pub struct ShadowComparison {
-    pub reports: Vec<LightReport>,
-    pub reference: ShadowReference,
-    /// The rendered shadow AOVs, per scene light.
-    pub rendered: Vec<Vec<f32>>,
-    /// Per scene light: whether a shadow map was sampled.
-    pub status: Vec<ShadowStatus>,
-}
-
-/// Why a light with `status` is not judged against the reference; `None` when it is.
-pub fn not_compared_because(status: ShadowStatus) -> Option<&'static str> {
-    match status {
-        ShadowStatus::Mapped | ShadowStatus::MaskOnly => None,
-        ShadowStatus::Off => Some("casts no shadows"),
-        ShadowStatus::NotShaded => Some("not shaded this frame"),
-        ShadowStatus::NoTile => Some("no free atlas tiles: no realtime shadow"),
-        ShadowStatus::Baked => Some("baked: its shadows are in the lightmaps, summed with other light; not compared"),
-    }
-}
-
-/// The GPU half of a comparison: what the renderer drew for one view, read back.
-/// `compare_rendered` finishes it on the CPU, on any thread.
-pub struct RenderedShadows {
-    /// World position of each pixel's surface; `None` where no surface is.
-    pub positions: Vec<Option<Vec3>>,
-    /// Per scene light, each pixel's shadow term.
-    pub shadow_aovs: Vec<Vec<f32>>,
-    pub status: Vec<ShadowStatus>,
-    /// The frame itself, tone-mapped RGBA8, for showing the verdicts over it.
-    pub ldr: Vec<u8>,
-}
-
-/// Renders `view` with the shadow AOVs a comparison needs, waiting for the frame.
-pub fn render_shadows(
-    renderer: &mut Renderer,
-    scene: &Scene,
-    prepared: &PreparedScene,
-    view: &View,
-    settings: &Settings,
-) -> Result<RenderedShadows, RenderError> {
-    let frame = renderer.render(
-        scene,
-        prepared,
-        view,
-        settings,
-        FrameOptions { aovs: true, shadow_aovs: true, readback: true, ..Default::default() },
-    )?;
-    let positions = frame
-        .aovs
-        .as_ref()
-        .expect("aovs were asked for")
-        .position_ws
-        .iter()
-        .map(|p| p[0].is_finite().then(|| Vec3::from(*p)))
-        .collect();
-    let status = frame.shadow_status(scene);
-    Ok(RenderedShadows { positions, shadow_aovs: frame.shadow_aovs, status, ldr: frame.ldr })
-}
-
-/// Traces the reference for `view` and judges each light's rendered shadows against it.
-pub fn compare_rendered(
-    scene: &Scene,
-    view: &View,
-    settings: &Settings,
-    rendered: RenderedShadows,
-) -> ShadowComparison {
-    let ranges: Vec<f32> = scene.lights.iter().map(|l| effective_range(l, settings)).collect();
-    let camera = PixelCamera { clip_from_world: view.clip_from_world(), width: view.width, height: view.height };
-    let reference = {
-        let _span = tracing::info_span!("trace reference").entered();
-        trace_shadow_reference(scene, &camera, &ranges)
-    };
-    let reports = scene
-        .lights
-        .iter()
-        .enumerate()
-        .map(|(i, light)| {
-            // Classified once; the counts and the picture both come from the verdicts.
-            let verdicts =
-                classify_pixels(&rendered.shadow_aovs[i], &rendered.positions, &reference, i, light, ranges[i]);
-            LightReport {
-                light: i,
-                comparison: LightComparison::from_verdicts(&verdicts),
-                difference: verdicts.into_iter().map(PixelVerdict::color).collect(),
-            }
-        })
-        .collect();
-    ShadowComparison { reports, reference, rendered: rendered.shadow_aovs, status: rendered.status }
-}
-
-pub fn compare_shadows(
-    renderer: &mut Renderer,
-    scene: &Scene,
-    prepared: &PreparedScene,
-    view: &View,
-    settings: &Settings,
-) -> Result<ShadowComparison, RenderError> {
-    let rendered = render_shadows(renderer, scene, prepared, view, settings)?;
-    Ok(compare_rendered(scene, view, settings, rendered))
-}
+pub use verdict::{
+    DISAGREEMENT_THRESHOLD, EDGE_BAND_PX, LightComparison, POSITION_TOLERANCE_M, PixelVerdict, classify_pixels,
+    compare_light, difference_image,
+};

@@ -2,7 +2,7 @@
 //! test calls it a regression: one limit, in the units `LightComparison::disagreement`
 //! returns, and the check the tests share, so that every suite holds the same line.
 
-use chiaro_trace::LightComparison;
+use crate::verdict::LightComparison;
 
 /// Share of compared pixels (0 to 1) on which rendered and traced shadows may disagree.
 /// Shadow-map texels and the reference's exact rays still part here and there outside the

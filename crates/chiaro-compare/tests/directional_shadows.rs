@@ -5,10 +5,9 @@
 
 mod common;
 
-use chiaro_compare::{ShadowComparison, assert_agrees_with_reference};
+use chiaro_compare::{PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
 use chiaro_render::View;
 use chiaro_scene::{CastShadows, Light, LightKind, Scene};
-use chiaro_trace::{PixelVerdict, classify_pixels};
 use common::*;
 use glam::Vec3;
 

@@ -4,11 +4,10 @@
 
 mod common;
 
-use chiaro_compare::{ShadowComparison, assert_agrees_with_reference};
+use chiaro_compare::{PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
 use chiaro_math::shadow::other::cube_face;
 use chiaro_render::ShadowStatus;
 use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene};
-use chiaro_trace::{PixelVerdict, classify_pixels};
 use common::*;
 use glam::Vec3;
 

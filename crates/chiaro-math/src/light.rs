@@ -70,6 +70,15 @@ pub fn derived_range(intensity_cd: f32, threshold_lux: f32) -> f32 {
     (intensity_cd.max(0.0) / threshold_lux).sqrt()
 }
 
+/// The range a point or spot light is shaded (and baked, and judged) with: its own
+/// `own_range_m` where its file gives one, or the distance at which its peak illuminance
+/// (`peak_intensity_cd`, the brightest colour channel times the intensity) falls to
+/// `range_threshold_lux`; at most `MAX_SHADED_RANGE_M` either way. A 100 cd bulb with no
+/// range and the default 0.01 lux threshold is shaded to 100 m.
+pub fn shaded_range(own_range_m: Option<f32>, peak_intensity_cd: f32, range_threshold_lux: f32) -> f32 {
+    own_range_m.unwrap_or_else(|| derived_range(peak_intensity_cd, range_threshold_lux)).min(MAX_SHADED_RANGE_M)
+}
+
 /// What the frame needs to know about a point or spot light to cull and order it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OtherLightBounds {
@@ -177,6 +186,16 @@ mod tests {
         assert!((r - 100.0).abs() < 1e-3);
         assert!((100.0 / (r * r) - 0.01).abs() < 1e-6);
         assert_eq!(derived_range(0.0, 0.01), 0.0);
+    }
+
+    #[test]
+    fn shaded_range_is_the_lights_own_or_derived_and_bounded() {
+        assert_eq!(shaded_range(Some(7.5), 100.0, 0.01), 7.5);
+        assert!((shaded_range(None, 100.0, 0.01) - 100.0).abs() < 1e-3);
+        // The brightest light at the lowest threshold is derived a range well inside the bound.
+        assert!(shaded_range(None, MAX_LIGHT_INTENSITY, MIN_RANGE_THRESHOLD_LUX) < MAX_SHADED_RANGE_M);
+        assert_eq!(shaded_range(Some(1.0e20), 1.0, 0.01), MAX_SHADED_RANGE_M);
+        assert_eq!(shaded_range(Some(f32::INFINITY), 1.0, 0.01), MAX_SHADED_RANGE_M);
     }
 
     fn view() -> (Frustum, Vec3) {

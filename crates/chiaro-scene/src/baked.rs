@@ -10,7 +10,9 @@ use glam::{UVec3, Vec2, Vec3};
 /// One atlas of baked irradiance.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lightmap {
+    /// Texels per row.
     pub width: u32,
+    /// Rows of texels.
     pub height: u32,
     /// Row-major from the top-left: RGB irradiance in lux, and in A the fraction of the
     /// texel a surface covers (0 for gutter texels, which dilation fills).
@@ -21,8 +23,11 @@ pub struct Lightmap {
 /// that sees the mixed light assigned to that channel (1 where no light is assigned).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShadowMask {
+    /// Texels per row.
     pub width: u32,
+    /// Rows of texels.
     pub height: u32,
+    /// Row-major from the top-left: each channel's visibility, 0 shadowed to 1 lit.
     pub texels: Vec<[f32; 4]>,
 }
 
@@ -33,6 +38,7 @@ pub struct ProbeGrid {
     pub origin: Vec3,
     /// Metres between neighbours along each axis (positive).
     pub spacing: Vec3,
+    /// Probes along x, y and z (each at least 1).
     pub counts: UVec3,
     /// Incoming radiance per probe.
     pub probes: Vec<ShRgb>,
@@ -42,10 +48,12 @@ pub struct ProbeGrid {
 }
 
 impl ProbeGrid {
+    /// Index in `probes` of the probe at grid coordinates (`x`, `y`, `z`).
     pub fn index(&self, x: u32, y: u32, z: u32) -> usize {
         ((z * self.counts.y + y) * self.counts.x + x) as usize
     }
 
+    /// World position, metres, of the probe at grid coordinates (`x`, `y`, `z`).
     pub fn position(&self, x: u32, y: u32, z: u32) -> Vec3 {
         self.origin + self.spacing * Vec3::new(x as f32, y as f32, z as f32)
     }
@@ -100,6 +108,7 @@ impl ProbeGrid {
 pub struct BakedLighting {
     /// All the same size, one texture-array layer each.
     pub lightmaps: Vec<Lightmap>,
+    /// The light probe grid, when the scene had bounds to place one in.
     pub probes: Option<ProbeGrid>,
     /// One per lightmap, same size and layout, when mixed lights have shadow masks.
     pub shadow_masks: Vec<ShadowMask>,
@@ -120,8 +129,11 @@ impl BakedLighting {
 /// coordinate (0 to 1) per triangle corner, in index order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InstanceLightmap {
+    /// Index in `Scene::instances`.
     pub instance: usize,
+    /// The lightmap atlas (texture array layer) it is in.
     pub layer: u32,
+    /// Per primitive, one atlas coordinate per index.
     pub corner_uvs: Vec<Vec<Vec2>>,
 }
 

@@ -26,6 +26,7 @@ fn material(name: &str, color: Vec3, metallic: f32, roughness: f32) -> Material 
 /// Default shadowed lights of the demo: four spots and two points fill the other-light
 /// atlas's 16 tiles, as in chiaro-bench.
 pub const DEMO_SHADOWED_SPOTS: usize = 4;
+/// Default number of the demo's point lights that cast shadows.
 pub const DEMO_SHADOWED_POINTS: usize = 2;
 
 /// The demo scene with `other_lights` point and spot lights (alternating, spots first),
@@ -38,6 +39,22 @@ pub fn demo_scene(other_lights: usize) -> Scene {
 /// The demo scene where the first `shadowed_spots` spots and `shadowed_points` points cast
 /// realtime shadows and the rest do not.
 pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shadowed_points: usize) -> Scene {
+    let mut scene = demo_materials_and_meshes();
+    place_demo_objects(&mut scene);
+    // Lights and the camera take the node indices after the objects'.
+    let light_node_base = scene.instances.len();
+    scene.lights.push(demo_sun(light_node_base));
+    for i in 0..other_lights {
+        let shadowed = if i.is_multiple_of(2) { i / 2 < shadowed_spots } else { i / 2 < shadowed_points };
+        scene.lights.push(demo_other_light(i, other_lights, light_node_base + 1 + i, shadowed));
+    }
+    scene.cameras.push(demo_camera(light_node_base + 1 + other_lights));
+    scene
+}
+
+/// The demo's materials and meshes, each mesh with its material (the gold sphere and the
+/// chalk box share the plain ones' geometry).
+fn demo_materials_and_meshes() -> Scene {
     let mut scene = Scene {
         materials: vec![
             material("floor", Vec3::splat(0.6), 0.0, 0.85),
@@ -65,7 +82,11 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
     chalk_box.name = "chalk box".into();
     chalk_box.primitives[0].material = Some(4);
     scene.meshes.push(chalk_box);
+    scene
+}
 
+/// The floor, boxes and spheres, one instance (and node) each.
+fn place_demo_objects(scene: &mut Scene) {
     let mut place = |mesh: usize, name: &str, transform: Mat4| {
         let node = scene.instances.len();
         scene.instances.push(MeshInstance {
@@ -103,12 +124,14 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
             Mat4::from_scale_rotation_translation(Vec3::splat(scale), Quat::IDENTITY, pos),
         );
     }
+}
 
-    let light_node_base = scene.instances.len();
+/// The demo's sun, at node `node`.
+fn demo_sun(node: usize) -> Light {
     let sun_direction = Vec3::new(-0.4, -1.0, -0.55).normalize();
-    scene.lights.push(Light {
+    Light {
         name: "sun".into(),
-        node: light_node_base,
+        node,
         kind: LightKind::Directional,
         color: Vec3::new(1.0, 0.96, 0.9),
         intensity: 3.0,
@@ -117,59 +140,64 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
         shadow: LightShadow::default(),
         cookie: None,
         mode: LightMode::Realtime,
-    });
-    for i in 0..other_lights {
-        // A golden-angle spiral keeps any count evenly spread.
-        let t = (i as f32 + 0.5) / other_lights.max(1) as f32;
-        let angle = i as f32 * 2.399_963;
-        let radius = 2.0 + 7.0 * t.sqrt();
-        let position = Vec3::new(radius * angle.cos(), 1.2 + 1.8 * ((i % 3) as f32 / 2.0), radius * angle.sin());
-        let color = PALETTE[i % PALETTE.len()];
-        let (kind, direction, intensity, range) = if i % 2 == 0 {
-            let target = Vec3::new(position.x * 0.6, 0.0, position.z * 0.6);
-            (
-                LightKind::Spot {
-                    inner_cone_rad: (18.0 + 4.0 * (i % 3) as f32).to_radians(),
-                    outer_cone_rad: (28.0 + 6.0 * (i % 3) as f32).to_radians(),
-                },
-                (target - position).normalize(),
-                40.0,
-                Some(9.0),
-            )
-        } else {
-            (LightKind::Point, Vec3::NEG_Y, 8.0, Some(5.0 + (i % 4) as f32))
-        };
-        let kind_name = if i % 2 == 0 { "spot" } else { "point" };
-        scene.lights.push(Light {
-            name: format!("{kind_name} {i}"),
-            node: light_node_base + 1 + i,
-            kind,
-            color,
-            intensity,
-            range,
-            world_from_light: looking_along(position, direction),
-            shadow: if (i % 2 == 0 && i / 2 < shadowed_spots) || (i % 2 == 1 && i / 2 < shadowed_points) {
-                LightShadow::default()
-            } else {
-                LightShadow { mode: ShadowMode::None, ..LightShadow::default() }
-            },
-            cookie: None,
-            mode: LightMode::Realtime,
-        });
     }
+}
 
+/// Point or spot light `i` of `count` (spots at even `i`), at node `node`, on a
+/// golden-angle spiral that keeps any count evenly spread.
+fn demo_other_light(i: usize, count: usize, node: usize, shadowed: bool) -> Light {
+    let t = (i as f32 + 0.5) / count.max(1) as f32;
+    let angle = i as f32 * 2.399_963;
+    let radius = 2.0 + 7.0 * t.sqrt();
+    let position = Vec3::new(radius * angle.cos(), 1.2 + 1.8 * ((i % 3) as f32 / 2.0), radius * angle.sin());
+    let color = PALETTE[i % PALETTE.len()];
+    let is_spot = i.is_multiple_of(2);
+    let (kind, direction, intensity, range) = if is_spot {
+        let target = Vec3::new(position.x * 0.6, 0.0, position.z * 0.6);
+        (
+            LightKind::Spot {
+                inner_cone_rad: (18.0 + 4.0 * (i % 3) as f32).to_radians(),
+                outer_cone_rad: (28.0 + 6.0 * (i % 3) as f32).to_radians(),
+            },
+            (target - position).normalize(),
+            40.0,
+            Some(9.0),
+        )
+    } else {
+        (LightKind::Point, Vec3::NEG_Y, 8.0, Some(5.0 + (i % 4) as f32))
+    };
+    let kind_name = if is_spot { "spot" } else { "point" };
+    Light {
+        name: format!("{kind_name} {i}"),
+        node,
+        kind,
+        color,
+        intensity,
+        range,
+        world_from_light: looking_along(position, direction),
+        shadow: if shadowed {
+            LightShadow::default()
+        } else {
+            LightShadow { mode: ShadowMode::None, ..LightShadow::default() }
+        },
+        cookie: None,
+        mode: LightMode::Realtime,
+    }
+}
+
+/// The demo's camera, at node `node`, looking down at the centre from the front.
+fn demo_camera(node: usize) -> Camera {
     let eye = Vec3::new(0.0, 7.5, 13.0);
     let view_from_world = Mat4::look_at_rh(eye, Vec3::new(0.0, 0.5, 0.0), Vec3::Y);
-    scene.cameras.push(Camera {
+    Camera {
         name: "demo camera".into(),
-        node: light_node_base + 1 + other_lights,
+        node,
         yfov_rad: 50f32.to_radians(),
         znear: 0.1,
         zfar: None,
         aspect_ratio: None,
         world_from_view: view_from_world.inverse(),
-    });
-    scene
+    }
 }
 
 #[cfg(test)]

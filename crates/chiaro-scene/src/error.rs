@@ -2,14 +2,39 @@
 
 use std::path::PathBuf;
 
+/// Why a scene could not be loaded; every variant names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
+    /// The file could not be read.
     #[error("{path}: cannot read file: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        /// The file that failed.
+        path: PathBuf,
+        /// What the file system said.
+        source: std::io::Error,
+    },
+    /// The file is not glTF the parser can read.
     #[error("{path}: not a valid glTF file: {message}")]
-    Parse { path: PathBuf, message: String },
+    Parse {
+        /// The glTF file.
+        path: PathBuf,
+        /// The parser's message.
+        message: String,
+    },
+    /// The file requires an extension Chiaro does not implement.
     #[error("{path}: requires glTF extension `{extension}`, which Chiaro does not support")]
-    UnsupportedExtension { path: PathBuf, extension: String },
+    UnsupportedExtension {
+        /// The glTF file.
+        path: PathBuf,
+        /// The extension's name, such as `KHR_draco_mesh_compression`.
+        extension: String,
+    },
+    /// The file breaks the glTF specification or holds values Chiaro refuses.
     #[error("{path}: {message}")]
-    Invalid { path: PathBuf, message: String },
+    Invalid {
+        /// The glTF file.
+        path: PathBuf,
+        /// What is wrong, naming the JSON path or object where it can.
+        message: String,
+    },
 }

@@ -3,13 +3,14 @@
 //! Files flow in, `Scene` values flow out; nothing here touches the GPU, so the render
 //! crate and the tests share one description of what was loaded.
 
+#![warn(missing_docs)]
+
 pub mod baked;
 pub mod demo;
 pub mod error;
 pub mod files;
 pub mod gltf_import;
 pub mod settings;
-mod settings_text;
 pub mod shapes;
 pub mod test_scenes;
 pub mod types;

@@ -10,11 +10,15 @@ use std::path::PathBuf;
 /// normals and tangents are generated at import when the file has none.
 #[derive(Clone, Debug, Default)]
 pub struct Primitive {
+    /// Object-space vertex positions, metres.
     pub positions: Vec<Vec3>,
+    /// Object-space unit vertex normals.
     pub normals: Vec<Vec3>,
     /// xyz tangent, w the bitangent sign (glTF convention).
     pub tangents: Vec<Vec4>,
+    /// First texture coordinate set (TEXCOORD_0); zeros where the file has none.
     pub uv0: Vec<Vec2>,
+    /// Second texture coordinate set (TEXCOORD_1); zeros where the file has none.
     pub uv1: Vec<Vec2>,
     /// Triangle list indices.
     pub indices: Vec<u32>,
@@ -28,14 +32,18 @@ pub struct Primitive {
 }
 
 impl Primitive {
+    /// Triangles in `indices`.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
 }
 
+/// A glTF mesh: primitives drawn with the same transform.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
+    /// The file's name, or `mesh N`.
     pub name: String,
+    /// Its drawable primitives; those Chiaro cannot draw are left out.
     pub primitives: Vec<Primitive>,
 }
 
@@ -43,6 +51,7 @@ pub struct Mesh {
 /// without it cast two-sided, as the reference does).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum CastShadows {
+    /// Casts no shadows.
     Off,
     /// Casts with the faces its material draws (the seeds' casting).
     #[default]
@@ -56,11 +65,15 @@ pub enum CastShadows {
 /// A mesh placed in the world by a node.
 #[derive(Clone, Debug)]
 pub struct MeshInstance {
+    /// Index into `Scene::meshes`.
     pub mesh: usize,
     /// Index of the glTF node (or demo object) that places it.
     pub node: usize,
+    /// The node's name, else its mesh's, else `node N`, for messages and the viewer.
     pub name: String,
+    /// The node's world transform (scale included).
     pub world_from_local: Mat4,
+    /// Node `extras.castShadows`; glTF nodes default to two-sided.
     pub cast_shadows: CastShadows,
     /// Node `extras.receiveShadows`; true by default.
     pub receive_shadows: bool,
@@ -71,10 +84,14 @@ pub struct MeshInstance {
     pub lightmap: Option<u32>,
 }
 
+/// glTF's alpha mode: how base colour alpha is used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AlphaMode {
+    /// Alpha ignored: fully opaque.
     Opaque,
+    /// Alpha tested against `alpha_cutoff`: holes where it is below.
     Mask,
+    /// Alpha blended over what is behind.
     Blend,
 }
 
@@ -105,20 +122,29 @@ impl ShadowCasting {
     }
 }
 
+/// How texture coordinates outside 0 to 1 wrap (glTF sampler wrap modes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum WrapMode {
+    /// The image tiles.
     Repeat,
+    /// The image tiles, every other copy mirrored.
     MirroredRepeat,
+    /// Coordinates clamp to the edge texels.
     ClampToEdge,
 }
 
+/// A glTF sampler: wrapping and filtering.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SamplerDesc {
+    /// Wrapping along U.
     pub wrap_u: WrapMode,
+    /// Wrapping along V.
     pub wrap_v: WrapMode,
     /// Linear (true) or nearest (false) magnification.
     pub mag_linear: bool,
+    /// Linear (true) or nearest (false) minification.
     pub min_linear: bool,
+    /// Whether minification samples mipmaps.
     pub mipmaps: bool,
 }
 
@@ -137,8 +163,11 @@ impl Default for SamplerDesc {
 /// KHR_texture_transform: `uv' = T(offset) * R(rotation) * S(scale) * uv`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UvTransform {
+    /// Translation in UV units, applied last.
     pub offset: Vec2,
+    /// Counter-clockwise rotation, radians.
     pub rotation_rad: f32,
+    /// Scale along U and V, applied first.
     pub scale: Vec2,
 }
 
@@ -161,31 +190,48 @@ impl UvTransform {
 pub struct TextureRef {
     /// Index into `Scene::images`.
     pub image: usize,
+    /// How the image is sampled.
     pub sampler: SamplerDesc,
     /// Which UV set: 0 or 1.
     pub tex_coord: u32,
+    /// KHR_texture_transform on the coordinates.
     pub transform: UvTransform,
 }
 
 /// glTF metallic-roughness material, with emissive strength folded into `emissive`.
 #[derive(Clone, Debug)]
 pub struct Material {
+    /// The file's name, or `material N`.
     pub name: String,
+    /// Linear RGBA factor; alpha is coverage or opacity by `alpha_mode`.
     pub base_color: Vec4,
+    /// sRGB base colour and alpha, times `base_color`.
     pub base_color_texture: Option<TextureRef>,
+    /// Metalness factor, 0 dielectric to 1 metal.
     pub metallic: f32,
+    /// Perceptual roughness factor, 0 mirror to 1 fully rough.
     pub roughness: f32,
+    /// Roughness in G and metalness in B, times the factors.
     pub metallic_roughness_texture: Option<TextureRef>,
+    /// Tangent-space normal map.
     pub normal_texture: Option<TextureRef>,
+    /// Scale of the normal map's X and Y.
     pub normal_scale: f32,
+    /// Ambient occlusion in R.
     pub occlusion_texture: Option<TextureRef>,
+    /// How much of the occlusion texture applies, 0 to 1.
     pub occlusion_strength: f32,
     /// Linear emissive radiance factor (already times KHR_materials_emissive_strength).
     pub emissive: Vec3,
+    /// sRGB emissive colour, times `emissive`.
     pub emissive_texture: Option<TextureRef>,
+    /// How base colour alpha is used.
     pub alpha_mode: AlphaMode,
+    /// MASK threshold: alpha below it is a hole.
     pub alpha_cutoff: f32,
+    /// glTF `doubleSided`: whether back faces are drawn too.
     pub double_sided: bool,
+    /// How its surfaces cast shadows (`extras.shadowCasting`, or by alpha mode).
     pub shadow_casting: ShadowCasting,
 }
 
@@ -217,20 +263,28 @@ impl Default for Material {
 /// Whether an image holds colour (sRGB-encoded) or data (linear), decided by its use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ColorSpace {
+    /// Colour, sRGB-encoded: decoded to linear when sampled.
     Srgb,
+    /// Data (normals, roughness, occlusion, cookies): sampled as stored.
     Linear,
 }
 
 /// A decoded image, always 8-bit RGBA.
 #[derive(Clone, Debug)]
 pub struct Image {
+    /// The image's name, else its URI, else `image N`, for messages.
     pub name: String,
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
+    /// Row-major RGBA8 texels from the top-left, `width * height * 4` bytes.
     pub rgba8: Vec<u8>,
+    /// Whether the texels are colour or data.
     pub color_space: ColorSpace,
 }
 
+/// KHR_lights_punctual's light types, with the units of their intensity.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {
     /// Illuminance in lux on a surface facing the light.
@@ -238,7 +292,12 @@ pub enum LightKind {
     /// Intensity in candela.
     Point,
     /// Intensity in candela; glTF half-angles of the cone.
-    Spot { inner_cone_rad: f32, outer_cone_rad: f32 },
+    Spot {
+        /// Half-angle from the axis inside which the spot is at full intensity, radians.
+        inner_cone_rad: f32,
+        /// Half-angle from the axis beyond which the spot gives no light, radians.
+        outer_cone_rad: f32,
+    },
 }
 
 impl LightKind {
@@ -256,8 +315,11 @@ impl LightKind {
 /// or `soft` (the settings' filter).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ShadowMode {
+    /// No realtime shadows.
     None,
+    /// The 2x2 filter, whatever the settings say.
     Hard,
+    /// The settings' filter.
     #[default]
     Soft,
 }
@@ -276,6 +338,7 @@ impl ShadowMode {
 /// A light's shadow settings, from its KHR_lights_punctual `extras`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightShadow {
+    /// Whether and how softly it casts realtime shadows (`extras.shadows`).
     pub mode: ShadowMode,
     /// 0 to 1: how dark the shadow is.
     pub strength: f32,
@@ -298,6 +361,7 @@ impl Default for LightShadow {
 }
 
 impl LightShadow {
+    /// Whether the light casts shadows at all: a mode other than none, and some strength.
     pub fn casts(&self) -> bool {
         self.mode != ShadowMode::None && self.strength > 0.0
     }
@@ -328,6 +392,7 @@ pub enum LightMode {
 }
 
 impl LightMode {
+    /// The light's `extras.mode` value.
     pub fn name(self) -> &'static str {
         match self {
             LightMode::Realtime => "realtime",
@@ -350,9 +415,11 @@ impl LightMode {
 /// A KHR_lights_punctual light placed in the world.
 #[derive(Clone, Debug)]
 pub struct Light {
+    /// The light's name, else its node's, else `light N` (empty for lights made in code).
     pub name: String,
     /// Index of the glTF node that carries the light.
     pub node: usize,
+    /// Directional, point or spot, with the spot's cone.
     pub kind: LightKind,
     /// Linear RGB.
     pub color: Vec3,
@@ -363,8 +430,11 @@ pub struct Light {
     /// The light's node without scale: unit axes, -Z the way it shines, +X and +Y its
     /// roll (which orients cookies and shadow tiles), the translation its position.
     pub world_from_light: Mat4,
+    /// Its shadow settings, from `extras`.
     pub shadow: LightShadow,
+    /// The image that tints its light, if any (`extras.cookie`).
     pub cookie: Option<Cookie>,
+    /// Realtime, mixed or baked (`extras.mode`).
     pub mode: LightMode,
 }
 
@@ -387,18 +457,15 @@ impl Light {
         }
     }
 
+    /// World position, metres (the origin of its node); unused by directional lights.
     pub fn position(&self) -> Vec3 {
         self.world_from_light.w_axis.truncate()
     }
 
-    /// The range a point or spot light is shaded (and baked) with: its own, or the distance
-    /// at which its peak illuminance falls to `range_threshold_lux`, at most
-    /// `MAX_SHADED_RANGE_M`.
+    /// The range a point or spot light is shaded, baked and judged with, metres:
+    /// `chiaro_math::light::shaded_range` of its own range and peak intensity.
     pub fn shaded_range(&self, range_threshold_lux: f32) -> f32 {
-        let range = self.range.unwrap_or_else(|| {
-            chiaro_math::light::derived_range(self.intensity * self.color.max_element(), range_threshold_lux)
-        });
-        range.min(chiaro_math::light::MAX_SHADED_RANGE_M)
+        chiaro_math::light::shaded_range(self.range, self.intensity * self.color.max_element(), range_threshold_lux)
     }
 
     /// Unit direction the light shines in (-Z of its node); unused by point lights.
@@ -407,30 +474,43 @@ impl Light {
     }
 }
 
+/// A glTF perspective camera placed in the world.
 #[derive(Clone, Debug)]
 pub struct Camera {
+    /// The camera's name, else its node's, else `camera N`.
     pub name: String,
     /// Index of the glTF node that carries the camera.
     pub node: usize,
+    /// Vertical field of view, radians.
     pub yfov_rad: f32,
+    /// Distance to the near plane, metres.
     pub znear: f32,
     /// `None` for an infinite projection.
     pub zfar: Option<f32>,
     /// The file's aspect ratio, if any; the output size decides the rendered aspect.
     pub aspect_ratio: Option<f32>,
+    /// The camera's node without scale: it looks down its -Z, +Y up.
     pub world_from_view: Mat4,
 }
 
 /// A loaded scene. `ignored` lists what the file had that Chiaro does not use, and why.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
+    /// The file the scene was loaded from; `None` for scenes made in code.
     pub source: Option<PathBuf>,
+    /// Meshes, indexed by `MeshInstance::mesh`.
     pub meshes: Vec<Mesh>,
+    /// Every mesh placed in the world, one per node that carries a mesh.
     pub instances: Vec<MeshInstance>,
+    /// Materials, indexed by `Primitive::material`.
     pub materials: Vec<Material>,
+    /// Decoded images, indexed by `TextureRef::image` and `Cookie::image`.
     pub images: Vec<Image>,
+    /// Punctual lights in the file's order.
     pub lights: Vec<Light>,
+    /// Cameras in the file's order.
     pub cameras: Vec<Camera>,
+    /// What the file had that Chiaro does not use, one line each, saying why.
     pub ignored: Vec<String>,
     /// Files the scene was read from: the document, then its external buffers and images.
     pub inputs: Vec<PathBuf>,
@@ -447,6 +527,7 @@ impl Scene {
         })
     }
 
+    /// Triangles drawn: every instance's primitives.
     pub fn triangle_count(&self) -> usize {
         self.instances.iter().flat_map(|inst| &self.meshes[inst.mesh].primitives).map(Primitive::triangle_count).sum()
     }

@@ -3,8 +3,8 @@
 //! A `Scene`, a `PixelCamera` and one range per light flow in; `ShadowReference` flows out:
 //! for every pixel the surface the camera sees (position, camera-facing geometric normal,
 //! whether it receives shadows) and, per light, how much of it a shadow ray from that
-//! surface carries (through alpha-tested holes, dimmed by dithered casters). `compare`
-//! judges a rendered shadow against it.
+//! surface carries (through alpha-tested holes, dimmed by dithered casters).
+//! chiaro-compare's `verdict` judges a rendered shadow against it.
 
 use crate::bvh::SceneBvh;
 use chiaro_scene::{Light, LightKind, Scene};

@@ -49,12 +49,6 @@ pub struct LightChoice {
     pub selection: LightSelection,
 }
 
-/// The range a point or spot light is shaded with: its own, or one derived from its
-/// intensity, at most `MAX_SHADED_RANGE_M`.
-pub fn effective_range(light: &Light, settings: &Settings) -> f32 {
-    light.shaded_range(settings.lights.range_threshold_lux)
-}
-
 pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightChoice {
     let id = |i: usize| LightId(i as u32);
     // With a bake applied, baked lights live in the lightmaps and probes alone.
@@ -78,7 +72,7 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
             let l = &scene.lights[i];
             OtherLightBounds {
                 position: l.position(),
-                range: effective_range(l, settings),
+                range: l.shaded_range(settings.lights.range_threshold_lux),
                 peak_intensity: l.intensity * l.color.max_element(),
                 spot: match l.kind {
                     LightKind::Spot { outer_cone_rad, .. } => Some((l.direction(), outer_cone_rad)),

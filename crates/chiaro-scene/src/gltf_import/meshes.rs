@@ -47,17 +47,7 @@ impl Loader<'_> {
             self.tally.without_positions += 1;
             return Ok(None);
         };
-        let has = |wanted: fn(&Semantic) -> bool| {
-            primitive.attributes.keys().any(|s| match s {
-                Checked::Valid(s) => wanted(s),
-                Checked::Invalid => false,
-            })
-        };
-        self.tally.vertex_colors += usize::from(has(|s| matches!(s, Semantic::Colors(_))));
-        self.tally.extra_uv_sets += usize::from(has(|s| matches!(s, Semantic::TexCoords(2..))));
-        if primitive.targets.as_ref().is_some_and(|t| !t.is_empty()) {
-            self.tally.morph_targets += 1;
-        }
+        self.count_ignored_attributes(primitive);
 
         let mut positions: Vec<Vec3> = self
             .read_floats::<3>(position_accessor, &format!("POSITION of {label}"))?
@@ -68,62 +58,30 @@ impl Loader<'_> {
             return Err(self.invalid(format!("{label}: POSITION {v} is not finite")));
         }
         let vertex_count = positions.len();
-        let check_count = |name: &str, count: usize| {
-            if count == vertex_count {
-                Ok(())
-            } else {
-                Err(self.invalid(format!("{label}: {name} has {count} values but POSITION has {vertex_count}")))
-            }
-        };
-
-        let indices = match primitive.indices {
-            Some(accessor) => {
-                let indices = self.read_indices(accessor.value(), &format!("indices of {label}"))?;
-                if let Some(&bad) = indices.iter().find(|&&i| i as usize >= vertex_count) {
-                    return Err(
-                        self.invalid(format!("{label}: index {bad} is out of range for {vertex_count} vertices"))
-                    );
-                }
-                indices
-            }
-            None => (0..vertex_count as u32).collect(),
-        };
-        let mut indices = triangle_list(mode, indices);
+        let mut indices = self.triangle_indices(primitive, mode, vertex_count, label)?;
         if indices.is_empty() {
             return Ok(None);
         }
-
+        let read = |accessor, name: &str| self.vertex_attribute::<3>(accessor, name, label, vertex_count);
         let read_uv = |set: u32| -> Result<Vec<Vec2>, SceneError> {
-            match attribute(Semantic::TexCoords(set)) {
-                Some(accessor) => {
-                    let name = format!("TEXCOORD_{set}");
-                    let uvs = self.read_floats::<2>(accessor, &format!("{name} of {label}"))?;
-                    check_count(&name, uvs.len())?;
-                    Ok(uvs
-                        .into_iter()
-                        .map(Vec2::from_array)
-                        .map(|uv| if uv.is_finite() { uv } else { Vec2::ZERO })
-                        .collect())
-                }
-                None => Ok(vec![Vec2::ZERO; vertex_count]),
-            }
+            let Some(accessor) = attribute(Semantic::TexCoords(set)) else {
+                return Ok(vec![Vec2::ZERO; vertex_count]);
+            };
+            let uvs = self.vertex_attribute::<2>(accessor, &format!("TEXCOORD_{set}"), label, vertex_count)?;
+            Ok(uvs.into_iter().map(Vec2::from_array).map(|uv| if uv.is_finite() { uv } else { Vec2::ZERO }).collect())
         };
         let mut uv0 = read_uv(0)?;
         let mut uv1 = read_uv(1)?;
-
-        let mut normals = match attribute(Semantic::Normals) {
+        let mut normals: Option<Vec<Vec3>> = match attribute(Semantic::Normals) {
             Some(accessor) => {
-                let normals = self.read_floats::<3>(accessor, &format!("NORMAL of {label}"))?;
-                check_count("NORMAL", normals.len())?;
-                Some(normals.into_iter().map(|n| Vec3::from_array(n).normalize_or(Vec3::Z)).collect::<Vec<_>>())
+                Some(read(accessor, "NORMAL")?.into_iter().map(|n| Vec3::from_array(n).normalize_or(Vec3::Z)).collect())
             }
             None => None,
         };
         // Tangents are only trusted alongside the file's own normals (glTF 2.0 §3.7.2.1).
         let mut tangents = match (attribute(Semantic::Tangents), &normals) {
             (Some(accessor), Some(normals)) => {
-                let tangents = self.read_floats::<4>(accessor, &format!("TANGENT of {label}"))?;
-                check_count("TANGENT", tangents.len())?;
+                let tangents = self.vertex_attribute::<4>(accessor, "TANGENT", label, vertex_count)?;
                 let mut tangents: Vec<Vec4> = tangents.into_iter().map(Vec4::from_array).collect();
                 vertex_gen::repair_tangents(&mut tangents, normals);
                 Some(tangents)
@@ -145,15 +103,10 @@ impl Loader<'_> {
         let material = primitive.material.map(|m| m.value());
         let normal_map_uv_set =
             material.and_then(|m| materials.get(m)).and_then(|m| m.normal_texture).map(|t| t.tex_coord);
-        let tangents = match (tangents.take(), normal_map_uv_set) {
-            (Some(tangents), _) => tangents,
-            (None, Some(set)) => {
-                let uvs = if set == 1 { &uv1 } else { &uv0 };
-                vertex_gen::mikktspace_tangents(&positions, &normals, uvs, &indices)
-                    .unwrap_or_else(|| vertex_gen::perpendicular_tangents(&normals))
-            }
-            (None, None) => vertex_gen::perpendicular_tangents(&normals),
-        };
+        let tangents = tangents.take().unwrap_or_else(|| {
+            let uvs = if normal_map_uv_set == Some(1) { &uv1 } else { &uv0 };
+            generated_tangents(&positions, &normals, normal_map_uv_set.map(|_| uvs.as_slice()), &indices)
+        });
 
         let bounds = Aabb::from_points(positions.iter().copied());
         Ok(Some(Primitive {
@@ -168,6 +121,80 @@ impl Loader<'_> {
             lightmap_uv: Vec::new(),
         }))
     }
+}
+
+impl Loader<'_> {
+    /// Counts the attributes Chiaro reads past: vertex colours, UV sets past the second,
+    /// morph targets.
+    fn count_ignored_attributes(&mut self, primitive: &json::mesh::Primitive) {
+        use json::mesh::Semantic;
+        let has = |wanted: fn(&Semantic) -> bool| {
+            primitive.attributes.keys().any(|s| match s {
+                Checked::Valid(s) => wanted(s),
+                Checked::Invalid => false,
+            })
+        };
+        self.tally.vertex_colors += usize::from(has(|s| matches!(s, Semantic::Colors(_))));
+        self.tally.extra_uv_sets += usize::from(has(|s| matches!(s, Semantic::TexCoords(2..))));
+        if primitive.targets.as_ref().is_some_and(|t| !t.is_empty()) {
+            self.tally.morph_targets += 1;
+        }
+    }
+
+    /// Vertex attribute `name` of the primitive `label` from `accessor`: exactly one value
+    /// per vertex.
+    fn vertex_attribute<const N: usize>(
+        &self,
+        accessor: usize,
+        name: &str,
+        label: &str,
+        vertex_count: usize,
+    ) -> Result<Vec<[f32; N]>, SceneError> {
+        let values = self.read_floats::<N>(accessor, &format!("{name} of {label}"))?;
+        if values.len() != vertex_count {
+            let count = values.len();
+            return Err(self.invalid(format!("{label}: {name} has {count} values but POSITION has {vertex_count}")));
+        }
+        Ok(values)
+    }
+
+    /// The primitive's triangles as a list: its indices (each checked against
+    /// `vertex_count`) or, without any, the vertices in order.
+    fn triangle_indices(
+        &self,
+        primitive: &json::mesh::Primitive,
+        mode: json::mesh::Mode,
+        vertex_count: usize,
+        label: &str,
+    ) -> Result<Vec<u32>, SceneError> {
+        let indices = match primitive.indices {
+            Some(accessor) => {
+                let indices = self.read_indices(accessor.value(), &format!("indices of {label}"))?;
+                if let Some(&bad) = indices.iter().find(|&&i| i as usize >= vertex_count) {
+                    return Err(
+                        self.invalid(format!("{label}: index {bad} is out of range for {vertex_count} vertices"))
+                    );
+                }
+                indices
+            }
+            None => (0..vertex_count as u32).collect(),
+        };
+        Ok(triangle_list(mode, indices))
+    }
+}
+
+/// Tangents for a primitive whose file gives none: MikkTSpace's over the normal map's UV
+/// set where there is a normal map (`normal_map_uvs`), any perpendicular ones otherwise
+/// or where MikkTSpace fails.
+fn generated_tangents(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    normal_map_uvs: Option<&[Vec2]>,
+    indices: &[u32],
+) -> Vec<Vec4> {
+    normal_map_uvs
+        .and_then(|uvs| vertex_gen::mikktspace_tangents(positions, normals, uvs, indices))
+        .unwrap_or_else(|| vertex_gen::perpendicular_tangents(normals))
 }
 
 /// Strips and fans become lists with the winding glTF 2.0 §3.7.2.1 gives them: strip

@@ -3,10 +3,10 @@
 //! shadows painted over the image. The frame is rendered on the window's device; the
 //! tracing runs on a thread of its own, so the window stays live meanwhile.
 
+use chiaro_compare::PixelVerdict;
 use chiaro_compare::{RenderedShadows, ShadowComparison, compare_rendered, not_compared_because};
 use chiaro_render::View;
 use chiaro_scene::{Scene, Settings};
-use chiaro_trace::PixelVerdict;
 use std::sync::mpsc;
 use std::time::Instant;
 

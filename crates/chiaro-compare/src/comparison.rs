@@ -1,0 +1,121 @@
+//! One view compared: renders a frame with its shadow AOVs (chiaro-render), traces the
+//! same camera and resolution on the CPU (chiaro-trace), and judges each light's pixels
+//! (`crate::verdict`). A scene, a view and settings flow in; a `ShadowComparison` (one
+//! `LightReport` per scene light, the reference and the rendered AOVs) flows out.
+
+use crate::verdict::{LightComparison, PixelVerdict, classify_pixels};
+use chiaro_render::{FrameOptions, PreparedScene, RenderError, Renderer, ShadowStatus, View};
+use chiaro_scene::{Scene, Settings};
+use chiaro_trace::{PixelCamera, ShadowReference, trace_shadow_reference};
+use glam::Vec3;
+
+/// One light's verdict.
+#[derive(Clone, Debug)]
+pub struct LightReport {
+    /// Index in `Scene::lights`.
+    pub light: usize,
+    pub comparison: LightComparison,
+    /// RGBA8 difference image (see `PixelVerdict::color`).
+    pub difference: Vec<[u8; 4]>,
+}
+
+pub struct ShadowComparison {
+    pub reports: Vec<LightReport>,
+    pub reference: ShadowReference,
+    /// The rendered shadow AOVs, per scene light.
+    pub rendered: Vec<Vec<f32>>,
+    /// Per scene light: whether a shadow map was sampled.
+    pub status: Vec<ShadowStatus>,
+}
+
+/// Why a light with `status` is not judged against the reference; `None` when it is.
+pub fn not_compared_because(status: ShadowStatus) -> Option<&'static str> {
+    match status {
+        ShadowStatus::Mapped | ShadowStatus::MaskOnly => None,
+        ShadowStatus::Off => Some("casts no shadows"),
+        ShadowStatus::NotShaded => Some("not shaded this frame"),
+        ShadowStatus::NoTile => Some("no free atlas tiles: no realtime shadow"),
+        ShadowStatus::Baked => Some("baked: its shadows are in the lightmaps, summed with other light; not compared"),
+    }
+}
+
+/// The GPU half of a comparison: what the renderer drew for one view, read back.
+/// `compare_rendered` finishes it on the CPU, on any thread.
+pub struct RenderedShadows {
+    /// World position of each pixel's surface; `None` where no surface is.
+    pub positions: Vec<Option<Vec3>>,
+    /// Per scene light, each pixel's shadow term.
+    pub shadow_aovs: Vec<Vec<f32>>,
+    pub status: Vec<ShadowStatus>,
+    /// The frame itself, tone-mapped RGBA8, for showing the verdicts over it.
+    pub ldr: Vec<u8>,
+}
+
+/// Renders `view` with the shadow AOVs a comparison needs, waiting for the frame.
+pub fn render_shadows(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    view: &View,
+    settings: &Settings,
+) -> Result<RenderedShadows, RenderError> {
+    let frame = renderer.render(
+        scene,
+        prepared,
+        view,
+        settings,
+        FrameOptions { aovs: true, shadow_aovs: true, readback: true, ..Default::default() },
+    )?;
+    let positions = frame
+        .aovs
+        .as_ref()
+        .expect("aovs were asked for")
+        .position_ws
+        .iter()
+        .map(|p| p[0].is_finite().then(|| Vec3::from(*p)))
+        .collect();
+    let status = frame.shadow_status(scene);
+    Ok(RenderedShadows { positions, shadow_aovs: frame.shadow_aovs, status, ldr: frame.ldr })
+}
+
+/// Traces the reference for `view` and judges each light's rendered shadows against it.
+pub fn compare_rendered(
+    scene: &Scene,
+    view: &View,
+    settings: &Settings,
+    rendered: RenderedShadows,
+) -> ShadowComparison {
+    let ranges: Vec<f32> = scene.lights.iter().map(|l| l.shaded_range(settings.lights.range_threshold_lux)).collect();
+    let camera = PixelCamera { clip_from_world: view.clip_from_world(), width: view.width, height: view.height };
+    let reference = {
+        let _span = tracing::info_span!("trace reference").entered();
+        trace_shadow_reference(scene, &camera, &ranges)
+    };
+    let reports = scene
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, light)| {
+            // Classified once; the counts and the picture both come from the verdicts.
+            let verdicts =
+                classify_pixels(&rendered.shadow_aovs[i], &rendered.positions, &reference, i, light, ranges[i]);
+            LightReport {
+                light: i,
+                comparison: LightComparison::from_verdicts(&verdicts),
+                difference: verdicts.into_iter().map(PixelVerdict::color).collect(),
+            }
+        })
+        .collect();
+    ShadowComparison { reports, reference, rendered: rendered.shadow_aovs, status: rendered.status }
+}
+
+pub fn compare_shadows(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    view: &View,
+    settings: &Settings,
+) -> Result<ShadowComparison, RenderError> {
+    let rendered = render_shadows(renderer, scene, prepared, view, settings)?;
+    Ok(compare_rendered(scene, view, settings, rendered))
+}

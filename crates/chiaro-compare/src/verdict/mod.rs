@@ -1,0 +1,139 @@
+//! Per-pixel verdicts of a rendered shadow against the traced reference, one light at a
+//! time.
+//!
+//! A rendered per-pixel shadow term (1 lit, 0 shadowed), the rendered world positions and
+//! a `chiaro_trace::ShadowReference` flow in; out comes one `PixelVerdict` per pixel
+//! (`classify_pixels`), which `counts` turns into false shadows (acne: shadow where the
+//! reference is lit) and missed shadows (peter-panning and leaks: light where the
+//! reference is shadowed), and into an RGBA difference image.
+//!
+//! Only pixels where the question is fair are compared: the reference and the renderer
+//! see the same surface, the surface receives shadows and the light reaches it, and no
+//! reference shadow edge is near (`edge_band`), since a shadow map's texels and filter
+//! move edges by a pixel or two without being wrong.
+
+mod counts;
+mod edge_band;
+#[cfg(test)]
+mod tests;
+
+pub use counts::{LightComparison, compare_light, difference_image};
+
+use chiaro_math::light::{spot_angle_params, spot_attenuation};
+use chiaro_scene::{Light, LightKind};
+use chiaro_trace::ShadowReference;
+use edge_band::shadow_edge_band;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Farthest the rendered position may be from the reference's for the pixel to count as
+/// the same surface. Too small and depth-buffer reconstruction error drops fair pixels;
+/// too large and silhouettes, where the two see different objects, are judged.
+pub const POSITION_TOLERANCE_M: f32 = 0.01;
+
+/// Pixels within this Chebyshev distance of a change in reference visibility are not
+/// compared. Too narrow and filtered or texel-snapped edges count as errors; too wide and
+/// thin shadows (and the acne or leaks inside them) are never judged.
+pub const EDGE_BAND_PX: usize = 3;
+
+/// Rendered and reference visibility disagree when they differ by more than this.
+pub const DISAGREEMENT_THRESHOLD: f32 = 0.5;
+
+/// What one pixel says about one light's shadow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixelVerdict {
+    NotCompared,
+    AgreeLit,
+    AgreeShadowed,
+    /// Rendered darker than the reference: acne, or shadow where there should be light.
+    FalseShadow,
+    /// Rendered brighter than the reference: peter-panning, or light leaking.
+    MissedShadow,
+}
+
+impl PixelVerdict {
+    /// The difference image's colour: black not compared, grey (128) agreeing and lit,
+    /// dark grey (48) agreeing and shadowed, red false shadow, blue missed shadow.
+    pub fn color(self) -> [u8; 4] {
+        match self {
+            PixelVerdict::NotCompared => [0, 0, 0, 255],
+            PixelVerdict::AgreeLit => [128, 128, 128, 255],
+            PixelVerdict::AgreeShadowed => [48, 48, 48, 255],
+            PixelVerdict::FalseShadow => [255, 0, 0, 255],
+            PixelVerdict::MissedShadow => [0, 0, 255, 255],
+        }
+    }
+}
+
+/// Each pixel's verdict, row-major, one per reference pixel. Pixels missing from the
+/// rendered arrays, or with a non-finite rendered shadow, are not compared; a reference
+/// whose arrays do not match its size compares nothing.
+pub fn classify_pixels(
+    rendered_shadow: &[f32],
+    rendered_position: &[Option<Vec3>],
+    reference: &ShadowReference,
+    light_index: usize,
+    light: &Light,
+    range: f32,
+) -> Vec<PixelVerdict> {
+    let (width, height) = (reference.width as usize, reference.height as usize);
+    let pixels = width * height;
+    let mut verdicts = vec![PixelVerdict::NotCompared; pixels];
+    let Some(visibility) = reference.visibility.get(light_index) else {
+        return verdicts;
+    };
+    let consistent = [visibility.len(), reference.position.len(), reference.normal.len(), reference.receives.len()]
+        .iter()
+        .all(|&len| len == pixels);
+    if !consistent {
+        return verdicts;
+    }
+    let near_edge = shadow_edge_band(visibility, width, height, EDGE_BAND_PX);
+
+    verdicts.par_iter_mut().enumerate().for_each(|(i, verdict)| {
+        let (Some(position), Some(&rendered), Some(Some(rendered_position))) =
+            (reference.position[i], rendered_shadow.get(i), rendered_position.get(i))
+        else {
+            return;
+        };
+        let compared = reference.receives[i]
+            && !near_edge[i]
+            && rendered.is_finite()
+            && rendered_position.distance(position) <= POSITION_TOLERANCE_M
+            && light_reaches(light, range, position, reference.normal[i]);
+        if !compared {
+            return;
+        }
+        let expected = visibility[i];
+        *verdict = if (rendered - expected).abs() <= DISAGREEMENT_THRESHOLD {
+            if expected >= 0.5 { PixelVerdict::AgreeLit } else { PixelVerdict::AgreeShadowed }
+        } else if rendered < expected {
+            PixelVerdict::FalseShadow
+        } else {
+            PixelVerdict::MissedShadow
+        };
+    });
+    verdicts
+}
+
+/// Whether `light` can light a surface at `position` facing `normal`: the surface faces
+/// it, and for point and spot lights lies within `range` (and the cone).
+fn light_reaches(light: &Light, range: f32, position: Vec3, normal: Vec3) -> bool {
+    let (to_light, in_range) = match light.kind {
+        LightKind::Directional => (-light.direction(), true),
+        LightKind::Point | LightKind::Spot { .. } => {
+            let offset = light.position() - position;
+            let distance = offset.length();
+            // At the light itself `to_light` is NaN and every test below fails.
+            (offset / distance, distance < range)
+        }
+    };
+    let in_cone = match light.kind {
+        LightKind::Spot { inner_cone_rad, outer_cone_rad } => {
+            let params = spot_angle_params(inner_cone_rad, outer_cone_rad);
+            spot_attenuation(light.direction().dot(-to_light), params) > 0.0
+        }
+        LightKind::Directional | LightKind::Point => true,
+    };
+    in_range && in_cone && normal.dot(to_light) > 0.0
+}

@@ -1,0 +1,95 @@
+//! `[shadows]`: how far shadows reach, how they fade, whether tiles are cached, and the
+//! two atlases' subsections (`directional` for cascaded sun shadows, `other` for point
+//! and spot lights). TOML values flow in; `ShadowSettings` and its validation flow out.
+
+pub mod directional;
+pub mod other;
+
+pub use directional::{CascadeBlend, DEFAULT_CASCADE_RATIOS, DirectionalShadowSettings};
+pub use other::OtherShadowSettings;
+
+use super::bound::{Bound, number};
+use chiaro_math::shadow::ShadowFilter;
+use serde::{Deserialize, Serialize};
+
+/// The `[shadows]` section, with its two atlases' subsections.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct ShadowSettings {
+    /// Metres from the camera beyond which no shadow is sampled (0.1 to 10000). Too short
+    /// loses distant shadows; too long spreads the cascades' texels thin and blurs them.
+    pub max_distance: f32,
+    /// Keep shadow tiles from frame to frame and draw a tile again only when its light,
+    /// its projection or a caster in it changed (true, the default); false draws every
+    /// tile every frame.
+    pub cache: bool,
+    /// Fraction of `max_distance` over which shadows fade out (0.001 to 1). Too small
+    /// shows a hard line where shadows end; too large fades shadows that should be there.
+    pub distance_fade: f32,
+    /// `[shadows.directional]`: the cascaded atlas of directional lights.
+    pub directional: DirectionalShadowSettings,
+    /// `[shadows.other]`: the atlas of point and spot lights.
+    pub other: OtherShadowSettings,
+}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        ShadowSettings {
+            max_distance: 100.0,
+            cache: true,
+            distance_fade: 0.1,
+            directional: DirectionalShadowSettings::default(),
+            other: OtherShadowSettings::default(),
+        }
+    }
+}
+
+/// The interval of `shadows.max_distance`, metres.
+pub const MAX_DISTANCE: Bound = Bound::new("shadows.max_distance", 0.1, 10000.0);
+/// The interval of `shadows.distance_fade`.
+pub const DISTANCE_FADE: Bound = Bound::new("shadows.distance_fade", 0.001, 1.0);
+
+/// Every interval of the section and its subsections.
+pub(super) fn bounds() -> impl Iterator<Item = Bound> {
+    [MAX_DISTANCE, DISTANCE_FADE]
+        .into_iter()
+        .chain(directional::BOUNDS.iter().copied())
+        .chain(other::BOUNDS.iter().copied())
+}
+
+/// The interval of an atlas side for `key`, texels: both atlases take the same.
+pub(super) const fn atlas_size_bound(key: &'static str) -> Bound {
+    Bound::new(key, 256.0, 8192.0)
+}
+
+impl ShadowSettings {
+    /// Checks every value of the section and its subsections; the message starts with the
+    /// dotted key.
+    pub fn validate(&self) -> Result<(), String> {
+        MAX_DISTANCE.check(self.max_distance)?;
+        DISTANCE_FADE.check(self.distance_fade)?;
+        self.directional.validate()?;
+        self.other.validate()
+    }
+}
+
+/// An atlas side must lie in `bound` and be a power of two.
+fn check_atlas_size(bound: Bound, atlas_size: u32) -> Result<(), String> {
+    if bound.contains(atlas_size as f32) && atlas_size.is_power_of_two() {
+        return Ok(());
+    }
+    Err(format!(
+        "{}: {atlas_size} must be a power of two from {} to {}",
+        bound.key,
+        number(bound.min),
+        number(bound.max)
+    ))
+}
+
+/// A filter must be one `ShadowFilter` knows; `key` is the dotted key it was set by.
+fn check_filter(key: &str, filter: &str) -> Result<(), String> {
+    match ShadowFilter::parse(filter) {
+        Some(_) => Ok(()),
+        None => Err(format!("{key}: unknown filter '{filter}' (pcf2x2, tent3x3, tent5x5, tent7x7)")),
+    }
+}
