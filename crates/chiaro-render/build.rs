@@ -1,11 +1,16 @@
 //! Composes the WESL shader sources (real `import`s between files) into one WGSL string
 //! per artifact at build time; the passes include the results (`wgsl!`). The artifacts
 //! are those the pass list (`src/passes/list.rs`) names; the constants the shaders share
-//! with Rust come from `src/shader_constants.rs` through WESL's `constants` module.
+//! with Rust come from `src/shader_constants.rs`, and the override ids from
+//! `src/overrides.rs`, through WESL's `constants` module.
 
 #[path = "src/shader_constants.rs"]
 #[allow(dead_code)]
 mod shader_constants;
+
+#[path = "src/overrides.rs"]
+#[allow(dead_code)]
+mod overrides;
 
 include!("src/passes/list.rs");
 
@@ -25,6 +30,10 @@ fn main() {
     for &(name, value) in shader_constants::F32_CONSTANTS {
         compiler.add_constant(name, value.into());
     }
+    // Each override's id, for the shaders' `@id(OVERRIDE_<NAME>)`.
+    for o in overrides::ALL {
+        compiler.add_constant(format!("OVERRIDE_{}", o.name), o.id.into());
+    }
     let mut done: Vec<&str> = Vec::new();
     for &artifact in ARTIFACTS {
         if done.contains(&artifact) {
@@ -35,5 +44,6 @@ fn main() {
         compiler.build_artifact(&root.parse().expect("module path"), artifact);
     }
     println!("cargo::rerun-if-changed=src/shader_constants.rs");
+    println!("cargo::rerun-if-changed=src/overrides.rs");
     println!("cargo::rerun-if-changed=src/passes/list.rs");
 }

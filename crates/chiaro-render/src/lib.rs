@@ -14,6 +14,7 @@ pub mod frame_data;
 pub mod gpu;
 pub mod graph;
 pub mod output;
+pub mod overrides;
 pub mod passes;
 pub mod plan;
 pub mod readback;

@@ -119,3 +119,31 @@ fn the_shaders_constants_are_rusts() {
     }
     assert!(seen >= 10, "only {seen} shared constants found in the shaders");
 }
+
+#[test]
+fn override_ids_come_from_the_rust_table_alone() {
+    // Every `@id` names a constant of the table (`@id(OVERRIDE_<NAME>)`), never a number.
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders");
+    let mut files = vec![std::path::PathBuf::from(dir)];
+    while let Some(path) = files.pop() {
+        if path.is_dir() {
+            files.extend(std::fs::read_dir(&path).unwrap().map(|e| e.unwrap().path()));
+        } else if path.extension().is_some_and(|e| e == "wesl") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            for (at, _) in text.match_indices("@id(") {
+                let argument = &text[at + 4..];
+                assert!(argument.starts_with("OVERRIDE_"), "{}: a literal override id", path.display());
+            }
+        }
+    }
+    // And the composed shaders declare exactly the table's ids.
+    let mut declared: Vec<u32> = modules()
+        .iter()
+        .flat_map(|(_, m)| m.overrides.iter().filter_map(|(_, o)| o.id.map(u32::from)).collect::<Vec<_>>())
+        .collect();
+    declared.sort();
+    declared.dedup();
+    let mut table: Vec<u32> = chiaro_render::overrides::ALL.iter().map(|o| o.id).collect();
+    table.sort();
+    assert_eq!(declared, table);
+}

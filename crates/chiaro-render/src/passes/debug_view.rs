@@ -7,6 +7,7 @@ use crate::debug_view::DebugView;
 use super::forward::HDR;
 use super::gbuffer::{GBUFFER_ALBEDO_METALLIC, GBUFFER_PACKED};
 use crate::graph::{FramePass, OUTPUT, PassContext, PassInit, PassSetup, PassType, PrepareContext};
+use crate::overrides;
 use crate::plan::FramePlan;
 use crate::shaders;
 use std::collections::HashMap;
@@ -67,7 +68,7 @@ impl FramePass for DebugViewPass {
         let view = cx.plan.request.deferred_view().expect("planned for a debug view");
         let key = (view, cx.output_format);
         if !self.pipelines.contains_key(&key) {
-            let constants = [("5", view_index(view))];
+            let constants = [overrides::DEBUG_VIEW.value(view_index(view))];
             let pipeline = fullscreen::pipeline(
                 cx.device,
                 FullscreenDesc {

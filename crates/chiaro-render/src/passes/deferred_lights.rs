@@ -15,6 +15,7 @@ use super::mesh::{DEPTH, STENCIL_SURFACE, scene_depth};
 use super::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::debug_view::DebugView;
 use crate::gpu::GpuVolumeLight;
+use crate::overrides;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target};
 use crate::plan::FramePlan;
 use crate::plan::features::ShaderFeatures;
@@ -251,7 +252,6 @@ impl DeferredLightsPass {
             };
             (HDR_FORMAT, wgpu::BlendState { color: add, alpha: keep })
         };
-        let flag = |on: bool| if on { 1.0 } else { 0.0 };
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: 12,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -268,16 +268,16 @@ impl DeferredLightsPass {
                         depth_compare: wgpu::CompareFunction,
                         stencil: wgpu::StencilState,
                         writes_color: bool| {
-            let vertex_constants = [("6", flag(!self.unclipped_depth))];
+            let vertex_constants = [overrides::CLAMP_FAR.flag(!self.unclipped_depth)];
             // The light shaders read no baked light (the G-buffer carries the shadow mask),
             // so every feature but that one applies.
             let f = variant.features;
             let fragment_constants = [
-                ("2", flag(variant.ldr)),
-                ("4", flag(variant.overdraw)),
-                ("9", flag(f.cookies)),
-                ("11", flag(f.tent_filters)),
-                ("12", flag(f.soft_cascades)),
+                overrides::LDR_EXP2.flag(variant.ldr),
+                overrides::COUNT_OVERDRAW.flag(variant.overdraw),
+                overrides::COOKIES_ENABLED.flag(f.cookies),
+                overrides::TENT_FILTERS.flag(f.tent_filters),
+                overrides::SOFT_CASCADES.flag(f.soft_cascades),
             ];
             let buffers = [Some(vertex_layout.clone())];
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -8,6 +8,7 @@ use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, forward_depth, sc
 use super::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::graph::target::ATTACHMENT_SAMPLED;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
+use crate::overrides;
 use crate::plan::FramePlan;
 use crate::plan::features::ShaderFeatures;
 use crate::shader_constants::{LIGHT_CULLING_CLUSTERED, LIGHT_CULLING_NONE, LIGHT_CULLING_PER_OBJECT};
@@ -83,11 +84,11 @@ impl ForwardPass {
             depth_test: DepthTest::AfterPrepass,
             depth_format: self.depth_format,
             marks_stencil: false,
-            constants: [("7", mode as f64), ("8", if variant.lights_in_storage { 1.0 } else { 0.0 })]
+            constants: [overrides::LIGHT_CULLING.value(mode as f64), overrides::LIGHTS_IN_STORAGE.flag(variant.lights_in_storage)]
                 .into_iter()
                 .chain(variant.features.constants())
                 .collect(),
-            alpha_test_override: Some("13"),
+            alpha_test_override: Some(overrides::ALPHA_TESTED),
         })
     }
 }

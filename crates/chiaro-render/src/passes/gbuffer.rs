@@ -7,6 +7,7 @@ use super::forward::{HDR, HDR_FORMAT};
 use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, STENCIL_SURFACE, cleared, depth_desc, scene_depth};
 use crate::graph::target::ATTACHMENT_SAMPLED;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
+use crate::overrides;
 use crate::plan::FramePlan;
 use crate::shaders;
 use chiaro_math::tonemap::exposure_scale;
@@ -81,7 +82,6 @@ impl PassType for GBufferPass {
 impl GBufferPass {
     fn create(&self, (light_buffer, baked): (LightBuffer, bool)) -> MeshPipelines {
         let ldr_exp2 = light_buffer == LightBuffer::LdrExp2;
-        let flag = |on: bool| if on { 1.0 } else { 0.0 };
         MeshPipelines::new(MeshPipelinesDesc {
             label: "gbuffer",
             module: self.module.clone(),
@@ -96,8 +96,8 @@ impl GBufferPass {
             depth_test: DepthTest::Nearest,
             depth_format: self.depth_format,
             marks_stencil: true,
-            constants: vec![("2", flag(ldr_exp2)), ("10", flag(baked))],
-            alpha_test_override: Some("13"),
+            constants: vec![overrides::LDR_EXP2.flag(ldr_exp2), overrides::BAKED_ENABLED.flag(baked)],
+            alpha_test_override: Some(overrides::ALPHA_TESTED),
         })
     }
 }

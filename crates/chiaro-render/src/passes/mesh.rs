@@ -4,6 +4,7 @@
 
 use crate::gpu::GpuVertex;
 use crate::graph::{Target, TargetDesc};
+use crate::overrides::Override;
 use crate::plan::FramePlan;
 use crate::plan::draws::Draw;
 use crate::scene::GpuScene;
@@ -66,7 +67,7 @@ pub struct MeshPipelines {
     depth_format: wgpu::TextureFormat,
     marks_stencil: bool,
     constants: Vec<(&'static str, f64)>,
-    alpha_test_override: Option<&'static str>,
+    alpha_test_override: Option<Override>,
     pipelines: HashMap<MeshPipelineKey, wgpu::RenderPipeline>,
     /// Samples per pixel of the targets of the frame being drawn (set by `prepare`).
     samples: u32,
@@ -89,7 +90,7 @@ pub struct MeshPipelinesDesc {
     pub constants: Vec<(&'static str, f64)>,
     /// A boolean override set only for alpha-tested draws' pipelines, so that the others
     /// run a shader that never discards.
-    pub alpha_test_override: Option<&'static str>,
+    pub alpha_test_override: Option<Override>,
 }
 
 /// Stencil bit of pixels that hold a surface (set by the G-buffer pass).
@@ -167,8 +168,8 @@ impl MeshPipelines {
             DepthTest::SameSurface => (wgpu::CompareFunction::GreaterEqual, true),
         };
         let mut constants = self.constants.clone();
-        if let Some(id) = self.alpha_test_override {
-            constants.push((id, if key.alpha_tested { 1.0 } else { 0.0 }));
+        if let Some(alpha_tested) = self.alpha_test_override {
+            constants.push(alpha_tested.flag(key.alpha_tested));
         }
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("{} {key:?}", self.label)),

@@ -4,6 +4,7 @@
 
 use super::forward::HDR;
 use crate::graph::{FramePass, OUTPUT, PassContext, PassInit, PassSetup, PassType, PrepareContext};
+use crate::overrides;
 use crate::plan::FramePlan;
 use crate::shaders;
 use std::collections::HashMap;
@@ -56,7 +57,7 @@ impl PassType for TonemapPass {
 
 impl TonemapPass {
     fn create(&self, device: &wgpu::Device, format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
-        let constants = [("0", if format.is_srgb() { 0.0 } else { 1.0 })];
+        let constants = [overrides::ENCODE_SRGB.flag(!format.is_srgb())];
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("tonemap {format:?}")),
             layout: Some(&self.pipeline_layout),

@@ -6,6 +6,7 @@
 
 use super::lights::FrameLight;
 use super::shadows::ShadowSlot;
+use crate::overrides;
 use chiaro_math::shadow::ShadowFilter;
 use chiaro_scene::{CascadeBlend, Scene, Settings};
 
@@ -37,14 +38,13 @@ impl ShaderFeatures {
         }
     }
 
-    /// The override constants (by `@id`) that select this specialisation.
+    /// The override constants that select this specialisation.
     pub fn constants(self) -> [(&'static str, f64); 4] {
-        let flag = |on: bool| if on { 1.0 } else { 0.0 };
         [
-            ("9", flag(self.cookies)),
-            ("10", flag(self.baked)),
-            ("11", flag(self.tent_filters)),
-            ("12", flag(self.soft_cascades)),
+            overrides::COOKIES_ENABLED.flag(self.cookies),
+            overrides::BAKED_ENABLED.flag(self.baked),
+            overrides::TENT_FILTERS.flag(self.tent_filters),
+            overrides::SOFT_CASCADES.flag(self.soft_cascades),
         ]
     }
 }
