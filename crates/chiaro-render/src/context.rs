@@ -55,7 +55,6 @@ impl GpuContext {
             apply_limit_buckets: false,
         }))
         .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
-        let adapter_info = adapter.get_info();
         let has_timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let mut required_features = wgpu::Features::empty();
         if has_timestamps {
@@ -68,25 +67,14 @@ impl GpuContext {
         }
         // A 32-bit float depth keeps reverse-Z precise; the stencil beside it is for the
         // deferred light volumes. Where the pair is missing, 24-bit depth carries stencil.
-        let depth_format = if adapter.features().contains(wgpu::Features::DEPTH32FLOAT_STENCIL8) {
-            required_features |= wgpu::Features::DEPTH32FLOAT_STENCIL8;
-            wgpu::TextureFormat::Depth32FloatStencil8
-        } else {
-            wgpu::TextureFormat::Depth24PlusStencil8
-        };
-        // WebGPU guarantees 1 and 4 samples; 2 and 8 need the adapter's format features.
-        let format_features = wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
-        let msaa_sample_counts: Vec<u32> = if adapter.features().contains(format_features) {
-            required_features |= format_features;
-            let hdr = adapter.get_texture_format_features(crate::passes::forward::HDR_FORMAT).flags;
-            let depth = adapter.get_texture_format_features(depth_format).flags;
-            [1, 2, 4, 8]
-                .into_iter()
-                .filter(|&n| n == 1 || (hdr.sample_count_supported(n) && depth.sample_count_supported(n)))
-                .collect()
-        } else {
-            vec![1, 4]
-        };
+        // 2 and 8 MSAA samples need the adapter's format features.
+        for optional in
+            [wgpu::Features::DEPTH32FLOAT_STENCIL8, wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES]
+        {
+            if adapter.features().contains(optional) {
+                required_features |= optional;
+            }
+        }
         let adapter_limits = adapter.limits();
         let required_limits = wgpu::Limits {
             max_texture_dimension_2d: adapter_limits.max_texture_dimension_2d,
@@ -103,35 +91,63 @@ impl GpuContext {
             trace: wgpu::Trace::Off,
         }))
         .map_err(|e| RenderError::Device(e.to_string()))?;
+        let mut ctx = GpuContext::from_device(&adapter, device, queue);
+        if let Some(s) = &surface {
+            let capabilities = s.get_capabilities(&adapter);
+            ctx.surface_formats = capabilities.formats;
+            ctx.surface_usages = capabilities.usages;
+        }
+        Ok((ctx, surface))
+    }
+
+    /// Renders with a device the caller made (an engine's own), on `adapter`. What the
+    /// renderer uses follows the features the device was made with: timestamps with
+    /// `TIMESTAMP_QUERY`, 32-bit depth with `DEPTH32FLOAT_STENCIL8` (else 24-bit), depth
+    /// clamping for casters with `DEPTH_CLIP_CONTROL` (else in the shader), 2 and 8 MSAA
+    /// samples with `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES` (else 1 and 4).
+    pub fn from_device(adapter: &wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> GpuContext {
+        let features = device.features();
+        let depth_format = if features.contains(wgpu::Features::DEPTH32FLOAT_STENCIL8) {
+            wgpu::TextureFormat::Depth32FloatStencil8
+        } else {
+            wgpu::TextureFormat::Depth24PlusStencil8
+        };
+        // WebGPU guarantees 1 and 4 samples; 2 and 8 need the adapter's format features.
+        let msaa_sample_counts: Vec<u32> =
+            if features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
+                let hdr = adapter.get_texture_format_features(crate::passes::forward::HDR_FORMAT).flags;
+                let depth = adapter.get_texture_format_features(depth_format).flags;
+                [1, 2, 4, 8]
+                    .into_iter()
+                    .filter(|&n| n == 1 || (hdr.sample_count_supported(n) && depth.sample_count_supported(n)))
+                    .collect()
+            } else {
+                vec![1, 4]
+            };
         let errors = Arc::new(Mutex::new(Vec::new()));
         let sink = errors.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
             tracing::error!("wgpu: {e}");
             sink.lock().expect("error sink").push(e.to_string());
         }));
+        let adapter_info = adapter.get_info();
         tracing::info!(
             adapter = %adapter_info.name,
             backend = ?adapter_info.backend,
             device_type = ?adapter_info.device_type,
             "GPU ready"
         );
-        let capabilities = surface.as_ref().map(|s| s.get_capabilities(&adapter));
-        let surface_formats = capabilities.as_ref().map(|c| c.formats.clone()).unwrap_or_default();
-        let surface_usages = capabilities.map_or(wgpu::TextureUsages::empty(), |c| c.usages);
-        Ok((
-            GpuContext {
-                device,
-                queue,
-                adapter_info,
-                has_timestamps,
-                depth_format,
-                msaa_sample_counts,
-                surface_formats,
-                surface_usages,
-                errors,
-            },
-            surface,
-        ))
+        GpuContext {
+            has_timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
+            device,
+            queue,
+            adapter_info,
+            depth_format,
+            msaa_sample_counts,
+            surface_formats: Vec::new(),
+            surface_usages: wgpu::TextureUsages::empty(),
+            errors,
+        }
     }
 
     /// Whether the forward path's targets can have `samples` samples per pixel here;
