@@ -231,140 +231,151 @@ impl DeferredLightsPass {
     }
 
     fn create(&self, device: &wgpu::Device, variant: Variant) -> Pipelines {
-        let (format, blend) = if variant.ldr {
-            // dst * src: the exp2(-light) factors multiply, so their exponents add.
-            let multiply = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::Zero,
-                dst_factor: wgpu::BlendFactor::Src,
-                operation: wgpu::BlendOperation::Add,
-            };
-            (LIGHT_BUFFER_LDR_FORMAT, wgpu::BlendState { color: multiply, alpha: wgpu::BlendComponent::REPLACE })
-        } else {
-            let add = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            };
-            let keep = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::Zero,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            };
-            (HDR_FORMAT, wgpu::BlendState { color: add, alpha: keep })
-        };
-        let vertex_layout = wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &[wgpu::VertexAttribute {
-                format: wgpu::VertexFormat::Float32x3,
-                offset: 0,
-                shader_location: 0,
-            }],
-        };
-        let pipeline = |label: &str,
-                        fragment_entry: &str,
-                        directional: bool,
-                        cull: Option<wgpu::Face>,
-                        depth_compare: wgpu::CompareFunction,
-                        stencil: wgpu::StencilState,
-                        writes_color: bool| {
-            let vertex_constants = [overrides::CLAMP_FAR.flag(!self.unclipped_depth)];
-            // The light shaders read no baked light (the G-buffer carries the shadow mask),
-            // so every feature but that one applies.
-            let f = variant.features;
-            let fragment_constants = [
-                overrides::LDR_EXP2.flag(variant.ldr),
-                overrides::COUNT_OVERDRAW.flag(variant.overdraw),
-                overrides::COOKIES_ENABLED.flag(f.cookies),
-                overrides::TENT_FILTERS.flag(f.tent_filters),
-                overrides::SOFT_CASCADES.flag(f.soft_cascades),
-            ];
-            let buffers = [Some(vertex_layout.clone())];
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(&format!("deferred {label} {variant:?}")),
-                layout: Some(&self.pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &self.module,
-                    entry_point: Some(if directional { "vs_fullscreen" } else { "vs_volume" }),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: if directional { &[] } else { &vertex_constants },
-                        ..Default::default()
-                    },
-                    buffers: if directional { &[] } else { &buffers },
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: cull,
-                    unclipped_depth: self.unclipped_depth && !directional,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: self.depth_format,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(depth_compare),
-                    stencil,
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &self.module,
-                    entry_point: Some(fragment_entry),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: if fragment_entry == "fs_mark" { &[] } else { &fragment_constants },
-                        ..Default::default()
-                    },
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend: Some(blend),
-                        write_mask: if writes_color { wgpu::ColorWrites::ALL } else { wgpu::ColorWrites::empty() },
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
         use wgpu::CompareFunction as C;
         use wgpu::StencilOperation as Op;
         let both = STENCIL_SURFACE | STENCIL_INSIDE;
+        let pipeline = |draw: LightDraw<'_>| self.light_pipeline(device, variant, draw);
         Pipelines {
             // Reverse-Z: greater is nearer. Front faces nearer than the surface mark it.
-            mark: pipeline(
-                "mark",
-                "fs_mark",
-                false,
-                Some(wgpu::Face::Back),
-                C::Greater,
-                stencil(C::Equal, Op::Replace, Op::Keep, STENCIL_SURFACE, STENCIL_INSIDE),
-                false,
-            ),
+            mark: pipeline(LightDraw {
+                label: "mark",
+                fragment_entry: "fs_mark",
+                directional: false,
+                cull: Some(wgpu::Face::Back),
+                depth_compare: C::Greater,
+                stencil: stencil(C::Equal, Op::Replace, Op::Keep, STENCIL_SURFACE, STENCIL_INSIDE),
+                writes_color: false,
+            }),
             // Back faces farther than the surface shade it; every outcome clears the mark.
-            volume: pipeline(
-                "volume",
-                "fs_volume_light",
-                false,
-                Some(wgpu::Face::Front),
-                C::Less,
-                stencil(C::Equal, Op::Zero, Op::Zero, both, STENCIL_INSIDE),
-                true,
-            ),
-            inside: pipeline(
-                "inside",
-                "fs_volume_light",
-                false,
-                Some(wgpu::Face::Front),
-                C::Less,
-                stencil(C::Equal, Op::Keep, Op::Keep, STENCIL_SURFACE, 0),
-                true,
-            ),
-            directional: pipeline(
-                "directional",
-                "fs_directional_lights",
-                true,
-                None,
-                C::Always,
-                stencil(C::Equal, Op::Keep, Op::Keep, STENCIL_SURFACE, 0),
-                true,
-            ),
+            volume: pipeline(LightDraw {
+                label: "volume",
+                fragment_entry: "fs_volume_light",
+                directional: false,
+                cull: Some(wgpu::Face::Front),
+                depth_compare: C::Less,
+                stencil: stencil(C::Equal, Op::Zero, Op::Zero, both, STENCIL_INSIDE),
+                writes_color: true,
+            }),
+            inside: pipeline(LightDraw {
+                label: "inside",
+                fragment_entry: "fs_volume_light",
+                directional: false,
+                cull: Some(wgpu::Face::Front),
+                depth_compare: C::Less,
+                stencil: stencil(C::Equal, Op::Keep, Op::Keep, STENCIL_SURFACE, 0),
+                writes_color: true,
+            }),
+            directional: pipeline(LightDraw {
+                label: "directional",
+                fragment_entry: "fs_directional_lights",
+                directional: true,
+                cull: None,
+                depth_compare: C::Always,
+                stencil: stencil(C::Equal, Op::Keep, Op::Keep, STENCIL_SURFACE, 0),
+                writes_color: true,
+            }),
         }
+    }
+
+    /// One of the four light pipelines of `variant`.
+    fn light_pipeline(&self, device: &wgpu::Device, variant: Variant, draw: LightDraw<'_>) -> wgpu::RenderPipeline {
+        let (format, blend) = light_blend(variant.ldr);
+        let LightDraw { label, fragment_entry, directional, cull, depth_compare, stencil, writes_color } = draw;
+        let vertex_layout = wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &[wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 }],
+        };
+        let vertex_constants = [overrides::CLAMP_FAR.flag(!self.unclipped_depth)];
+        // The light shaders read no baked light (the G-buffer carries the shadow mask),
+        // so every feature but that one applies.
+        let f = variant.features;
+        let fragment_constants = [
+            overrides::LDR_EXP2.flag(variant.ldr),
+            overrides::COUNT_OVERDRAW.flag(variant.overdraw),
+            overrides::COOKIES_ENABLED.flag(f.cookies),
+            overrides::TENT_FILTERS.flag(f.tent_filters),
+            overrides::SOFT_CASCADES.flag(f.soft_cascades),
+        ];
+        let buffers = [Some(vertex_layout)];
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("deferred {label} {variant:?}")),
+            layout: Some(&self.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some(if directional { "vs_fullscreen" } else { "vs_volume" }),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: if directional { &[] } else { &vertex_constants },
+                    ..Default::default()
+                },
+                buffers: if directional { &[] } else { &buffers },
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: cull,
+                unclipped_depth: self.unclipped_depth && !directional,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: self.depth_format,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(depth_compare),
+                stencil,
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(fragment_entry),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: if fragment_entry == "fs_mark" { &[] } else { &fragment_constants },
+                    ..Default::default()
+                },
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: Some(blend),
+                    write_mask: if writes_color { wgpu::ColorWrites::ALL } else { wgpu::ColorWrites::empty() },
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// How one light pipeline draws: its shaders, faces, depth and stencil tests.
+struct LightDraw<'a> {
+    label: &'a str,
+    fragment_entry: &'a str,
+    /// A full-screen triangle (`vs_fullscreen`) rather than a volume mesh.
+    directional: bool,
+    cull: Option<wgpu::Face>,
+    depth_compare: wgpu::CompareFunction,
+    stencil: wgpu::StencilState,
+    writes_color: bool,
+}
+
+/// The light target's format and blend: HDR light adds (alpha kept); LDR multiplies.
+fn light_blend(ldr: bool) -> (wgpu::TextureFormat, wgpu::BlendState) {
+    if ldr {
+        // dst * src: the exp2(-light) factors multiply, so their exponents add.
+        let multiply = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::Zero,
+            dst_factor: wgpu::BlendFactor::Src,
+            operation: wgpu::BlendOperation::Add,
+        };
+        (LIGHT_BUFFER_LDR_FORMAT, wgpu::BlendState { color: multiply, alpha: wgpu::BlendComponent::REPLACE })
+    } else {
+        let add = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let keep = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::Zero,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        (HDR_FORMAT, wgpu::BlendState { color: add, alpha: keep })
     }
 }
 

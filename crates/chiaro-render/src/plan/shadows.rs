@@ -18,11 +18,13 @@ use chiaro_math::shadow::fade::distance_fade_params;
 use chiaro_math::shadow::other::{
     POINT_LIGHT_FACES, perspective_normal_bias, point_face_fov_rad, point_face_view, spot_shadow_view,
 };
-use chiaro_math::shadow::tiers::{coverage_tier, pack_tiles, screen_coverage, tile_sizes};
+use chiaro_math::shadow::tiers::{TileRect, coverage_tier, pack_tiles, screen_coverage, tile_sizes};
 use chiaro_math::shadow::{
-    AtlasLayout, ShadowFilter, TileAllocator, cascade_splits, first_fit_tiles, fit_cascade, slice_culling_sphere,
+    AtlasLayout, ShadowFilter, TileAllocation, TileAllocator, cascade_splits, first_fit_tiles, fit_cascade,
+    slice_culling_sphere,
 };
 use chiaro_math::{Frustum, Sphere};
+use chiaro_scene::settings::OtherShadowSettings;
 use chiaro_scene::{CascadeBlend, Light, LightKind, Scene, Settings, ShadowMode};
 use glam::Mat4;
 
@@ -278,6 +280,53 @@ fn plan_other(
     atlases: &mut ShadowAtlasTiles,
 ) -> Vec<ShadowSlot> {
     let os = &settings.shadows.other;
+    let requests = other_tile_requests(scene, view, os, other, atlases);
+    let allocation = atlases.other.allocate(&requests);
+    plan.tiles_kept &= allocation.kept;
+    if requests.is_empty() {
+        return vec![ShadowSlot::None; other.len()];
+    }
+    let (first_tiles, rects) = place_other_tiles(os.atlas_size, &requests, &allocation);
+    let mut overflow = Vec::new();
+    let slots = other
+        .iter()
+        .map(|&(id, range)| {
+            let light = &scene.lights[id.index()];
+            let Some(&first) = first_tiles.get(&id) else {
+                return ShadowSlot::None;
+            };
+            let Some((first_tile, tile_size)) = first else {
+                overflow.push(light.name.clone());
+                return ShadowSlot::BakedOnly;
+            };
+            let placed = PlacedLight { id, light, range, first_tile, tile_size };
+            plan_other_light_tiles(plan, &placed, &rects, os)
+        })
+        .collect();
+    if !overflow.is_empty() {
+        tracing::warn!(
+            "{} point/spot lights get no realtime shadow, the {} tiles of the other-light atlas being taken \
+             (shadows.other.max_tiles): {}",
+            overflow.len(),
+            os.max_tiles,
+            overflow.join(", ")
+        );
+    }
+    plan.gpu.other_atlas = atlas_params(os.atlas_size);
+    plan.other_atlas_size = os.atlas_size;
+    slots
+}
+
+/// The tile requests of the shadow-casting `other` lights, in their order: each light's
+/// key (id, tile size of its coverage tier) and tile count (six for a point light). Also
+/// records the tiers in `atlases` and resizes its allocator when `max_tiles` changed.
+fn other_tile_requests(
+    scene: &Scene,
+    view: &View,
+    os: &OtherShadowSettings,
+    other: &[(LightId, f32)],
+    atlases: &mut ShadowAtlasTiles,
+) -> Vec<((LightId, u32), usize)> {
     let tiles_wanted = |light: &Light| if light.kind == LightKind::Point { POINT_LIGHT_FACES } else { 1 };
     let view_from_world = view.view_from_world();
     let casting: Vec<(LightId, usize, u32)> = other
@@ -300,7 +349,7 @@ fn plan_other(
     let fitting: Vec<(usize, u32)> =
         casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(&(_, n, tier), _)| (n, tier)).collect();
     let mut sizes = tile_sizes(os.atlas_size, &fitting).into_iter();
-    let requests: Vec<((LightId, u32), usize)> = casting
+    casting
         .iter()
         .zip(&fits)
         .map(|(&(id, n, _), fit)| {
@@ -308,13 +357,20 @@ fn plan_other(
             let size = if fit.is_some() { sizes.next().expect("one size per fitting light") } else { 0 };
             ((id, size), n)
         })
-        .collect();
-    let allocation = atlases.other.allocate(&requests);
-    plan.tiles_kept &= allocation.kept;
-    if requests.is_empty() {
-        return vec![ShadowSlot::None; other.len()];
-    }
-    // Tile slot -> size, then their places: packed by slot, so kept slots keep places.
+        .collect()
+}
+
+/// Each requesting light's first tile and tile size (None: no free tile), and every
+/// used tile's rectangle in the atlas.
+type OtherTilePlaces = (std::collections::HashMap<LightId, Option<(usize, u32)>>, Vec<TileRect>);
+
+/// Where the allocated tiles lie: tile slot -> size, then their places, packed by slot
+/// so that kept slots keep their places.
+fn place_other_tiles(
+    atlas_size: u32,
+    requests: &[((LightId, u32), usize)],
+    allocation: &TileAllocation,
+) -> OtherTilePlaces {
     let mut slot_sizes = vec![0u32; allocation.used_tiles.max(1)];
     let mut first_tiles = std::collections::HashMap::new();
     for (&((id, size), n), &first) in requests.iter().zip(&allocation.first_tiles) {
@@ -323,72 +379,64 @@ fn plan_other(
             slot_sizes[f..f + n].fill(size);
         }
     }
-    let rects = pack_tiles(os.atlas_size, &slot_sizes[..allocation.used_tiles]).expect("tier sizes fit the atlas");
-    let mut overflow = Vec::new();
-    let slots = other
-        .iter()
-        .map(|&(id, range)| {
-            let light = &scene.lights[id.index()];
-            let Some(&first) = first_tiles.get(&id) else {
-                return ShadowSlot::None;
-            };
-            let Some((first_tile, tile_size)) = first else {
-                overflow.push(light.name.clone());
-                return ShadowSlot::BakedOnly;
-            };
-            let filter = light_filter(light, os.shadow_filter());
-            let views: Vec<(Mat4, Mat4)> = match light.kind {
-                LightKind::Spot { outer_cone_rad, .. } => vec![spot_shadow_view(
-                    light.position(),
-                    light.direction(),
-                    outer_cone_rad,
-                    light.shadow.near_plane,
-                    range,
-                )],
-                _ => {
-                    let fov = point_face_fov_rad(tile_size, filter, light.shadow.normal_bias);
-                    (0..POINT_LIGHT_FACES)
-                        .map(|face| point_face_view(light.position(), face, fov, light.shadow.near_plane, range))
-                        .collect()
-                }
-            };
-            for (k, (clip_from_view, clip_from_world)) in views.iter().enumerate() {
-                let tile = first_tile + k;
-                let rect = rects[tile];
-                let (uv_min, uv_max) = rect.bounds_uv(os.atlas_size);
-                plan.gpu.other_tiles[tile] = GpuShadowTile {
-                    atlas_from_world: rect.atlas_from_clip(os.atlas_size) * *clip_from_world,
-                    uv_min,
-                    uv_max,
-                    normal_bias: perspective_normal_bias(tile_size, clip_from_view, filter) * light.shadow.normal_bias,
-                    _pad: [0.0; 3],
-                };
-                plan.tiles.push(CasterTile {
-                    atlas: ShadowAtlas::Other,
-                    light: id,
-                    tile: tile as u32,
-                    clip_from_world: *clip_from_world,
-                    viewport: rect.viewport(),
-                    slope_bias: light.shadow.depth_bias,
-                    light_range: Some(Sphere { center: light.position(), radius: range }),
-                    casters: Vec::new(),
-                });
-            }
-            ShadowSlot::Realtime { first_tile: first_tile as u32, tile_count: views.len() as u32, filter }
-        })
-        .collect();
-    if !overflow.is_empty() {
-        tracing::warn!(
-            "{} point/spot lights get no realtime shadow, the {} tiles of the other-light atlas being taken \
-             (shadows.other.max_tiles): {}",
-            overflow.len(),
-            os.max_tiles,
-            overflow.join(", ")
-        );
+    let rects = pack_tiles(atlas_size, &slot_sizes[..allocation.used_tiles]).expect("tier sizes fit the atlas");
+    (first_tiles, rects)
+}
+
+/// A point or spot light that was given tiles in the other-light atlas.
+struct PlacedLight<'a> {
+    id: LightId,
+    light: &'a Light,
+    /// The range it is shaded with, in metres: the far plane of its projections.
+    range: f32,
+    first_tile: usize,
+    tile_size: u32,
+}
+
+/// Writes a placed light's tiles (one for a spot, six cube faces for a point light)
+/// into the shadow uniform and the caster tiles, and returns its slot.
+fn plan_other_light_tiles(
+    plan: &mut ShadowPlan,
+    placed: &PlacedLight<'_>,
+    rects: &[TileRect],
+    os: &OtherShadowSettings,
+) -> ShadowSlot {
+    let &PlacedLight { id, light, range, first_tile, tile_size } = placed;
+    let filter = light_filter(light, os.shadow_filter());
+    let views: Vec<(Mat4, Mat4)> = match light.kind {
+        LightKind::Spot { outer_cone_rad, .. } => {
+            vec![spot_shadow_view(light.position(), light.direction(), outer_cone_rad, light.shadow.near_plane, range)]
+        }
+        _ => {
+            let fov = point_face_fov_rad(tile_size, filter, light.shadow.normal_bias);
+            (0..POINT_LIGHT_FACES)
+                .map(|face| point_face_view(light.position(), face, fov, light.shadow.near_plane, range))
+                .collect()
+        }
+    };
+    for (k, (clip_from_view, clip_from_world)) in views.iter().enumerate() {
+        let tile = first_tile + k;
+        let rect = rects[tile];
+        let (uv_min, uv_max) = rect.bounds_uv(os.atlas_size);
+        plan.gpu.other_tiles[tile] = GpuShadowTile {
+            atlas_from_world: rect.atlas_from_clip(os.atlas_size) * *clip_from_world,
+            uv_min,
+            uv_max,
+            normal_bias: perspective_normal_bias(tile_size, clip_from_view, filter) * light.shadow.normal_bias,
+            _pad: [0.0; 3],
+        };
+        plan.tiles.push(CasterTile {
+            atlas: ShadowAtlas::Other,
+            light: id,
+            tile: tile as u32,
+            clip_from_world: *clip_from_world,
+            viewport: rect.viewport(),
+            slope_bias: light.shadow.depth_bias,
+            light_range: Some(Sphere { center: light.position(), radius: range }),
+            casters: Vec::new(),
+        });
     }
-    plan.gpu.other_atlas = atlas_params(os.atlas_size);
-    plan.other_atlas_size = os.atlas_size;
-    slots
+    ShadowSlot::Realtime { first_tile: first_tile as u32, tile_count: views.len() as u32, filter }
 }
 
 fn atlas_params(size: u32) -> GpuAtlas {
