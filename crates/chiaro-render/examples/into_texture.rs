@@ -5,6 +5,7 @@
 //! cargo run --release -p chiaro-render --example into_texture
 //! ```
 
+use chiaro_render::readback::{copy_texture, finish_copies};
 use chiaro_render::wgpu;
 use chiaro_render::{FrameOptions, GpuContext, Renderer, View};
 use chiaro_scene::{Settings, demo::demo_scene};
@@ -52,32 +53,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// Copies `texture` (RGBA8) to the CPU, row by row without wgpu's 256-byte row padding.
-fn read_back(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<Vec<u8>, Box<dyn std::error::Error>> {
-    let row = WIDTH * 4;
-    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("read back"),
-        size: (padded * HEIGHT) as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
+/// Copies `texture` to the CPU with the renderer's read-back helpers (one wait).
+fn read_back(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<Vec<u8>, chiaro_render::RenderError> {
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded),
-                rows_per_image: Some(HEIGHT),
-            },
-        },
-        texture.size(),
-    );
+    let copy = copy_texture(&ctx.device, &mut encoder, texture, 4);
     ctx.queue.submit([encoder.finish()]);
-    buffer.map_async(wgpu::MapMode::Read, .., |result| result.expect("mapped"));
-    ctx.wait_idle()?;
-    let mapped = buffer.get_mapped_range(..)?;
-    Ok(mapped.chunks_exact(padded as usize).flat_map(|r| r[..row as usize].to_vec()).collect())
+    Ok(finish_copies(ctx, vec![copy])?.remove(0))
 }
