@@ -80,6 +80,7 @@ impl Viewer {
         self.panel.dirty |= redraws_panel;
     }
 
+    /// Ends the viewer with `error` (the first one, if several come).
     pub(crate) fn fail_with(&mut self, error: anyhow::Error) {
         self.failure.get_or_insert(error);
         self.quit = true;

@@ -85,7 +85,7 @@ impl ViewerConfig {
             debug: None,
             compare_at_start: false,
             script: None,
-            load_scene: state::plain_loader(),
+            load_scene: loader::plain_loader(),
         }
     }
 }

@@ -31,6 +31,12 @@ pub struct Loader {
     last_check: Instant,
 }
 
+/// A `LoadScene` that reads a glTF file and attaches no bake (tests, and callers
+/// without flags to honour).
+pub fn plain_loader() -> LoadScene {
+    std::sync::Arc::new(|path, _settings| Ok(chiaro_scene::load_gltf(path)?))
+}
+
 /// Whether `path` names a file the viewer opens.
 pub fn check_scene_file(path: &Path) -> Result<()> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
@@ -121,7 +127,7 @@ mod tests {
     }
 
     fn loader() -> Loader {
-        Loader::new(crate::state::plain_loader())
+        Loader::new(plain_loader())
     }
 
     #[test]

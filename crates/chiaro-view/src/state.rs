@@ -2,11 +2,11 @@
 //! camera (navigation), what the panel shows besides them, the frame statistics and the
 //! jobs running on other threads. Panels read it; only `Viewer::apply` changes it.
 
+use crate::ViewerConfig;
 use crate::loader::Loader;
 use crate::navigation::CameraState;
 use crate::pick::Picker;
 use crate::reference::{Disagreement, ReferenceJob};
-use crate::{LoadScene, ViewerConfig};
 use chiaro_render::{DebugView, FrameOptions, GpuFrameTimes, View};
 use chiaro_scene::{Scene, Settings};
 use std::collections::{HashMap, VecDeque};
@@ -179,10 +179,4 @@ impl ViewerState {
         let shown = self.current_view().world_from_view;
         self.jobs.disagreement.as_ref().is_some_and(|d| d.view.world_from_view != shown)
     }
-}
-
-/// A loader that reads a glTF file and attaches no bake (tests, and callers without
-/// flags to honour).
-pub fn plain_loader() -> LoadScene {
-    std::sync::Arc::new(|path, _settings| Ok(chiaro_scene::load_gltf(path)?))
 }

@@ -59,11 +59,6 @@ impl Viewer {
         }
     }
 
-    fn fail(&mut self, error: anyhow::Error) {
-        self.failure.get_or_insert(error);
-        self.quit = true;
-    }
-
     /// Leaves the event loop once the viewer is to close.
     fn exit_if_done(&self, event_loop: &ActiveEventLoop) {
         if self.quit {
@@ -97,7 +92,7 @@ impl ApplicationHandler for Viewer {
                 gpu.window.request_redraw();
                 self.gpu = Some(gpu);
             }
-            Err(e) => self.fail(e),
+            Err(e) => self.fail_with(e),
         }
         self.exit_if_done(event_loop);
     }
@@ -105,7 +100,7 @@ impl ApplicationHandler for Viewer {
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         if let WindowEvent::RedrawRequested = event {
             if let Err(e) = self.redraw() {
-                self.fail(e);
+                self.fail_with(e);
             } else if let Some(script) = &self.script {
                 let actions = script.after_frame(&self.state.stats);
                 self.apply_all(actions);
