@@ -253,3 +253,30 @@ fn the_timings_graph_stacks_each_pass_under_the_frame_interval() {
     harness.run();
     harness.snapshot("timings_graph");
 }
+
+#[test]
+fn the_whole_panel_changes_the_viewer_only_through_actions() {
+    let scene = chiaro_scene::demo::demo_scene_with_shadows(4, 1, 1);
+    let mut harness = Harness::builder().with_size(egui::vec2(340.0, 2400.0)).build_ui_state(
+        |ui, viewer: &mut Viewer| {
+            let actions = super::side_panel(ui, &viewer.state);
+            viewer.apply_all(actions);
+        },
+        viewer(scene, Settings::default()),
+    );
+    harness.get_by_label("Save scene").click();
+    harness.run();
+    let status = harness.state().state.panel.status.clone();
+    assert_eq!(status.as_deref(), Some("not saved: the demo scene has no file"));
+
+    harness.get_by_role_and_label(Role::ComboBox, "debug view").click();
+    harness.run();
+    // An early item: the list scrolls, and a click lands only on what it shows.
+    harness.get_by_role_and_label(Role::Button, "cascades").click();
+    harness.run();
+    assert_eq!(harness.state().state.debug, Some(chiaro_render::DebugView::Cascades));
+
+    harness.get_by_label("fly").click();
+    harness.run();
+    assert_eq!(harness.state().state.camera.navigation, Navigation::Fly);
+}
