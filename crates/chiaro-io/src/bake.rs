@@ -82,3 +82,21 @@ fn warn_baked_lights(scene: &Scene) -> Option<PathBuf> {
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bake_directory_named_outright_must_hold_a_bake() {
+        let dir = tempfile::tempdir().unwrap();
+        let choice = BakeChoice { dir: Some(dir.path().to_path_buf()), none: false };
+        let mut scene = Scene::default();
+        let error = choice.apply(&mut scene, None, &Settings::default()).unwrap_err().to_string();
+        let expected =
+            format!("--bake {}: not a bake directory (no {})", dir.path().display(), chiaro_bake::bake_dir::MANIFEST);
+        assert_eq!(error, expected);
+        let none = BakeChoice { dir: Some(dir.path().to_path_buf()), none: true };
+        assert_eq!(none.apply(&mut scene, None, &Settings::default()).unwrap(), None, "--no-bake reads nothing");
+    }
+}

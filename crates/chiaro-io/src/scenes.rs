@@ -78,3 +78,21 @@ pub fn choose_view(scene: &Scene, camera: Option<&str>, settings: &Settings, wid
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_demo_is_made_as_asked_and_an_unknown_camera_names_the_cameras() {
+        let demo = DemoScene { lights: 4, shadowed_spots: 1, shadowed_points: 1 };
+        let scene = load_scene(None, &demo).unwrap();
+        let made = chiaro_scene::demo::demo_scene_with_shadows(4, 1, 1);
+        assert_eq!(scene.lights.len(), made.lights.len());
+        let settings = Settings::default();
+        let error = choose_view(&scene, Some("nope"), &settings, 64, 64).unwrap_err().to_string();
+        assert!(error.starts_with("no camera 'nope' in the scene (cameras: 0: "), "{error}");
+        let error = choose_view(&scene, None, &settings, 0, 64).unwrap_err().to_string();
+        assert_eq!(error, "output size 0x64 is invalid: width and height must be at least 1");
+    }
+}
