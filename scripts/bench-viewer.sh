@@ -4,10 +4,10 @@
 # also gives its own GPU time by timestamps. Needs xvfb-run (scripts/setup.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scene=${1:-../shared/assets/chiaro-bench/shadow-bench.gltf}
+scene=${1:-tests/assets/chiaro-bench/shadow-bench.gltf}
 rounds=${2:-6}
 cargo build --release -p chiaro
-chiaro=$PWD/target/release/chiaro
+chiaro=${CARGO_TARGET_DIR:-$PWD/target}/release/chiaro
 for i in $(seq 1 "$rounds"); do
   viewer=$(xvfb-run -a -s "-screen 0 1920x1080x24" "$chiaro" view "$scene" --exit-after-frames 40 2>&1 | grep "frames shown")
   bench=$("$chiaro" bench "$scene" --frames 40 --json 2>/dev/null)

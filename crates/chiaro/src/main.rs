@@ -7,13 +7,13 @@ mod bake_arg;
 mod bench;
 mod compare;
 mod info;
-mod output;
 mod path_arg;
 mod render;
 mod scene_source;
 mod shadow_args;
 mod view;
 
+use chiaro_io::output;
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 

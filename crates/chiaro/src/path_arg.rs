@@ -73,17 +73,6 @@ impl PathArgs {
     /// Checks that the device can render the forward path's MSAA sample count, naming
     /// where the count came from: the flag, or the settings file's key.
     pub fn check_device(&self, ctx: &GpuContext, settings: &Settings, settings_file: Option<&Path>) -> Result<()> {
-        let msaa = settings.render.msaa;
-        if settings.render.path == RenderPath::Deferred {
-            return Ok(());
-        }
-        ctx.check_msaa(msaa).map_err(|e| {
-            let source = match (self.msaa, settings_file) {
-                (Some(_), _) => format!("--msaa {msaa}"),
-                (None, Some(file)) => format!("{}: render.msaa = {msaa}", file.display()),
-                (None, None) => format!("render.msaa = {msaa}"),
-            };
-            anyhow!("{source}: {e}")
-        })
+        chiaro_io::device::check_msaa(ctx, settings, self.msaa, settings_file)
     }
 }

@@ -1,7 +1,7 @@
 //! `chiaro render`: one frame to an image, with optional AOVs beside it.
 
 use crate::bake_arg::BakeUseArgs;
-use crate::output::{Encoded, Inputs, aov_path, check_outputs, output_format, sibling_path, write_group};
+use crate::output::{Encoded, Inputs, aov_path, atlas_grey, check_outputs, output_format, sibling_path, write_group};
 use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
@@ -207,21 +207,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
         frame.timings.wall_ms.unwrap_or_default()
     );
     Ok(())
-}
-
-/// An atlas's depths as grey RGBA8, stretched over the range the casters wrote (from the
-/// nearest depth to 1, the cleared far plane): perspective depth crowds towards 1 with a
-/// near plane of a centimetre, and would otherwise print all white.
-pub fn atlas_grey(depths: &[f32]) -> Vec<u8> {
-    let nearest = depths.iter().copied().filter(|d| d.is_finite() && *d < 1.0).fold(1.0f32, f32::min);
-    let span = (1.0 - nearest).max(1e-6);
-    depths
-        .iter()
-        .flat_map(|d| {
-            let v = (((d.clamp(0.0, 1.0) - nearest) / span).clamp(0.0, 1.0) * 255.0).round() as u8;
-            [v, v, v, 255]
-        })
-        .collect()
 }
 
 /// The HDR target holds half floats: pre-exposed radiance stops at 65504. Says so when

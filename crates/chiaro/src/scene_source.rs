@@ -1,18 +1,12 @@
-//! Turns command-line arguments into a scene, settings and a view.
+//! Turns command-line arguments into a scene, settings and a view (chiaro-io reads the
+//! files; the flags that make the demo scene are here).
 
-use anyhow::{Context, Result, bail};
-use chiaro_math::camera::can_frame;
-use chiaro_render::View;
-use chiaro_scene::demo::{DEMO_OTHER_LIGHTS, DEMO_SHADOWED_POINTS, DEMO_SHADOWED_SPOTS, demo_scene_with_shadows};
-use chiaro_scene::{Scene, Settings, load_gltf};
+use anyhow::Result;
+use chiaro_io::scenes::DemoScene;
+pub use chiaro_io::scenes::{choose_view, load_settings};
+use chiaro_scene::Scene;
+use chiaro_scene::demo::{DEMO_OTHER_LIGHTS, DEMO_SHADOWED_POINTS, DEMO_SHADOWED_SPOTS};
 use std::path::Path;
-
-pub fn load_settings(path: Option<&Path>) -> Result<Settings> {
-    match path {
-        Some(p) => Ok(Settings::load(p)?),
-        None => Ok(Settings::default()),
-    }
-}
 
 /// Most point and spot lights the demo scene is made with.
 pub const MAX_DEMO_LIGHTS: u32 = 65536;
@@ -31,60 +25,18 @@ pub struct DemoArgs {
     pub demo_shadowed_points: u32,
 }
 
-/// The file's scene, or the built-in demo.
+impl DemoArgs {
+    /// The demo these flags make.
+    pub fn scene(&self) -> DemoScene {
+        DemoScene {
+            lights: self.demo_lights as usize,
+            shadowed_spots: self.demo_shadowed_spots as usize,
+            shadowed_points: self.demo_shadowed_points as usize,
+        }
+    }
+}
+
+/// The file's scene, or the demo `demo` makes.
 pub fn load_scene(path: Option<&Path>, demo: &DemoArgs) -> Result<Scene> {
-    match path {
-        Some(p) => {
-            let scene = load_gltf(p)?;
-            for reason in &scene.ignored {
-                tracing::info!("{}: ignored {reason}", p.display());
-            }
-            Ok(scene)
-        }
-        None => Ok(demo_scene_with_shadows(
-            demo.demo_lights as usize,
-            demo.demo_shadowed_spots as usize,
-            demo.demo_shadowed_points as usize,
-        )),
-    }
-}
-
-pub fn check_size(width: u32, height: u32) -> Result<()> {
-    if width == 0 || height == 0 {
-        bail!("output size {width}x{height} is invalid: width and height must be at least 1");
-    }
-    Ok(())
-}
-
-/// The requested camera (name or index), the scene's first camera, or a framing camera.
-pub fn choose_view(scene: &Scene, camera: Option<&str>, settings: &Settings, width: u32, height: u32) -> Result<View> {
-    check_size(width, height)?;
-    match camera {
-        Some(key) => {
-            let index = scene.find_camera(key).with_context(|| {
-                let names: Vec<String> =
-                    scene.cameras.iter().enumerate().map(|(i, c)| format!("{i}: {}", c.name)).collect();
-                format!(
-                    "no camera '{key}' in the scene (cameras: {})",
-                    if names.is_empty() { "none".to_string() } else { names.join(", ") }
-                )
-            })?;
-            Ok(View::from_camera(scene, index, width, height))
-        }
-        None if !scene.cameras.is_empty() => Ok(View::from_camera(scene, 0, width, height)),
-        None => {
-            let bounds = scene.bounds();
-            if !can_frame(&bounds) {
-                let s = bounds.bounding_sphere();
-                bail!(
-                    "{}: the scene's bounding sphere (radius {:e} m around {}) is beyond what the automatic \
-                     camera frames (radius 1e-6 to 1e15 m, within 1e15 m of the origin); give the file a camera",
-                    scene.source.as_ref().map_or("scene".into(), |p| p.display().to_string()),
-                    s.radius,
-                    s.center
-                );
-            }
-            Ok(View::framing(scene, settings.camera.auto_yfov_deg.to_radians(), width, height))
-        }
-    }
+    chiaro_io::scenes::load_scene(path, &demo.scene())
 }

@@ -11,8 +11,8 @@ use std::process::Command;
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
 
-fn shared_scene(name: &str) -> PathBuf {
-    let path = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets")).join(name);
+fn test_scene(name: &str) -> PathBuf {
+    let path = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets")).join(name);
     assert!(path.exists(), "{} is missing", path.display());
     path
 }
@@ -48,7 +48,7 @@ fn mean_flip(reference: &[u8], test: &[u8]) -> f32 {
 #[test]
 fn the_viewer_screenshot_and_window_show_what_chiaro_render_writes() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = shared_scene("ShadowsSpot/glTF/shadows-spot.gltf");
+    let scene = test_scene("ShadowsSpot/glTF/shadows-spot.gltf");
     let scene = scene.to_str().unwrap();
     let (w, h) = (WIDTH.to_string(), HEIGHT.to_string());
     let size = ["--width", w.as_str(), "--height", h.as_str()];
@@ -110,7 +110,7 @@ fn a_debug_view_screenshot_equals_chiaro_render_with_the_same_debug_view() {
 
 /// Copies the folder of a shared glTF into `dir`, so that the test can change the file.
 fn copy_scene_folder(name: &str, dir: &Path) -> PathBuf {
-    let source = shared_scene(name);
+    let source = test_scene(name);
     for entry in std::fs::read_dir(source.parent().unwrap()).unwrap() {
         let entry = entry.unwrap();
         std::fs::copy(entry.path(), dir.join(entry.file_name())).unwrap();
@@ -161,7 +161,7 @@ fn the_viewer_reloads_a_scene_whose_file_changes() {
     let shot = rgb(&dir.path().join("shot.png"));
     let flip = mean_flip(&rgb(&dir.path().join("render.png")), &shot);
     assert!(flip < 0.01, "the reloaded view against chiaro render of the changed file: mean FLIP {flip}");
-    let original = shared_scene("ShadowsSpot/glTF/shadows-spot.gltf");
+    let original = test_scene("ShadowsSpot/glTF/shadows-spot.gltf");
     let before =
         chiaro(&[&["render", original.to_str().unwrap()][..], &size, &["-o", "before.png"]].concat(), &[], dir.path());
     assert_eq!(before.code, 0, "{}", before.stderr);

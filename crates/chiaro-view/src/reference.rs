@@ -11,6 +11,7 @@ use std::sync::mpsc;
 use std::time::Instant;
 
 /// A finished comparison, ready to show.
+#[derive(Debug)]
 pub struct Disagreement {
     /// The camera it was computed for.
     pub view: View,

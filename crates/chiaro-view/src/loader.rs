@@ -1,9 +1,9 @@
 //! Opening scenes while the window stays live: a dropped or changed file is read (and
 //! its bake applied) on a thread of its own; the window keeps showing the old scene until
-//! the new one is ready, and a file that fails to load leaves it in place.
+//! the new one is ready, and a file that fails to load leaves it in place. How a file is
+//! read (and which bake it gets) is the caller's `LoadScene`.
 
-use crate::bake_arg::BakeUseArgs;
-use crate::scene_source::{DemoArgs, load_scene};
+use crate::LoadScene;
 use anyhow::{Result, bail};
 use chiaro_scene::{Scene, Settings};
 use std::path::{Path, PathBuf};
@@ -14,6 +14,7 @@ use std::time::{Duration, Instant, SystemTime};
 const WATCH_INTERVAL: Duration = Duration::from_millis(500);
 
 /// A scene read on another thread.
+#[derive(Debug)]
 pub struct Loaded {
     pub path: PathBuf,
     /// A reload of the scene on screen (the camera stays), not a new file.
@@ -22,13 +23,18 @@ pub struct Loaded {
 }
 
 pub struct Loader {
-    demo: DemoArgs,
-    bake: BakeUseArgs,
+    load_scene: LoadScene,
     pending: Option<(PathBuf, mpsc::Receiver<Loaded>)>,
     /// The scene's files and the newest modification time among them at load.
     watched: Vec<PathBuf>,
     watched_time: Option<SystemTime>,
     last_check: Instant,
+}
+
+/// A `LoadScene` that reads a glTF file and attaches no bake (tests, and callers
+/// without flags to honour).
+pub fn plain_loader() -> LoadScene {
+    std::sync::Arc::new(|path, _settings| Ok(chiaro_scene::load_gltf(path)?))
 }
 
 /// Whether `path` names a file the viewer opens.
@@ -46,8 +52,8 @@ fn newest_time(files: &[PathBuf]) -> Option<SystemTime> {
 }
 
 impl Loader {
-    pub fn new(demo: DemoArgs, bake: BakeUseArgs) -> Loader {
-        Loader { demo, bake, pending: None, watched: Vec::new(), watched_time: None, last_check: Instant::now() }
+    pub fn new(load_scene: LoadScene) -> Loader {
+        Loader { load_scene, pending: None, watched: Vec::new(), watched_time: None, last_check: Instant::now() }
     }
 
     /// The file being read, if any.
@@ -64,13 +70,9 @@ impl Loader {
     /// Starts reading `path` (replacing any read under way).
     pub fn open(&mut self, path: PathBuf, settings: &Settings, reload: bool) {
         let (tx, rx) = mpsc::channel();
-        let (demo, bake, settings, job_path) = (self.demo.clone(), self.bake.clone(), settings.clone(), path.clone());
+        let (load_scene, settings, job_path) = (self.load_scene.clone(), settings.clone(), path.clone());
         std::thread::spawn(move || {
-            let scene = check_scene_file(&job_path).and_then(|()| {
-                let mut scene = load_scene(Some(&job_path), &demo)?;
-                bake.apply(&mut scene, Some(&job_path), &settings)?;
-                Ok(scene)
-            });
+            let scene = check_scene_file(&job_path).and_then(|()| load_scene(&job_path, &settings));
             // The window may have closed meanwhile; then nobody listens.
             let _ = tx.send(Loaded { path: job_path, reload, scene });
         });
@@ -125,8 +127,7 @@ mod tests {
     }
 
     fn loader() -> Loader {
-        let demo = DemoArgs { demo_lights: 0, demo_shadowed_spots: 0, demo_shadowed_points: 0 };
-        Loader::new(demo, BakeUseArgs { bake: None, no_bake: true })
+        Loader::new(plain_loader())
     }
 
     #[test]
@@ -146,7 +147,7 @@ mod tests {
         let error = format!("{:#}", wait(&mut loader).scene.expect_err("not a scene"));
         assert!(error.contains("notes.txt: not a .gltf or .glb"), "{error}");
 
-        let good = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets"))
+        let good = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets"))
             .join("ShadowsSpot/glTF/shadows-spot.gltf");
         loader.open(good, &Settings::default(), true);
         let loaded = wait(&mut loader);

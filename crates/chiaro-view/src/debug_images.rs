@@ -1,8 +1,68 @@
 //! Debug views the viewer computes on the CPU from a frame read back: the AOVs, the
-//! clusters' light counts and the shadow atlases, as RGBA8 images.
+//! clusters' light counts and the shadow atlases, as RGBA8 images; and which views show
+//! the 3D view itself rather than such images.
 
 use chiaro_math::bounds::Aabb;
 use chiaro_math::culling::{ClusterGrid, LightLists};
+use chiaro_render::{AovView, DebugView, FrameOutput};
+use chiaro_scene::Scene;
+
+/// Side of each shadow atlas as the atlas debug view shows it.
+const ATLAS_VIEW_SIZE: usize = 512;
+
+/// An image to show: its size (width, height) and RGBA8 pixels.
+pub type DebugImage = ([usize; 2], Vec<[u8; 4]>);
+
+/// Whether the 3D view itself is shown (else a debug image is, or nothing yet).
+pub fn shows_view(debug: Option<DebugView>, has_disagreement: bool) -> bool {
+    match debug {
+        None
+        | Some(DebugView::Cascades | DebugView::GbufferAlbedo | DebugView::GbufferNormal | DebugView::LightOverdraw) => {
+            true
+        }
+        Some(DebugView::Reference) => !has_disagreement,
+        Some(DebugView::Aov(_) | DebugView::Clusters | DebugView::ShadowAtlases) => false,
+    }
+}
+
+/// What a frame shows in place of the lit 3D view, as images egui draws.
+pub fn frame_images(debug: Option<DebugView>, frame: &FrameOutput, scene: &Scene) -> Vec<DebugImage> {
+    let size = [frame.width as usize, frame.height as usize];
+    let aovs = frame.aovs.as_ref();
+    let image = |pixels: Vec<[u8; 4]>| vec![(size, pixels)];
+    match debug {
+        Some(DebugView::ShadowAtlases) => frame
+            .shadow_atlases
+            .iter()
+            .map(|atlas| {
+                let grey = chiaro_io::output::atlas_grey(&atlas.depths);
+                let (side, pixels) = atlas_image(&grey, atlas.size as usize, ATLAS_VIEW_SIZE);
+                ([side, side], pixels)
+            })
+            .collect(),
+        Some(DebugView::Aov(aov)) => {
+            let Some(a) = aovs else { return Vec::new() };
+            match aov {
+                AovView::Position => image(position_image(&a.position_ws, &scene.bounds())),
+                AovView::Normal => image(normal_image(&a.normal_ws, &a.depth)),
+                AovView::Depth => image(depth_image(&a.depth)),
+                AovView::Lightmap => image(lightmap_image(&a.baked_irradiance, &a.depth)),
+                AovView::Shadow(i) => match frame.shadow_aovs.get(i) {
+                    Some(shadow) => image(shadow_image(shadow, &a.depth)),
+                    None => Vec::new(),
+                },
+            }
+        }
+        Some(DebugView::Clusters) => match (aovs, &frame.plan.culled.grid) {
+            (Some(a), Some(grid)) => {
+                let most = (frame.plan.lights.len() as u32).clamp(1, 32);
+                image(cluster_image(grid, &frame.plan.culled.lists, &a.depth, most))
+            }
+            _ => Vec::new(),
+        },
+        _ => Vec::new(),
+    }
+}
 
 /// Background pixels (no surface) in the AOV views.
 const NO_SURFACE: [u8; 4] = [24, 24, 32, 255];

@@ -1,7 +1,9 @@
 //! Every key of settings.toml (docs/settings.md) as a widget labelled with its key. The
-//! panel edits a copy and keeps it only when it validates as a file would, so that what
-//! "Save settings" writes renders the same image headless.
+//! panel edits a copy and asks for it (`SetSettings`); the viewer keeps it only when it
+//! validates as a file would, so that what "Save settings" writes renders the same image
+//! headless.
 
+use crate::action::Action;
 use chiaro_scene::{CascadeBlend, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
 use egui::{ComboBox, DragValue, Slider, Ui};
 
@@ -10,9 +12,8 @@ const ATLAS_SIZES: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
 /// Default far ends of the cascades, x max_distance (docs/settings.md).
 const DEFAULT_RATIOS: [f32; 3] = [0.1, 0.25, 0.5];
 
-/// Draws the settings; returns the edited settings when they changed, or the error that
-/// rejected the edit. `settings` is left as it was either way.
-pub fn settings_panel(ui: &mut Ui, settings: &Settings) -> Option<Result<Settings, String>> {
+/// Draws the settings; asks for the edited settings when they changed.
+pub fn settings_panel(ui: &mut Ui, settings: &Settings) -> Option<Action> {
     let mut edited = settings.clone();
     // Narrow sliders leave room for the keys' long names.
     ui.spacing_mut().slider_width = 100.0;
@@ -24,10 +25,7 @@ pub fn settings_panel(ui: &mut Ui, settings: &Settings) -> Option<Result<Setting
     if edited.shadows.directional.cascade_count != settings.shadows.directional.cascade_count {
         edited.shadows.directional.cascade_ratios = None;
     }
-    if edited == *settings {
-        return None;
-    }
-    Some(edited.validate().map(|()| edited))
+    (edited != *settings).then(|| Action::SetSettings(Box::new(edited)))
 }
 
 fn drag_row<N: egui::emath::Numeric>(ui: &mut Ui, key: &str, value: &mut N, range: std::ops::RangeInclusive<N>) {

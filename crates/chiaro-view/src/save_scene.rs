@@ -1,3 +1,6 @@
+//! "Save settings": the settings as TOML, so that `chiaro render --settings` renders what
+//! the viewer showed.
+//!
 //! "Save scene": the glTF as the viewer shows it. Light edits belong to the glTF (its
 //! KHR_lights_punctual lights and their extras), not to settings.toml, and the camera is
 //! the viewer's own; so the file is written again beside the original (its buffers and
@@ -7,9 +10,15 @@
 
 use anyhow::{Context, Result, anyhow, bail};
 use chiaro_render::View;
-use chiaro_scene::{Light, LightKind, Scene};
+use chiaro_scene::{Light, LightKind, Scene, Settings};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
+
+/// Writes `settings` as TOML to `path`, whole or not at all (a temporary file renamed
+/// over it), so that `chiaro render --settings path` renders what the viewer showed.
+pub fn save_settings(path: &Path, settings: &Settings) -> Result<()> {
+    chiaro_io::output::write_file(path, settings.to_toml().as_bytes())
+}
 
 /// The name of the camera the saved file gains.
 pub const VIEW_CAMERA: &str = "chiaro view";
@@ -40,7 +49,7 @@ pub fn save_scene(source: &Path, scene: &Scene, view: &View, target: &Path) -> R
     add_camera(&mut root, view).with_context(|| format!("{}", source.display()))?;
     let text = serde_json::to_vec_pretty(&root)?;
     let out = if is_glb { glb(&text, bin) } else { text };
-    crate::output::write_file(target, &out)
+    chiaro_io::output::write_file(target, &out)
 }
 
 /// A GLB container of `json` and the original `bin` chunk (glTF 2.0, section 4.4).
@@ -142,8 +151,8 @@ mod tests {
     use chiaro_scene::ShadowMode;
     use glam::{Mat4, Vec3};
 
-    fn shared(name: &str) -> PathBuf {
-        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/assets")).join(name)
+    fn asset(name: &str) -> PathBuf {
+        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets")).join(name)
     }
 
     fn ldr(scene: &Scene, view: &View) -> Vec<u8> {
@@ -157,7 +166,7 @@ mod tests {
     fn a_saved_scene_renders_what_the_viewer_showed() {
         let dir = tempfile::tempdir().unwrap();
         // Copied so that the saved file lands beside its buffers in a scratch folder.
-        let source_dir = shared("ShadowsSpot/glTF");
+        let source_dir = asset("ShadowsSpot/glTF");
         for entry in std::fs::read_dir(&source_dir).unwrap() {
             let entry = entry.unwrap();
             std::fs::copy(entry.path(), dir.path().join(entry.file_name())).unwrap();
@@ -193,6 +202,17 @@ mod tests {
         assert!(differing * 1000 < shown.len(), "{differing} channels differ");
         // Saving again from the saved file writes the same name, not .chiaro.chiaro.
         assert_eq!(saved_path(&target), target);
+    }
+
+    #[test]
+    fn saved_settings_read_back_equal() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("viewer.toml");
+        let mut settings = Settings::default();
+        settings.shadows.max_distance = 42.0;
+        settings.lights.culling = chiaro_scene::LightCulling::PerObject;
+        save_settings(&path, &settings).unwrap();
+        assert_eq!(chiaro_io::scenes::load_settings(Some(&path)).unwrap(), settings);
     }
 
     #[test]

@@ -1,34 +1,17 @@
 //! The light list: one collapsible row per glTF light with everything its extras and
-//! KHR_lights_punctual set, editable live, and the atlas tiles it got this frame.
+//! KHR_lights_punctual set, editable live (each row edits a copy and asks for it,
+//! `EditLight`), and the atlas tiles it got this frame.
 
+use crate::action::Action;
+use crate::state::{LightsState, Selection};
 use chiaro_render::FramePlan;
 use chiaro_render::plan::shadows::ShadowAtlas;
 use chiaro_scene::{Light, LightKind, LightMode, ShadowMode};
 use egui::{ComboBox, Slider, Ui};
-use std::collections::HashMap;
 
 /// Sliders only limit what is dragged: drawing one must not clamp a light the file set
 /// outside its range (a 120,000 lux sun), or the view would stop matching `chiaro render`.
 const EDITS_ONLY: egui::SliderClamping = egui::SliderClamping::Edits;
-
-/// What "frame selected" looks at: a light chosen in the list, or a mesh instance
-/// clicked in the view.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Selection {
-    Light(usize),
-    Object(usize),
-}
-
-/// What the list keeps between frames.
-#[derive(Default)]
-pub struct LightsState {
-    /// Lights switched off, with the intensity they get back when switched on.
-    pub switched_off: HashMap<usize, f32>,
-    /// What "frame selected" looks at.
-    pub selected: Option<Selection>,
-    /// Per scene light, the tiles it got this frame, in words.
-    pub tiles: Vec<String>,
-}
 
 /// Describes each scene light's atlas tiles in `plan`.
 pub fn tiles_by_light(plan: &FramePlan, light_count: usize) -> Vec<String> {
@@ -53,42 +36,50 @@ pub fn tiles_by_light(plan: &FramePlan, light_count: usize) -> Vec<String> {
         .collect()
 }
 
-/// Draws the list; returns whether a light changed.
-pub fn lights_panel(ui: &mut Ui, lights: &mut [Light], state: &mut LightsState) -> bool {
-    let mut changed = false;
-    for (i, light) in lights.iter_mut().enumerate() {
+/// Draws the list; returns what its rows ask for.
+pub fn lights_panel(ui: &mut Ui, lights: &[Light], state: &LightsState) -> Vec<Action> {
+    let mut actions = Vec::new();
+    for (i, light) in lights.iter().enumerate() {
         let kind = light.kind.name();
         let name = if light.name.is_empty() { format!("light {i}") } else { light.name.clone() };
         egui::CollapsingHeader::new(format!("{name} ({kind})")).id_salt(("light", i)).show(ui, |ui| {
-            changed |= light_rows(ui, i, light, state);
+            let mut edited = light.clone();
+            let mut changed = false;
+            ui.horizontal(|ui| {
+                actions.extend(switch_and_select(ui, i, state));
+                let mut rgb = edited.color.to_array();
+                if ui.color_edit_button_rgb(&mut rgb).changed() {
+                    edited.color = glam::Vec3::from(rgb);
+                    changed = true;
+                }
+            });
+            changed |= light_rows(ui, i, &mut edited, state);
+            if changed {
+                actions.push(Action::EditLight { index: i, light: Box::new(edited) });
+            }
         });
     }
-    changed
+    actions
 }
 
-fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &mut LightsState) -> bool {
+/// The row's on/off switch and "select" (for "frame selected").
+fn switch_and_select(ui: &mut Ui, i: usize, state: &LightsState) -> Vec<Action> {
+    let mut actions = Vec::new();
+    let mut on = !state.switched_off.contains_key(&i);
+    if ui.checkbox(&mut on, "on").changed() {
+        actions.push(Action::SwitchLight { index: i, on });
+    }
+    let selected = state.selected == Some(Selection::Light(i));
+    if ui.selectable_label(selected, "select").clicked() {
+        actions.push(Action::Select(if selected { None } else { Some(Selection::Light(i)) }));
+    }
+    actions
+}
+
+/// The light's values below its first row as widgets, editing `light`; returns whether
+/// one changed.
+fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &LightsState) -> bool {
     let mut changed = false;
-    ui.horizontal(|ui| {
-        let mut on = !state.switched_off.contains_key(&i);
-        if ui.checkbox(&mut on, "on").changed() {
-            if on {
-                light.intensity = state.switched_off.remove(&i).unwrap_or(1.0);
-            } else {
-                state.switched_off.insert(i, light.intensity);
-                light.intensity = 0.0;
-            }
-            changed = true;
-        }
-        let selected = state.selected == Some(Selection::Light(i));
-        if ui.selectable_label(selected, "select").clicked() {
-            state.selected = if selected { None } else { Some(Selection::Light(i)) };
-        }
-        let mut rgb = light.color.to_array();
-        if ui.color_edit_button_rgb(&mut rgb).changed() {
-            light.color = glam::Vec3::from(rgb);
-            changed = true;
-        }
-    });
     if !state.switched_off.contains_key(&i) {
         let unit = if light.kind == LightKind::Directional { "intensity (lux)" } else { "intensity (cd)" };
         changed |= ui

@@ -1,0 +1,200 @@
+//! `Viewer::apply` without a window: each action changes the state as it should, and what
+//! needs a window or is refused says so where the user looks.
+
+use crate::action::Action;
+use crate::camera::Navigation;
+use crate::loader::Loaded;
+use crate::state::Selection;
+use crate::{Viewer, ViewerConfig};
+use chiaro_render::{AovView, DebugView, FrameOptions, View};
+use chiaro_scene::{LightKind, Scene, Settings};
+use std::path::{Path, PathBuf};
+
+fn asset(name: &str) -> PathBuf {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets")).join(name)
+}
+
+fn viewer_of(scene: Scene, path: Option<PathBuf>) -> Viewer {
+    let view = View::from_camera(&scene, 0, 64, 48);
+    let mut settings = Settings::default();
+    (settings.render.width, settings.render.height) = (64, 48);
+    Viewer::new(ViewerConfig { scene_path: path, ..ViewerConfig::new(scene, settings, view) })
+}
+
+fn demo_viewer() -> Viewer {
+    viewer_of(chiaro_scene::demo::demo_scene_with_shadows(4, 1, 1), None)
+}
+
+/// The spot scene (it has a glTF camera), from its file.
+fn spot_viewer() -> Viewer {
+    let path = asset("ShadowsSpot/glTF/shadows-spot.gltf");
+    viewer_of(chiaro_scene::load_gltf(&path).unwrap(), Some(path))
+}
+
+#[test]
+fn an_invalid_setting_is_refused_and_reported() {
+    let mut viewer = demo_viewer();
+    let before = viewer.state.settings.current.clone();
+    let mut invalid = before.clone();
+    invalid.shadows.directional.filter = "bilinear".into();
+    viewer.apply(Action::SetSettings(Box::new(invalid)));
+    assert_eq!(viewer.state.settings.current, before, "not kept");
+    let error = viewer.state.panel.error.clone().unwrap_or_default();
+    assert!(error.contains("shadows.directional.filter"), "{error}");
+    assert!(viewer.panel.dirty, "the panel shows the error");
+
+    let mut valid = before.clone();
+    valid.shadows.max_distance = 42.0;
+    viewer.apply(Action::SetSettings(Box::new(valid.clone())));
+    assert_eq!(viewer.state.settings.current, valid);
+    assert_eq!(viewer.state.panel.error, None, "an accepted edit clears the error");
+}
+
+#[test]
+fn a_new_view_size_in_the_settings_resizes_the_view() {
+    let mut viewer = demo_viewer();
+    let mut settings = viewer.state.settings.current.clone();
+    settings.render.width = 100;
+    settings.render.height = 50;
+    viewer.apply(Action::SetSettings(Box::new(settings)));
+    assert_eq!(viewer.state.camera.view_size(), (100, 50));
+    let view = viewer.state.current_view();
+    assert_eq!((view.width, view.height), (100, 50));
+}
+
+#[test]
+fn editing_and_switching_a_light_change_the_scene_light() {
+    let mut viewer = demo_viewer();
+    let spot = viewer.state.scene.scene.lights.iter().position(|l| matches!(l.kind, LightKind::Spot { .. })).unwrap();
+    let mut light = viewer.state.scene.scene.lights[spot].clone();
+    light.intensity = 123.0;
+    light.color = glam::Vec3::new(1.0, 0.5, 0.25);
+    viewer.apply(Action::EditLight { index: spot, light: Box::new(light) });
+    let edited = &viewer.state.scene.scene.lights[spot];
+    assert_eq!((edited.intensity, edited.color), (123.0, glam::Vec3::new(1.0, 0.5, 0.25)));
+
+    viewer.apply(Action::SwitchLight { index: spot, on: false });
+    assert_eq!(viewer.state.scene.scene.lights[spot].intensity, 0.0);
+    viewer.apply(Action::SwitchLight { index: spot, on: true });
+    assert_eq!(viewer.state.scene.scene.lights[spot].intensity, 123.0, "switched on, it gets its intensity back");
+    // A light that is not there is left alone.
+    viewer.apply(Action::SwitchLight { index: 999, on: false });
+    assert!(viewer.state.panel.lights.switched_off.is_empty());
+}
+
+#[test]
+fn the_debug_view_decides_the_frame_options() {
+    let mut viewer = demo_viewer();
+    let options = |v: &Viewer| format!("{:?}", v.state.frame_options());
+    assert_eq!(options(&viewer), format!("{:?}", FrameOptions::default()));
+    for debug in [DebugView::Clusters, DebugView::Aov(AovView::Depth), DebugView::ShadowAtlases, DebugView::Cascades] {
+        viewer.apply(Action::SetDebugView(Some(debug)));
+        assert_eq!(viewer.state.debug, Some(debug));
+        assert_eq!(options(&viewer), format!("{:?}", debug.frame_options()), "{debug:?}");
+    }
+    assert!(viewer.state.frame_options().aovs || viewer.state.debug == Some(DebugView::Cascades));
+    viewer.apply(Action::SetDebugView(None));
+    assert_eq!(options(&viewer), format!("{:?}", FrameOptions::default()));
+}
+
+#[test]
+fn camera_actions_move_the_view_and_reset_brings_it_back() {
+    let mut viewer = spot_viewer();
+    let opening = viewer.state.current_view().world_from_view;
+    viewer.apply(Action::Drag { dx: 120.0, dy: 10.0 });
+    assert_ne!(viewer.state.current_view().world_from_view, opening, "a drag orbits");
+    viewer.apply(Action::Zoom(2.0));
+    viewer.apply(Action::ResetView);
+    assert_eq!(viewer.state.current_view().world_from_view, opening);
+
+    viewer.apply(Action::NextCamera);
+    assert_eq!(viewer.state.camera.camera, Some(0));
+    viewer.apply(Action::SelectCamera(0));
+    assert_eq!(
+        viewer.state.current_view().world_from_view,
+        View::from_camera(&viewer.state.scene.scene, 0, 64, 48).world_from_view
+    );
+
+    viewer.apply(Action::SetNavigation(Navigation::Fly));
+    let eye = viewer.state.current_view().eye();
+    let forward = crate::camera::FlyInput::new(0.0, 0.0, -1.0);
+    viewer.apply(Action::Fly { input: forward, fast: false, seconds: 0.1 });
+    assert!(viewer.state.current_view().eye().distance(eye) > 0.0, "the keys fly");
+}
+
+#[test]
+fn frame_selected_looks_at_the_selected_light() {
+    let mut viewer = demo_viewer();
+    let scene = &viewer.state.scene.scene;
+    let spot = scene.lights.iter().position(|l| matches!(l.kind, LightKind::Spot { .. })).unwrap();
+    let at = scene.lights[spot].position();
+    viewer.apply(Action::Select(Some(Selection::Light(spot))));
+    viewer.apply(Action::FrameSelected);
+    let rig = viewer.state.camera.rig.expect("the camera moved");
+    assert!(rig.target.distance(at) < 1e-4, "{} vs {at}", rig.target);
+}
+
+#[test]
+fn a_click_selects_what_it_points_at() {
+    let mut viewer = demo_viewer();
+    // The sky in the demo view's top-left corner, then something at its centre.
+    viewer.apply(Action::Pick { x: 0.0, y: 0.0 });
+    assert_eq!(viewer.state.panel.lights.selected, None);
+    let (w, h) = viewer.state.camera.view_size();
+    viewer.apply(Action::Pick { x: w as f32 / 2.0, y: h as f32 * 0.75 });
+    assert!(matches!(viewer.state.panel.lights.selected, Some(Selection::Object(_))));
+}
+
+#[test]
+fn without_a_window_a_screenshot_says_why_and_a_scripted_one_ends_the_run() {
+    let mut viewer = demo_viewer();
+    viewer.apply(Action::Screenshot { path: "never.png".into(), fatal: false });
+    assert_eq!(viewer.state.panel.status.as_deref(), Some("no screenshot: no frame was rendered"));
+    assert!(viewer.failure.is_none() && !viewer.quit);
+    viewer.apply_all([Action::Screenshot { path: "never.png".into(), fatal: true }, Action::Quit { report: true }]);
+    assert_eq!(viewer.failure.as_ref().map(|e| e.to_string()).as_deref(), Some("no frame was rendered"));
+    assert!(viewer.quit);
+    assert!(!Path::new("never.png").exists());
+}
+
+#[test]
+fn saving_writes_the_settings_and_refuses_the_demo_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("tuned.toml");
+    let mut viewer = demo_viewer();
+    viewer.state.settings.file = Some(file.clone());
+    viewer.state.settings.current.shadows.max_distance = 17.0;
+    viewer.apply(Action::SaveSettings);
+    assert_eq!(viewer.state.panel.status, Some(format!("saved {}", file.display())));
+    let saved = chiaro_io::scenes::load_settings(Some(&file)).unwrap();
+    assert_eq!(saved, viewer.state.settings.current);
+    viewer.apply(Action::SaveScene);
+    assert_eq!(viewer.state.panel.status.as_deref(), Some("not saved: the demo scene has no file"));
+}
+
+#[test]
+fn a_scene_that_failed_to_load_is_reported_and_the_old_one_stays() {
+    let mut viewer = spot_viewer();
+    let lights = viewer.state.scene.scene.lights.len();
+    let failed = Loaded { path: "broken.gltf".into(), reload: false, scene: Err(anyhow::anyhow!("broken.gltf: bad")) };
+    viewer.apply(Action::SceneLoaded(Box::new(failed)));
+    assert_eq!(viewer.state.panel.error.as_deref(), Some("broken.gltf: bad"));
+    assert_eq!(viewer.state.scene.scene.lights.len(), lights);
+
+    viewer.apply(Action::Open(asset("ShadowsDirectional/glTF/shadows-directional.gltf")));
+    assert!(viewer.state.jobs.loader.loading().is_some(), "read on the loader's thread");
+}
+
+#[test]
+fn frames_shown_are_counted_for_the_summary() {
+    let mut viewer = demo_viewer();
+    assert_eq!(viewer.state.stats.summary(), None);
+    viewer.apply(Action::FrameShown { interval_ms: None });
+    viewer.apply(Action::FrameShown { interval_ms: Some(10.0) });
+    viewer.apply(Action::FrameShown { interval_ms: Some(30.0) });
+    assert_eq!(viewer.state.stats.frames, 3);
+    let summary = viewer.state.stats.summary().unwrap();
+    assert!(summary.starts_with("chiaro: 3 frames shown") && summary.contains("median 30.0 ms"), "{summary}");
+    viewer.apply(Action::Quit { report: false });
+    assert!(viewer.quit && viewer.failure.is_none());
+}
