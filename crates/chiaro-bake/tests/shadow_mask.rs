@@ -218,7 +218,8 @@ fn lights_without_atlas_tiles_keep_their_mask_shadows_in_the_lamp() {
         light.mode = LightMode::Mixed;
     }
     let mut s = Settings::default();
-    // The seeds' 16 tiles: two of the five points fit (the default 64 holds all).
+    // The 16 tiles of Catlike Coding's Custom SRP tutorial "Point and Spot Shadows": two
+    // of the five points fit (the default 64 holds all).
     s.shadows.other.max_tiles = 16;
     s.bake.samples = 16;
     s.bake.bounces = 1;

@@ -125,8 +125,8 @@ fn caster_partly_behind_a_spot_is_not_distorted() {
 
 #[test]
 fn lights_that_do_not_fit_get_no_realtime_shadow() {
-    // Three points want 18 tiles of 16 (the seeds' atlas): the least important gets
-    // none, and says so.
+    // Three points want 18 tiles of 16 (the atlas of Catlike Coding's Custom SRP tutorial
+    // "Point and Spot Shadows"): the least important gets none, and says so.
     let lights = (0..3)
         .map(|i| {
             let mut l = point_light(Vec3::new(i as f32 * 2.0 - 2.0, 1.0, 0.0), 10.0 + i as f32, Some(6.0));
@@ -151,8 +151,9 @@ fn lights_that_do_not_fit_get_no_realtime_shadow() {
 fn a_light_inside_a_closed_box_stays_inside_with_two_sided_casters() {
     // A point light inside a single-sided box (faces out, as glTF exporters write closed
     // meshes): the light sees only back faces. Two-sided casting (glTF nodes' default)
-    // blocks it, as the reference does; the seeds' casting ("on") lets it light the floor
-    // around the box.
+    // blocks it, as the reference does; the casting of Catlike Coding's Custom SRP
+    // tutorials ("on": the ShadowCaster pass culls as the material does) lets it light the
+    // floor around the box.
     let mut point = point_light(Vec3::new(0.0, 0.6, 0.0), 20.0, Some(8.0));
     point.shadow = LightShadow::default();
     for (cast, leaks) in [(CastShadows::TwoSided, false), (CastShadows::On, true)] {
@@ -169,7 +170,7 @@ fn a_light_inside_a_closed_box_stays_inside_with_two_sided_casters() {
             c.missed_shadow
         );
         if leaks {
-            assert!(c.missed_shadow > 1000, "the seeds' casting leaks light out of the box: {c:?}");
+            assert!(c.missed_shadow > 1000, "the material-faces casting (\"on\") leaks light out of the box: {c:?}");
         } else {
             assert!(c.compared > 1000, "{c:?}");
             assert_agrees_with_reference(&format!("{cast:?}"), c);

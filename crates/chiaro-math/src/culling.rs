@@ -3,8 +3,8 @@
 //! - Clustered: the view is cut into a froxel grid (screen tiles x depth slices that grow
 //!   exponentially with distance); each cluster lists the lights whose range sphere
 //!   touches its view-space bounds.
-//! - Per object: each object gets the few lights that matter most to it (the seeds'
-//!   "lights per object").
+//! - Per object: each object gets the few lights that matter most to it (the "lights per
+//!   object" of Catlike Coding's Custom SRP tutorial "Point and Spot Lights").
 //!
 //! Both produce `LightLists`: one record per cluster or object, pointing into one flat
 //! index list where the shadowed lights come first, so the shader keeps the shadow lookup

@@ -12,7 +12,8 @@ use glam::Vec3;
 /// Most directional lights shaded per frame.
 pub const MAX_DIRECTIONAL_LIGHTS: usize = 4;
 /// Most point and spot lights the forward path shades per frame when every pixel loops
-/// over all of them (light culling "none"): the seeds' limit.
+/// over all of them (light culling "none"): the limit of Catlike Coding's Custom SRP
+/// tutorial "Point and Spot Lights".
 pub const MAX_OTHER_LIGHTS: usize = 64;
 /// Most point and spot lights shaded per frame with culled lists (clustered or per
 /// object) or by the deferred path's volumes.

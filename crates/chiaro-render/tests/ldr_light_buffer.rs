@@ -1,4 +1,4 @@
-//! The seeds' legacy LDR light buffer (`light_buffer = "ldr-exp2"`) against the HDR one:
+//! The legacy LDR light buffer of Catlike Coding's "Rendering 15, Deferred Lights" (`light_buffer = "ldr-exp2"`) against the HDR one:
 //! every write of exp2(-light) to 8 bits rounds, so a pixel's decoded light may be off by
 //! up to one 8-bit step per write, 2^x / (255 ln 2) at exposed light x (half a step if
 //! conversion and blending rounded to nearest; Vulkan lets them round either way), and

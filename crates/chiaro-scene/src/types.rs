@@ -53,7 +53,8 @@ pub struct Mesh {
 pub enum CastShadows {
     /// Casts no shadows.
     Off,
-    /// Casts with the faces its material draws (the seeds' casting).
+    /// Casts with the faces its material draws, as the ShadowCaster pass of Catlike
+    /// Coding's Custom SRP tutorials does.
     #[default]
     On,
     /// Casts with both faces, whatever its material says: what glTF nodes do by default.

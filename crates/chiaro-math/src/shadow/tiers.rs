@@ -1,7 +1,8 @@
 //! Tile sizes for the point/spot atlas by importance, and where the tiles go.
 //!
-//! Up to 16 tiles the seeds' uniform layout stands (one tile the whole atlas, up to 4 a
-//! quarter each, up to 16 a sixteenth). Past that, as URP does, each light gets a tier
+//! Up to 16 tiles the uniform layout of Catlike Coding's Custom SRP tutorial "Point and
+//! Spot Shadows" stands (one tile the whole atlas, up to 4 a quarter each, up to 16 a
+//! sixteenth). Past that, as URP does, each light gets a tier
 //! by how much of the screen its influence covers: a sixteenth of the atlas for lights
 //! over a fifth of the screen, a 64th for most, a 256th for lights under 1% of it. If the
 //! large tiles overfill the atlas, the least important of them step down to the middle
@@ -96,13 +97,13 @@ pub fn coverage_tier(atlas_size: u32, coverage: f32, previous: Option<u32>) -> u
 /// caller caps the tile count).
 pub fn tile_sizes(atlas_size: u32, lights: &[(usize, u32)]) -> Vec<u32> {
     let total: usize = lights.iter().map(|&(n, _)| n).sum();
-    let seeds_split = match total {
+    let uniform_split = match total {
         0 | 1 => Some(1),
         2..=4 => Some(2),
         5..=16 => Some(4),
         _ => None,
     };
-    if let Some(split) = seeds_split {
+    if let Some(split) = uniform_split {
         return vec![atlas_size / split; lights.len()];
     }
     let (large, medium) = (atlas_size / 4, atlas_size / 8);
@@ -166,7 +167,7 @@ mod tests {
     }
 
     #[test]
-    fn up_to_sixteen_tiles_keep_the_seeds_layout() {
+    fn up_to_sixteen_tiles_keep_the_uniform_layout() {
         assert_eq!(tile_sizes(2048, &tiered(&[(1, 0.0)])), vec![2048]);
         assert_eq!(tile_sizes(2048, &tiered(&[(1, 0.0), (1, 0.9), (1, 0.1)])), vec![1024; 3]);
         assert_eq!(tile_sizes(2048, &tiered(&[(6, 0.9), (6, 0.0), (1, 0.5)])), vec![512; 3]);

@@ -4,8 +4,8 @@
 //! front faces set stencil bit `STENCIL_INSIDE` where the surface lies behind them, then
 //! back faces shade where the surface lies in front of them and the bit is set, clearing
 //! it for the next light. Where the camera may be inside the volume, its back faces alone
-//! shade (the seeds' fallback). Every draw tests `STENCIL_SURFACE`, so the sky is never
-//! shaded.
+//! shade (the fallback of Catlike Coding's "Rendering 15, Deferred Lights"). Every draw
+//! tests `STENCIL_SURFACE`, so the sky is never shaded.
 
 use super::forward::{HDR, HDR_FORMAT};
 use super::gbuffer::{

@@ -1,8 +1,9 @@
 //! The deferred path's light volumes: which mesh bounds each light's reach (the screen for
 //! directional lights, a sphere for points, a pyramid around a spot's cone), its
 //! transform, and whether the camera may be inside it, where the stencil test that needs
-//! the volume's front faces gives way to the seeds' fallback (back faces alone). The
-//! volume meshes are made here too, so the plan knows how far they reach.
+//! the volume's front faces gives way to the fallback of Catlike Coding's "Rendering 15,
+//! Deferred Lights" (back faces alone). The volume meshes are made here too, so the plan
+//! knows how far they reach.
 
 use crate::view::View;
 use chiaro_scene::{Light, LightKind};

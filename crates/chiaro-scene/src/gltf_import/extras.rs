@@ -127,7 +127,8 @@ pub(super) fn node_shadows(node: &json::scene::Node) -> Result<(CastShadows, boo
     let e: NodeExtras = parse(node.extras.as_deref())?;
     // By default casters block light with both faces, as the ray-traced reference (and
     // physics) does: a light inside a single-sided box must not light the room around
-    // it. "on" keeps the seeds' casting with the material's faces.
+    // it. "on" keeps the casting of Catlike Coding's Custom SRP tutorials, whose
+    // ShadowCaster pass draws the material's faces.
     let cast = match e.cast_shadows {
         None => CastShadows::TwoSided,
         Some(serde_json::Value::Bool(true)) => CastShadows::TwoSided,

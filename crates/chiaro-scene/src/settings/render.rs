@@ -27,8 +27,8 @@ pub struct RenderSettings {
     /// light volume per light; no MSAA).
     pub path: RenderPath,
     /// The deferred path's light accumulation: "hdr" (half floats, the default) or
-    /// "ldr-exp2" (the seeds' legacy 8-bit buffer storing exp2(-light)), which bands dark
-    /// tones and clips bright ones.
+    /// "ldr-exp2" (the legacy 8-bit buffer storing exp2(-light) of Catlike Coding's
+    /// "Rendering 15, Deferred Lights"), which bands dark tones and clips bright ones.
     pub light_buffer: LightBuffer,
     /// Samples per pixel of the forward path's colour and depth (1, 2, 4 or 8), resolved
     /// before tone mapping. The deferred path, and frames that report AOVs, render one.
@@ -53,7 +53,8 @@ pub enum LightBuffer {
     #[default]
     #[serde(rename = "hdr")]
     Hdr,
-    /// The seeds' 8-bit buffer storing exp2(-light): bands dark tones, clips bright ones.
+    /// The 8-bit buffer storing exp2(-light) of Catlike Coding's "Rendering 15, Deferred
+    /// Lights": bands dark tones, clips bright ones.
     #[serde(rename = "ldr-exp2")]
     LdrExp2,
 }

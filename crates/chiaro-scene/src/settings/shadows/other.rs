@@ -18,7 +18,8 @@ pub struct OtherShadowSettings {
     /// "pcf2x2", "tent3x3", "tent5x5" or "tent7x7", for lights whose shadows are soft.
     pub filter: String,
     /// Most tiles (1 to 64) the atlas holds: a spot takes one, a point six. Up to 16 the
-    /// seeds' uniform layout (512 texels each at 2048). Past that each light's tiles are
+    /// uniform layout of Catlike Coding's Custom SRP tutorial "Point and Spot Shadows"
+    /// (512 texels each at 2048). Past that each light's tiles are
     /// sized by how much of the screen its range covers: a quarter of the atlas side (512
     /// texels at 2048) over a fifth of the screen, an eighth (256) for most, a sixteenth
     /// (128) under 1%. Lights that do not fit get no realtime shadow (their baked shadow
