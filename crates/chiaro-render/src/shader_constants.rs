@@ -16,8 +16,8 @@ pub const MAX_OTHER_SHADOW_TILES: u32 = OTHER_TILES as u32;
 pub const MAX_FRAME_LIGHTS: u32 = (MAX_DIRECTIONAL_LIGHTS + MAX_OTHER_LIGHTS) as u32;
 /// Lights the uniform light buffer holds (57 KiB, under the 64 KiB uniform binding
 /// limit). Culled lists read their lights from it when the frame has no more, since
-/// llvmpipe's forward pass is about 10% faster reading uniforms than storage; frames
-/// with more read a storage buffer.
+/// llvmpipe's forward pass reads uniforms faster than storage (measured in
+/// docs/forward.md); frames with more read a storage buffer.
 pub const MAX_UNIFORM_LIGHTS: u32 = 512;
 
 /// `GpuLight::kind`.

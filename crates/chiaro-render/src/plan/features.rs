@@ -1,8 +1,8 @@
 //! What a frame's shading actually uses (cookies, baked light, tent filters, soft cascade
 //! blending), so that the forward pass can run a shader specialised to it. On llvmpipe a
-//! shader pays for code it branches around, whether or not any pixel takes the branch:
-//! compiling the cookie sampling out of frames without cookies cut the shared benchmark
-//! scene's forward pass by a quarter. Each feature is a pipeline-overridable constant.
+//! shader pays for code it branches around, whether or not any pixel takes the branch
+//! (docs/forward.md measures what compiling each feature out saves). Each feature is a
+//! pipeline-overridable constant.
 
 use super::lights::FrameLight;
 use super::shadows::ShadowSlot;
