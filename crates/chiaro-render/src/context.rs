@@ -4,10 +4,16 @@
 use crate::error::RenderError;
 use std::sync::{Arc, Mutex};
 
+/// The device and queue every renderer draws with, and what the adapter offers (timestamps,
+/// depth format, MSAA counts, surface formats).
 pub struct GpuContext {
+    /// The wgpu device all GPU objects are made on.
     pub device: wgpu::Device,
+    /// The queue uploads and command buffers go to.
     pub queue: wgpu::Queue,
+    /// The adapter's name, driver and backend, as reports and errors print them.
     pub adapter_info: wgpu::AdapterInfo,
+    /// Whether timestamp queries were enabled, so that passes report GPU times.
     pub has_timestamps: bool,
     /// The scene depth target's format: depth with stencil.
     pub depth_format: wgpu::TextureFormat,
@@ -172,6 +178,7 @@ impl GpuContext {
         }
     }
 
+    /// The largest 2D texture side the device takes, in texels: the output size's bound.
     pub fn max_texture_size(&self) -> u32 {
         self.device.limits().max_texture_dimension_2d
     }

@@ -15,7 +15,10 @@ use crate::scene::GpuScene;
 use crate::shader_constants::{MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS};
 use chiaro_scene::{Scene, Settings};
 
+/// The frame's bind group 0: its layout and the buffers and samplers behind it, written
+/// once per frame from the plan.
 pub struct FrameData {
+    /// Group 0's layout, which every scene pass's pipeline layout starts with.
     pub layout: wgpu::BindGroupLayout,
     frame: wgpu::Buffer,
     /// `MAX_UNIFORM_LIGHTS` lights, and `MAX_FRAME_LIGHTS` list entries.
@@ -100,6 +103,7 @@ fn cookie_sampler(device: &wgpu::Device, address_mode: wgpu::AddressMode) -> wgp
 }
 
 impl FrameData {
+    /// Makes the layout, the fixed-size buffers and the samplers (no upload yet).
     pub fn new(device: &wgpu::Device) -> FrameData {
         use wgpu::ShaderStages as S;
         let storage = wgpu::BufferBindingType::Storage { read_only: true };
@@ -159,6 +163,8 @@ impl FrameData {
         }
     }
 
+    /// Writes the plan's frame uniform, lights, light lists, culled lists and shadow uniform
+    /// to the GPU; the culled-list buffers grow when a frame needs more.
     pub fn upload(
         &mut self,
         device: &wgpu::Device,
@@ -196,6 +202,8 @@ impl FrameData {
         queue.write_buffer(&self.shadows, 0, bytemuck::bytes_of(&plan.shadows.gpu));
     }
 
+    /// The bind group over this frame's buffers, the scene's objects, cookies and bakes, and
+    /// the shadow atlases in `targets`.
     pub fn bind_group(&self, device: &wgpu::Device, scene: &GpuScene, targets: &Targets) -> wgpu::BindGroup {
         let view = |r| wgpu::BindingResource::TextureView(targets.view(r));
         device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -7,6 +7,8 @@
 //! targets, debug groups and timestamps. An HDR image, its tone-mapped copy, the AOVs and
 //! GPU timings flow out, or the frame goes to a window's surface without a wait.
 
+#![warn(missing_docs)]
+
 pub mod context;
 pub mod debug_view;
 pub mod error;

@@ -8,6 +8,7 @@ use crate::plan::lights::LightId;
 use crate::plan::shadows::ShadowSlot;
 use chiaro_scene::{LightMode, Scene};
 
+/// What a caller asks of a frame beyond the image: AOVs, read-back, atlases, a debug view.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameOptions {
     /// Also render world position, normal and view depth.
@@ -31,6 +32,7 @@ impl FrameOptions {
     }
 }
 
+/// How long a frame took: CPU preparation, and GPU time per pass when waited for.
 #[derive(Clone, Debug, Default)]
 pub struct FrameTimings {
     /// The frame's number, counting from 0 for each renderer.
@@ -45,6 +47,7 @@ pub struct FrameTimings {
 }
 
 impl FrameTimings {
+    /// The sum of the passes' GPU times in milliseconds, if they were measured.
     pub fn gpu_total_ms(&self) -> Option<f64> {
         (!self.gpu_pass_ms.is_empty()).then(|| self.gpu_pass_ms.iter().map(|(_, t)| t).sum())
     }
@@ -53,11 +56,14 @@ impl FrameTimings {
 /// Pass times of a frame that finished on the GPU.
 #[derive(Clone, Debug, Default)]
 pub struct GpuFrameTimes {
+    /// The frame's number, counting from 0 for each renderer.
     pub frame: u64,
+    /// Each pass that ran, by name, with its GPU time in milliseconds.
     pub passes: Vec<(&'static str, f64)>,
 }
 
 impl GpuFrameTimes {
+    /// The frame's GPU time in milliseconds: its passes' sum.
     pub fn total_ms(&self) -> f64 {
         self.passes.iter().map(|(_, t)| t).sum()
     }
@@ -66,7 +72,9 @@ impl GpuFrameTimes {
 /// World-space AOVs; `NaN` where no surface covers the pixel.
 #[derive(Clone, Debug, Default)]
 pub struct Aovs {
+    /// World-space position, metres, per pixel.
     pub position_ws: Vec<[f32; 3]>,
+    /// World-space unit shading normal, per pixel.
     pub normal_ws: Vec<[f32; 3]>,
     /// Linear depth along the view axis, metres; infinity where no surface is.
     pub depth: Vec<f32>,
@@ -80,20 +88,27 @@ pub struct Aovs {
 pub struct AtlasImage {
     /// "directional" or "other".
     pub name: &'static str,
+    /// The atlas side in texels.
     pub size: u32,
+    /// The depths as the atlas stores them, `size` x `size`, row-major.
     pub depths: Vec<f32>,
 }
 
+/// What a frame returns: the images read back, AOVs, shadow data, timings and its plan.
 #[derive(Clone, Debug)]
 pub struct FrameOutput {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// Linear radiance (not exposed), RGBA, row-major from the top-left; empty unless read
     /// back.
     pub hdr: Vec<[f32; 4]>,
     /// Tone-mapped sRGB, RGBA8; empty unless read back to a texture of the renderer's.
     pub ldr: Vec<u8>,
+    /// World position, normal, depth and baked light per pixel, if asked for.
     pub aovs: Option<Aovs>,
+    /// CPU and GPU times of the frame.
     pub timings: FrameTimings,
     /// Per scene light (by index in `Scene::lights`): the shadow attenuation the shading
     /// used, 1 where no shadow map covers the pixel, NaN where no surface is.
@@ -102,6 +117,7 @@ pub struct FrameOutput {
     pub shadow_atlases: Vec<AtlasImage>,
     /// Shadow tiles rendered and caster draws issued into them.
     pub shadow_tiles: usize,
+    /// See `shadow_tiles`.
     pub shadow_caster_draws: usize,
     /// Exported targets read back that have no field above (a new pass's output), as
     /// tightly packed texels, layer after layer.

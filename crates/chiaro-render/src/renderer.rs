@@ -33,10 +33,14 @@ const MAX_KEPT_GPU_TIMES: usize = 1024;
 
 /// A scene on the GPU.
 pub struct PreparedScene {
+    /// Its vertex, index, object and material buffers, cookies and bakes.
     pub gpu: GpuScene,
 }
 
+/// Renders frames of prepared scenes: owns the passes, frame data, targets, shadow atlas
+/// allocation and GPU timer, kept from frame to frame.
 pub struct Renderer {
+    /// The device it renders with.
     pub ctx: GpuContext,
     frame_data: FrameData,
     material_layout: wgpu::BindGroupLayout,
@@ -52,6 +56,7 @@ pub struct Renderer {
 }
 
 impl Renderer {
+    /// Makes every pass's pipelines on `ctx`; fails on a GPU validation error.
     pub fn new(ctx: GpuContext) -> Result<Renderer, RenderError> {
         let device = &ctx.device;
         let frame_data = FrameData::new(device);

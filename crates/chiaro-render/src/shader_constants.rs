@@ -7,9 +7,11 @@ use chiaro_math::light::{MAX_DIRECTIONAL_LIGHTS, MAX_OTHER_LIGHTS};
 use chiaro_math::shadow::other::MAX_OTHER_SHADOW_TILES as OTHER_TILES;
 use chiaro_math::shadow::{MAX_CASCADES as CASCADES, MAX_SHADOWED_DIRECTIONAL_LIGHTS, ShadowFilter};
 
+/// Cascades per directional light at most.
 pub const MAX_CASCADES: u32 = CASCADES as u32;
 /// Shadowed directional lights x cascades.
 pub const MAX_DIRECTIONAL_SHADOW_TILES: u32 = (MAX_SHADOWED_DIRECTIONAL_LIGHTS * CASCADES) as u32;
+/// Tiles of the point and spot atlas at most (one per spot, six per point light).
 pub const MAX_OTHER_SHADOW_TILES: u32 = OTHER_TILES as u32;
 /// Lights one frame shades: four directional lights and `MAX_OTHER_LIGHTS` point and
 /// spot lights (the light buffer's length).
@@ -22,23 +24,32 @@ pub const MAX_UNIFORM_LIGHTS: u32 = 512;
 
 /// `GpuLight::kind`.
 pub const LIGHT_KIND_DIRECTIONAL: u32 = 0;
+/// `GpuLight::kind` of a point light.
 pub const LIGHT_KIND_POINT: u32 = 1;
+/// `GpuLight::kind` of a spot light.
 pub const LIGHT_KIND_SPOT: u32 = 2;
 
 /// `GpuLight::shadow_slot`: the GPU side of `plan::ShadowSlot`.
 pub const SHADOW_SLOT_NONE: u32 = 0;
+/// `GpuLight::shadow_slot`: shadowed from its atlas tiles.
 pub const SHADOW_SLOT_REALTIME: u32 = 1;
+/// `GpuLight::shadow_slot`: casts shadows but got no tile; only baked shadows apply.
 pub const SHADOW_SLOT_BAKED_ONLY: u32 = 2;
 
 /// `GpuLight::shadow_filter`.
 pub const SHADOW_FILTER_PCF2X2: u32 = ShadowFilter::Pcf2x2.index();
+/// `GpuLight::shadow_filter`: 3x3 tent.
 pub const SHADOW_FILTER_TENT3X3: u32 = ShadowFilter::Tent3x3.index();
+/// `GpuLight::shadow_filter`: 5x5 tent.
 pub const SHADOW_FILTER_TENT5X5: u32 = ShadowFilter::Tent5x5.index();
+/// `GpuLight::shadow_filter`: 7x7 tent.
 pub const SHADOW_FILTER_TENT7X7: u32 = ShadowFilter::Tent7x7.index();
 
 /// `GpuShadows::cascade_blend`.
 pub const CASCADE_BLEND_HARD: u32 = 0;
+/// `GpuShadows::cascade_blend`: the next cascade fades in over the cascade fade.
 pub const CASCADE_BLEND_SOFT: u32 = 1;
+/// `GpuShadows::cascade_blend`: a dither picks one cascade per pixel.
 pub const CASCADE_BLEND_DITHER: u32 = 2;
 
 /// `GpuObject::flags` bit: the object receives shadows.
@@ -50,13 +61,16 @@ pub const OBJECT_PROBE_LIT: u32 = 4;
 
 /// `GpuMaterial::alpha_mode`.
 pub const MATERIAL_ALPHA_OPAQUE: u32 = 0;
+/// `GpuMaterial::alpha_mode`: discard below the alpha cutoff.
 pub const MATERIAL_ALPHA_MASK: u32 = 1;
+/// `GpuMaterial::alpha_mode`: blended over what is behind.
 pub const MATERIAL_ALPHA_BLEND: u32 = 2;
 /// `GpuMaterial::flags` bit: the material has a normal texture.
 pub const MATERIAL_FLAG_NORMAL_TEXTURE: u32 = 1;
 
 /// `GpuFrame::debug_view`.
 pub const DEBUG_VIEW_NONE: u32 = 0;
+/// `GpuFrame::debug_view`: tint each surface by its cascade.
 pub const DEBUG_VIEW_CASCADES: u32 = 1;
 
 /// `GpuCasterView::flags` bit: clamp depth in the vertex shader (pancaking), for devices
@@ -71,16 +85,24 @@ pub const NO_MASK_CHANNEL: u32 = u32::MAX;
 
 /// `GpuFrame::mixed_mode`.
 pub const MIXED_MODE_BAKED_INDIRECT: u32 = 0;
+/// `GpuFrame::mixed_mode`: the baked mask at every distance, darkened by realtime shadows
+/// within the shadow distance.
 pub const MIXED_MODE_SHADOWMASK: u32 = 1;
+/// `GpuFrame::mixed_mode`: realtime shadows within the shadow distance, the baked mask
+/// beyond, blended across the fade.
 pub const MIXED_MODE_DISTANCE_SHADOWMASK: u32 = 2;
 
 /// The forward pass's `light_culling` override: how it finds its point and spot lights.
 pub const LIGHT_CULLING_NONE: u32 = 0;
+/// `light_culling`: each pixel reads its cluster's list.
 pub const LIGHT_CULLING_CLUSTERED: u32 = 1;
+/// `light_culling`: each draw reads its object's list.
 pub const LIGHT_CULLING_PER_OBJECT: u32 = 2;
 /// The froxel grid: tiles across and down, depth slices.
 pub const CLUSTER_TILES_X: u32 = chiaro_math::culling::CLUSTER_TILES_X;
+/// Cluster tiles down the screen.
 pub const CLUSTER_TILES_Y: u32 = chiaro_math::culling::CLUSTER_TILES_Y;
+/// Depth slices of the cluster grid.
 pub const CLUSTER_SLICES: u32 = chiaro_math::culling::CLUSTER_SLICES;
 
 /// `GpuAovLight::list_index` of a light the frame does not shade.

@@ -15,6 +15,7 @@ pub fn all() -> Vec<(&'static str, &'static str)> {
     crate::passes::shader_sources()
 }
 
+/// A shader module from composed WGSL `source`, labelled `label`.
 pub fn module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),

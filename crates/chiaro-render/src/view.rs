@@ -4,31 +4,42 @@ use chiaro_math::camera::{frame_bounds, perspective_reverse_z};
 use chiaro_scene::Scene;
 use glam::{Mat4, Vec3};
 
+/// The camera of one frame: output size in pixels, its pose and its reverse-Z projection.
 #[derive(Clone, Copy, Debug)]
 pub struct View {
+    /// Output width in pixels.
     pub width: u32,
+    /// Output height in pixels.
     pub height: u32,
+    /// The camera's pose: view space (right-handed, -Z forward) to world space.
     pub world_from_view: Mat4,
+    /// View space to reverse-Z clip space.
     pub clip_from_view: Mat4,
+    /// Vertical field of view, radians.
     pub yfov_rad: f32,
+    /// Near plane distance, metres.
     pub znear: f32,
     /// `None` for an infinite projection.
     pub zfar: Option<f32>,
 }
 
 impl View {
+    /// World space to view space (the pose's inverse).
     pub fn view_from_world(&self) -> Mat4 {
         self.world_from_view.inverse()
     }
 
+    /// World space to clip space.
     pub fn clip_from_world(&self) -> Mat4 {
         self.clip_from_view * self.view_from_world()
     }
 
+    /// Width over height.
     pub fn aspect(&self) -> f32 {
         self.width as f32 / self.height as f32
     }
 
+    /// The camera's position in world space, metres.
     pub fn eye(&self) -> Vec3 {
         self.world_from_view.w_axis.truncate()
     }

@@ -12,6 +12,7 @@ pub struct GpuLight {
     pub color: Vec3,
     /// `LIGHT_KIND_*`.
     pub kind: u32,
+    /// World-space position, metres; unused by directional lights.
     pub position_ws: Vec3,
     /// Where the range window reaches zero; unused by directional lights.
     pub range: f32,
@@ -22,6 +23,7 @@ pub struct GpuLight {
     /// `(a, b)` of the spot cone `saturate(dot(direction, -l) * a + b)^2`; (0, 1) for
     /// lights that never fade by angle.
     pub spot_scale: f32,
+    /// See `spot_scale`.
     pub spot_offset: f32,
     /// 0 to 1: how dark its realtime shadow is.
     pub shadow_strength: f32,
@@ -38,7 +40,9 @@ pub struct GpuLight {
     pub axis_x_ws: Vec3,
     /// Its shadow mask channel (0 to 3), or `NO_MASK_CHANNEL`.
     pub shadow_mask_channel: u32,
+    /// See `axis_x_ws`.
     pub axis_y_ws: Vec3,
+    /// Pads the struct to 16-byte alignment.
     pub _pad1: f32,
 }
 
@@ -48,6 +52,7 @@ pub struct GpuLight {
 pub struct GpuVolumeLight {
     /// The volume mesh (unit sphere or pyramid) to world space.
     pub world_from_volume: Mat4,
+    /// The light the volume shades.
     pub light: GpuLight,
 }
 
@@ -55,7 +60,9 @@ pub struct GpuVolumeLight {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct GpuLightListEntry {
+    /// Index into the frame's light buffer.
     pub light: u32,
+    /// Pads the entry to 16 bytes (uniform arrays stride by 16).
     pub _pad: [u32; 3],
 }
 
@@ -64,9 +71,13 @@ pub struct GpuLightListEntry {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct GpuListRecord {
+    /// First entry of the list in the lists' index buffer.
     pub offset: u32,
+    /// How many of its first entries are shadowed point and spot lights.
     pub shadowed: u32,
+    /// Entries in the list.
     pub count: u32,
+    /// Pads the record to 16 bytes.
     pub _pad: u32,
 }
 
@@ -76,5 +87,6 @@ pub struct GpuListRecord {
 pub struct GpuAovLight {
     /// The light's index in the frame's light buffer (`FramePlan::lights`), or `NO_LIGHT`.
     pub light_index: u32,
+    /// Pads the struct to 16 bytes.
     pub _pad: [u32; 3],
 }

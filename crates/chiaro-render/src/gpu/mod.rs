@@ -18,8 +18,11 @@ pub use vertex::GpuVertex;
 /// A `Gpu*` struct's size and the byte offset of each named field.
 #[derive(Clone, Copy, Debug)]
 pub struct StructLayout {
+    /// The Rust type's name (`GpuFrame`); the WGSL struct is named without `Gpu`.
     pub rust_name: &'static str,
+    /// `size_of` the Rust type, in bytes.
     pub size: usize,
+    /// Each field's name and byte offset, in declaration order.
     pub fields: &'static [(&'static str, usize)],
 }
 

@@ -16,10 +16,12 @@ pub struct GpuShadowTile {
     /// Samples are clamped into [uv_min, uv_max], half a texel inside the tile, so that no
     /// filter tap reads a neighbouring tile.
     pub uv_min: Vec2,
+    /// See `uv_min`.
     pub uv_max: Vec2,
     /// How far receivers move along their normal before sampling: metres for cascade
     /// tiles; metres per metre of distance from the light's plane for perspective tiles.
     pub normal_bias: f32,
+    /// Pads the tile to 16-byte alignment.
     pub _pad: [f32; 3],
 }
 
@@ -39,19 +41,25 @@ impl Default for GpuShadowTile {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuCascade {
+    /// The sphere's centre in world space, metres.
     pub culling_sphere_center_ws: Vec3,
     /// Of the sphere shrunk by the filter's reach.
     pub radius_squared: f32,
+    /// 1 / `radius_squared`, so that the cascade fade multiplies.
     pub inverse_radius_squared: f32,
+    /// Pads the cascade to 16-byte alignment.
     pub _pad: [f32; 3],
 }
 
+/// One shadow atlas's size, for the filters' texel steps.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuAtlas {
+    /// The atlas side in texels.
     pub size_texels: f32,
     /// One texel in texture coordinates: 1 / size.
     pub texel_uv: f32,
+    /// Pads the atlas to 16 bytes.
     pub _pad: [f32; 2],
 }
 
@@ -59,26 +67,38 @@ pub struct GpuAtlas {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuShadowFade {
+    /// 1 / the shadow distance (metres of view depth): shadows end there.
     pub inverse_max_distance: f32,
+    /// 1 / the distance fade, a share of the shadow distance over which shadows fade out.
     pub inverse_distance_fade: f32,
     /// 1 / (1 - (1 - cascade fade)^2).
     pub inverse_cascade_fade: f32,
+    /// Pads the fades to 16 bytes.
     pub _pad: f32,
 }
 
+/// The shadow uniform (`shaders/shadows/data.wesl`): both atlases' tiles, the cascades'
+/// culling spheres, the atlas sizes and the fades.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuShadows {
+    /// The directional atlas's tiles: cascades of each shadowed directional light in turn.
     pub directional_tiles: [GpuShadowTile; MAX_DIRECTIONAL_SHADOW_TILES as usize],
+    /// The point and spot atlas's tiles: one per spot light, six per point light.
     pub other_tiles: [GpuShadowTile; MAX_OTHER_SHADOW_TILES as usize],
+    /// The cascades' culling spheres, nearest first.
     pub cascades: [GpuCascade; MAX_CASCADES as usize],
+    /// The directional atlas's size.
     pub directional_atlas: GpuAtlas,
+    /// The point and spot atlas's size.
     pub other_atlas: GpuAtlas,
+    /// Where shadows end and how they fade, by distance and by cascade.
     pub fade: GpuShadowFade,
     /// 0 when no directional light has a shadow map this frame.
     pub cascade_count: u32,
     /// `CASCADE_BLEND_*`.
     pub cascade_blend: u32,
+    /// Pads the uniform to 16-byte alignment.
     pub _pad: [u32; 2],
 }
 
@@ -102,8 +122,10 @@ impl Default for GpuShadows {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuCasterView {
+    /// World space to the tile's light clip space.
     pub clip_from_world: Mat4,
     /// `CASTER_*` bits.
     pub flags: u32,
+    /// Pads the view to 16 bytes.
     pub _pad: [u32; 3],
 }

@@ -2,24 +2,32 @@
 
 use bytemuck::{Pod, Zeroable};
 
+/// One interleaved vertex (locations 0 to 5 of `shaders/common/mesh.wesl`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuVertex {
     // Plain arrays: glam's SIMD Vec4 is 16-aligned and would pad the vertex.
+    /// Position in the mesh's local space, metres.
     pub position: [f32; 3],
+    /// Unit normal in local space.
     pub normal: [f32; 3],
+    /// Local-space tangent (xyz) and the bitangent's sign (w), as glTF stores them.
     pub tangent: [f32; 4],
+    /// TEXCOORD_0.
     pub uv0: [f32; 2],
+    /// TEXCOORD_1.
     pub uv1: [f32; 2],
     /// Coordinates in the instance's lightmap atlas layer (zero without one).
     pub lightmap_uv: [f32; 2],
 }
 
 impl GpuVertex {
+    /// The six attributes at shader locations 0 to 5, in field order.
     pub const ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
         0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x2, 5 => Float32x2
     ];
 
+    /// The vertex buffer layout of the mesh passes: `GpuVertex` per vertex.
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {
         wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<GpuVertex>() as u64,

@@ -26,18 +26,23 @@ pub use timer::{GpuTimer, PassTimestamps};
 /// Counts passes report, for benchmarks and tests.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PassStats {
+    /// Shadow atlas tiles the shadow pass drew this frame.
     pub shadow_tiles_rendered: usize,
+    /// Caster draws issued into those tiles.
     pub shadow_caster_draws: usize,
 }
 
 /// What every pass is made from.
 pub struct PassInit<'a> {
+    /// The device and what it offers (depth format, MSAA counts, timestamps).
     pub ctx: &'a GpuContext,
+    /// The device to make pipelines and buffers on (`ctx.device`).
     pub device: &'a wgpu::Device,
     /// Group 0 of the scene passes: frame, lights, objects, shadows.
     pub frame_layout: &'a wgpu::BindGroupLayout,
     /// Group 1 of the scene passes: a material.
     pub material_layout: &'a wgpu::BindGroupLayout,
+    /// The scene depth targets' depth-stencil format.
     pub depth_format: wgpu::TextureFormat,
 }
 
@@ -54,15 +59,23 @@ impl PassInit<'_> {
 
 /// What a pass may use while it records.
 pub struct PassContext<'a> {
+    /// The device, for bind groups made while recording.
     pub device: &'a wgpu::Device,
+    /// The frame's command encoder the pass records into.
     pub encoder: &'a mut wgpu::CommandEncoder,
+    /// What the frame draws.
     pub plan: &'a FramePlan,
+    /// The settings the frame was planned with.
     pub settings: &'a Settings,
+    /// The scene's buffers, materials and draws.
     pub scene: &'a GpuScene,
     /// Group 0 of every scene pass: frame, lights, objects, shadows.
     pub frame_bind_group: &'a wgpu::BindGroup,
+    /// The frame's targets, by name.
     pub targets: &'a Targets,
+    /// Where to write the pass's timestamps, when the frame is timed.
     pub timestamps: Option<PassTimestamps<'a>>,
+    /// Counts the pass adds to (shadow tiles, caster draws).
     pub stats: &'a mut PassStats,
 }
 
@@ -75,9 +88,13 @@ impl<'a> PassContext<'a> {
 
 /// What a pass may use to get ready before recording.
 pub struct PrepareContext<'a> {
+    /// The device to make pipelines and buffers on.
     pub device: &'a wgpu::Device,
+    /// The queue uploads go to.
     pub queue: &'a wgpu::Queue,
+    /// What the frame draws.
     pub plan: &'a FramePlan,
+    /// The scene's buffers, materials and draws.
     pub scene: &'a GpuScene,
     /// The scene the GPU scene mirrors (its lights, for per-light data).
     pub source: &'a Scene,
@@ -89,6 +106,7 @@ pub struct PrepareContext<'a> {
 pub trait FramePass {
     /// Makes the pipelines and uploads the data the frame will need.
     fn prepare(&mut self, cx: &PrepareContext<'_>);
+    /// Records the pass's commands, reading and writing the targets its setup declared.
     fn record(&self, cx: &mut PassContext<'_>);
 }
 
@@ -98,5 +116,6 @@ pub trait PassType: FramePass + Sized + 'static {
     const NAME: &'static str;
     /// Declares what the pass makes, reads and writes for `plan` (nothing: it does not run).
     fn setup(plan: &FramePlan, pass: &mut PassSetup);
+    /// Makes the pass's pipelines and layouts once per renderer.
     fn new(init: &PassInit<'_>) -> Self;
 }

@@ -30,16 +30,22 @@ pub enum Lifetime {
 /// A pass's declarations for one frame.
 #[derive(Clone, Debug)]
 pub struct PassSetup {
+    /// The pass's name (`PassType::NAME`).
     pub name: &'static str,
+    /// Targets the pass makes: their description and whether they outlive the frame.
     pub creates: Vec<(Target, TargetDesc, Lifetime)>,
+    /// How the pass uses each target, in declaration order.
     pub accesses: Vec<(Target, Access)>,
+    /// Targets handed back to the caller with the frame.
     pub exports: Vec<Target>,
+    /// Whether the pass has effects beyond its targets (never culled).
     pub side_effect: bool,
     /// The device's depth-stencil format, for the scene depth targets.
     pub depth_format: wgpu::TextureFormat,
 }
 
 impl PassSetup {
+    /// An empty declaration: the pass uses nothing, so it does not run.
     pub fn new(name: &'static str, depth_format: wgpu::TextureFormat) -> PassSetup {
         PassSetup {
             name,
@@ -64,16 +70,19 @@ impl PassSetup {
         self
     }
 
+    /// The pass samples or tests against `target`, leaving it as it was.
     pub fn read(&mut self, target: Target) -> &mut PassSetup {
         self.accesses.push((target, Access::Read));
         self
     }
 
+    /// The pass replaces every texel of `target`.
     pub fn write(&mut self, target: Target) -> &mut PassSetup {
         self.accesses.push((target, Access::Write));
         self
     }
 
+    /// The pass loads `target` and adds to it.
     pub fn modify(&mut self, target: Target) -> &mut PassSetup {
         self.accesses.push((target, Access::Modify));
         self
@@ -102,7 +111,9 @@ impl PassSetup {
 /// A pass as the graph sees it before any device exists: its name and its setup.
 #[derive(Clone, Copy)]
 pub struct PassDeclaration {
+    /// The pass's name.
     pub name: &'static str,
+    /// Declares the pass's targets and accesses for a plan (`PassType::setup`).
     pub setup: fn(&FramePlan, &mut PassSetup),
 }
 

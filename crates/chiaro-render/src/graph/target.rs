@@ -32,9 +32,13 @@ pub enum Size {
 /// Everything needed to make a target's texture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TargetDesc {
+    /// Its width and height, fixed or the view's.
     pub size: Size,
+    /// The texel format.
     pub format: wgpu::TextureFormat,
+    /// What the texture is used for.
     pub usage: wgpu::TextureUsages,
+    /// Samples per texel (1 unless multisampled).
     pub samples: u32,
     /// Array layers (1 for a plain 2D target).
     pub layers: u32,
@@ -51,10 +55,12 @@ impl TargetDesc {
         TargetDesc { size: Size::Square(texels), format, usage, samples: 1, layers: 1 }
     }
 
+    /// The same target with `samples` samples per texel.
     pub fn with_samples(self, samples: u32) -> TargetDesc {
         TargetDesc { samples, ..self }
     }
 
+    /// The same target with `layers` array layers.
     pub fn with_layers(self, layers: u32) -> TargetDesc {
         TargetDesc { layers, ..self }
     }

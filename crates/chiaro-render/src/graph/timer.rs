@@ -37,6 +37,7 @@ struct Pending {
     map_requested: bool,
 }
 
+/// Per-pass GPU times from timestamp queries, collected frames later without waiting.
 pub struct GpuTimer {
     query_set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
@@ -48,6 +49,8 @@ pub struct GpuTimer {
 }
 
 impl GpuTimer {
+    /// A query set for `MAX_TIMED_PASSES` passes and the buffers to resolve it into;
+    /// `queue` gives the timestamp period.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> GpuTimer {
         let bytes = 2 * MAX_TIMED_PASSES as u64 * QUERY_BYTES;
         GpuTimer {

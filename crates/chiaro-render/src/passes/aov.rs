@@ -7,6 +7,7 @@ use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, Prepar
 use crate::plan::FramePlan;
 use crate::shaders;
 
+/// The AOV targets' format: 32-bit floats, so positions and depths are not rounded.
 pub const AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// World position, alpha 1 where a surface is.
 pub const POSITION: Target = Target("aov position");
@@ -15,6 +16,8 @@ pub const NORMAL_DEPTH: Target = Target("aov normal depth");
 /// Baked irradiance (RGB) and whether a bake lights the pixel (A).
 pub const BAKED: Target = Target("aov baked");
 
+/// Draws the AOV targets over the forward pass's depth: one mesh pass for position, normal
+/// and depth, one for baked irradiance.
 pub struct AovPass {
     pipelines: MeshPipelines,
     /// The baked irradiance, in a pass of its own.

@@ -12,6 +12,7 @@ use crate::plan::FramePlan;
 use crate::shaders;
 use std::collections::HashMap;
 
+/// Draws a deferred debug view (G-buffer colour or normal, light overdraw) to the output.
 pub struct DebugViewPass {
     module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,

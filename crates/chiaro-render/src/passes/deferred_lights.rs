@@ -85,6 +85,8 @@ impl MeshBuffers {
     }
 }
 
+/// The deferred light pass: its pipelines per variant, the volume meshes and the volume
+/// uniforms of the frame.
 pub struct DeferredLightsPass {
     module: wgpu::ShaderModule,
     gbuffer_layout: wgpu::BindGroupLayout,

@@ -8,6 +8,7 @@ use crate::plan::FramePlan;
 use crate::shaders;
 use chiaro_scene::RenderPath;
 
+/// The forward path's depth prepass: opaque draws into depth alone.
 pub struct DepthPrepassPass {
     pipelines: MeshPipelines,
 }

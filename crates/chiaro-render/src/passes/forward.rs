@@ -17,12 +17,14 @@ use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::{LightCulling, RenderPath};
 use std::collections::HashMap;
 
+/// The HDR targets' format: half floats, pre-exposed so that bright scenes stay in range.
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Pre-exposed linear radiance, single-sampled: what tone mapping reads.
 pub const HDR: Target = Target("hdr");
 /// The forward path's multisampled radiance, resolved into `HDR`.
 pub const HDR_MULTISAMPLED: Target = Target("hdr multisampled");
 
+/// The forward pass: its shader module, layout and mesh pipelines per shader variant.
 pub struct ForwardPass {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,

@@ -1,6 +1,8 @@
 //! What the full-screen passes share: a pipeline that draws one triangle over the target
 //! from `vs_fullscreen`, and a layout of unfilterable 2D textures read with textureLoad.
 
+/// A bind group layout of unfilterable 2D textures, one per entry of `sample_types`
+/// (binding 0 up), read by the fragment shader.
 pub fn texture_layout(
     device: &wgpu::Device,
     label: &str,
@@ -23,6 +25,7 @@ pub fn texture_layout(
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries })
 }
 
+/// A bind group over `views` in `layout`, binding 0 up.
 pub fn texture_bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
@@ -39,15 +42,23 @@ pub fn texture_bind_group(
     device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries })
 }
 
+/// What differs between full-screen pipelines.
 pub struct FullscreenDesc<'a> {
+    /// The pipeline's label.
     pub label: &'a str,
+    /// A module with `vs_fullscreen` and the fragment entry point.
     pub module: &'a wgpu::ShaderModule,
+    /// The pipeline layout.
     pub layout: &'a wgpu::PipelineLayout,
+    /// The fragment shader's entry point.
     pub fragment_entry: &'a str,
+    /// Pipeline-overridable constants of the fragment shader.
     pub constants: &'a [(&'a str, f64)],
+    /// The format of the one colour target.
     pub format: wgpu::TextureFormat,
 }
 
+/// A pipeline drawing one triangle over the whole target, no depth, no blending.
 pub fn pipeline(device: &wgpu::Device, desc: FullscreenDesc<'_>) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(desc.label),

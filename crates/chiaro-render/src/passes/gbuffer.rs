@@ -45,6 +45,7 @@ pub fn light_target_desc(light_buffer: LightBuffer) -> TargetDesc {
     TargetDesc::view_sized(format, ATTACHMENT_SAMPLED)
 }
 
+/// The deferred path's G-buffer pass: its mesh pipelines per shader variant.
 pub struct GBufferPass {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,

@@ -10,6 +10,7 @@ use crate::plan::FramePlan;
 use crate::shaders;
 use chiaro_scene::{LightBuffer, RenderPath};
 
+/// Decodes the LDR light buffer into the HDR target, full screen.
 pub struct LdrDecodePass {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,

@@ -27,6 +27,8 @@ pub fn depth_desc(format: wgpu::TextureFormat, samples: u32) -> TargetDesc {
     TargetDesc::view_sized(format, wgpu::TextureUsages::RENDER_ATTACHMENT).with_samples(samples)
 }
 
+/// What picks one pipeline of a mesh pass: culling, winding, blending, depth test, alpha
+/// test and samples.
 #[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
 pub struct MeshPipelineKey {
     cull_back: bool,
@@ -54,6 +56,7 @@ pub enum DepthTest {
     AfterPrepass,
 }
 
+/// A mesh pass's pipelines, made on first use for each `MeshPipelineKey`.
 pub struct MeshPipelines {
     label: &'static str,
     module: wgpu::ShaderModule,
@@ -73,15 +76,23 @@ pub struct MeshPipelines {
     samples: u32,
 }
 
+/// What a mesh pass's pipelines share: shaders, layout, targets and depth test.
 pub struct MeshPipelinesDesc {
+    /// The pipelines' label.
     pub label: &'static str,
+    /// The shader module with `vs_main` and the fragment entry point.
     pub module: wgpu::ShaderModule,
     /// None: depth only.
     pub fragment_entry: Option<&'static str>,
+    /// The pipeline layout (group 0 the frame, group 1 the material).
     pub layout: wgpu::PipelineLayout,
+    /// The colour targets' formats, in attachment order.
     pub color_formats: Vec<wgpu::TextureFormat>,
+    /// Transparent draws blend (pre-multiplied) into the targets.
     pub blends: bool,
+    /// How draws test and write depth.
     pub depth_test: DepthTest,
+    /// The depth target's format.
     pub depth_format: wgpu::TextureFormat,
     /// Sets stencil bit `STENCIL_SURFACE` wherever a surface is drawn (the deferred
     /// path's light volumes shade only those pixels).
@@ -108,6 +119,7 @@ fn stencil_marking() -> wgpu::StencilState {
 }
 
 impl MeshPipelines {
+    /// Pipelines made from `desc`, none yet (each is made on first use).
     pub fn new(desc: MeshPipelinesDesc) -> MeshPipelines {
         MeshPipelines {
             label: desc.label,

@@ -17,6 +17,7 @@ pub const SHADOW_AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Floa
 /// One layer per scene light, in scene order.
 pub const SHADOW: Target = Target("aov shadow");
 
+/// Writes each scene light's shadow term into its layer of the shadow AOV array.
 pub struct ShadowAovPass {
     pipelines: MeshPipelines,
     light_layout: wgpu::BindGroupLayout,

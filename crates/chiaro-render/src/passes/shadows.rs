@@ -15,6 +15,7 @@ use crate::shaders;
 use chiaro_scene::{CastShadows, ShadowCasting};
 use std::collections::HashMap;
 
+/// The shadow atlases' format: 32-bit float depth.
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The directional lights' cascades.
 pub const DIRECTIONAL_ATLAS: Target = Target("directional shadow atlas");
@@ -42,6 +43,8 @@ struct CasterKey {
     casting: ShadowCasting,
 }
 
+/// The shadow pass: caster pipelines per pipeline state, and the caster views of the
+/// frame's tiles.
 pub struct ShadowPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,

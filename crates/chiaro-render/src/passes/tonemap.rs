@@ -9,6 +9,7 @@ use crate::plan::FramePlan;
 use crate::shaders;
 use std::collections::HashMap;
 
+/// Tone maps the HDR target into the output, with a pipeline per output format.
 pub struct TonemapPass {
     module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,

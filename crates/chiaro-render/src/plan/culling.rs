@@ -9,6 +9,7 @@ use chiaro_math::culling::{ClusterGrid, CullLight, LightLists, lights_per_object
 use chiaro_math::{Aabb, Sphere};
 use chiaro_scene::{LightCulling, LightKind, Scene};
 
+/// The forward pass's culled light lists: the cluster grid (if clustered) and the lists.
 #[derive(Clone, Debug, Default)]
 pub struct CulledLights {
     /// The froxel grid, under clustered culling.

@@ -11,8 +11,11 @@ use std::hash::{Hash, Hasher};
 /// Where one primitive's indices and vertices start in the shared buffers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PrimitiveRange {
+    /// The primitive's first index in the shared index buffer.
     pub first_index: u32,
+    /// Its index count.
     pub index_count: u32,
+    /// Its first vertex in the shared vertex buffer, added to each index.
     pub base_vertex: i32,
 }
 
@@ -21,11 +24,14 @@ pub struct PrimitiveRange {
 pub struct GeometryLayout {
     /// Per mesh, per primitive.
     pub ranges: Vec<Vec<PrimitiveRange>>,
+    /// Vertices of all primitives together.
     pub vertex_count: usize,
+    /// Indices of all primitives together.
     pub index_count: usize,
 }
 
 impl GeometryLayout {
+    /// Lays out every primitive of `scene`'s meshes one after the other.
     pub fn of(scene: &Scene) -> GeometryLayout {
         let mut layout = GeometryLayout::default();
         for mesh in &scene.meshes {
@@ -48,15 +54,20 @@ impl GeometryLayout {
 /// One primitive of one mesh instance.
 #[derive(Clone, Debug)]
 pub struct Draw {
+    /// The primitive's first index in the shared index buffer.
     pub first_index: u32,
+    /// Its index count.
     pub index_count: u32,
+    /// Its first vertex in the shared vertex buffer, added to each index.
     pub base_vertex: i32,
     /// Index into the object buffer (the instance's index), passed as the draw's first
     /// instance.
     pub object: u32,
     /// Index of the material; `Scene::materials.len()` is the glTF default material.
     pub material: usize,
+    /// The material's alpha mode: opaque, masked or blended.
     pub alpha_mode: AlphaMode,
+    /// Whether back faces are drawn too (glTF `doubleSided`).
     pub double_sided: bool,
     /// The instance's transform mirrors (negative determinant), which flips the winding.
     pub mirrored: bool,
@@ -64,6 +75,7 @@ pub struct Draw {
     pub center_ws: Vec3,
     /// World-space bounds, for culling casters per shadow tile.
     pub bounds_ws: Aabb,
+    /// Whether and how the instance casts (two-sided, with the material's faces, off, only).
     pub cast_shadows: CastShadows,
     /// How its material casts: solid, alpha-tested, dithered or not at all.
     pub shadow_casting: ShadowCasting,
@@ -100,6 +112,7 @@ fn geometry_hash(p: &Primitive) -> u64 {
     h.finish()
 }
 
+/// Every primitive of every mesh instance, in scene order, placed by `layout`.
 pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
     let default_material = scene.materials.len();
     let geometry: Vec<Vec<u64>> =

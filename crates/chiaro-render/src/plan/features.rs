@@ -10,6 +10,7 @@ use crate::overrides;
 use chiaro_math::shadow::ShadowFilter;
 use chiaro_scene::{CascadeBlend, Scene, Settings};
 
+/// What a frame's shading uses; each false feature is compiled out of its shaders.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ShaderFeatures {
     /// A light the frame shades has a cookie.
@@ -27,6 +28,7 @@ impl ShaderFeatures {
     pub const ALL: ShaderFeatures =
         ShaderFeatures { cookies: true, baked: true, tent_filters: true, soft_cascades: true };
 
+    /// The features the frame's `lights`, the scene's bake and the settings call for.
     pub fn of(scene: &Scene, settings: &Settings, lights: &[FrameLight]) -> ShaderFeatures {
         ShaderFeatures {
             cookies: lights.iter().any(|l| scene.lights[l.id.index()].cookie.is_some()),

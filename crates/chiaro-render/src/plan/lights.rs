@@ -22,6 +22,7 @@ use glam::Vec2;
 pub struct LightId(pub u32);
 
 impl LightId {
+    /// The index into `Scene::lights`.
     pub fn index(self) -> usize {
         self.0 as usize
     }
@@ -30,10 +31,12 @@ impl LightId {
 /// One light the frame shades.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameLight {
+    /// Which scene light.
     pub id: LightId,
     /// The range it is shaded with (its own, or derived from its intensity); infinite for
     /// directional lights.
     pub range: f32,
+    /// Where its realtime shadow comes from.
     pub shadow: ShadowSlot,
 }
 
@@ -46,9 +49,14 @@ pub struct LightChoice {
     pub other: Vec<(LightId, f32)>,
     /// Directional lights over the limit.
     pub dropped_directional: usize,
+    /// The visible point and spot lights as chiaro_math chose them (with drop and cull
+    /// counts).
     pub selection: LightSelection,
 }
 
+/// Chooses the frame's lights: directional ones up to the limit, then the point and spot
+/// lights the view can see, most important first (baked lights skipped when a bake is
+/// applied).
 pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightChoice {
     let id = |i: usize| LightId(i as u32);
     // With a bake applied, baked lights live in the lightmaps and probes alone.

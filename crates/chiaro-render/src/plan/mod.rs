@@ -57,8 +57,11 @@ impl PlanRequest {
 /// them in this order (directional, shadowed point and spot, the other point and spot).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct LightLists {
+    /// Indices of the directional lights.
     pub directional: Vec<u32>,
+    /// Indices of the point and spot lights with a realtime shadow.
     pub shadowed_other: Vec<u32>,
+    /// Indices of the other point and spot lights.
     pub unshadowed_other: Vec<u32>,
 }
 
@@ -69,21 +72,29 @@ impl LightLists {
     }
 }
 
+/// Everything a frame will do, decided on the CPU from the scene, view and settings:
+/// its lights, shadows, draws and passes. Printable and testable without a device.
 #[derive(Clone, Debug)]
 pub struct FramePlan {
+    /// The camera of the frame.
     pub view: View,
+    /// What the caller asked for (AOVs, debug view, read-back).
     pub request: PlanRequest,
     /// Forward or deferred (a debug view of the G-buffer implies deferred).
     pub path: RenderPath,
+    /// How the deferred path accumulates light: HDR or the LDR exp2 buffer.
     pub light_buffer: LightBuffer,
     /// Every light the frame shades: the directional ones in scene order, then the point
     /// and spot lights most important first.
     pub lights: Vec<FrameLight>,
+    /// The index lists the shaders loop over.
     pub lists: LightLists,
+    /// Shadow tiles, their casters and the shadow uniform.
     pub shadows: ShadowPlan,
     /// Indices into the scene's draws, in the order the camera passes draw them: opaque
     /// and masked ones, then from `transparent_from` the alpha-blended ones.
     pub camera_draws: Vec<u32>,
+    /// Where the transparent draws start in `camera_draws`.
     pub transparent_from: usize,
     /// The forward path's opaque (not alpha-tested) draws, which a depth prepass draws
     /// first; empty on the deferred path.
@@ -101,11 +112,13 @@ pub struct FramePlan {
     /// Directional lights over the limit, and visible point and spot lights over
     /// `max_other_lights`, not shaded.
     pub dropped_directional: usize,
+    /// See `dropped_directional`.
     pub dropped_other: usize,
     /// `shadows.cache`: tiles whose content is unchanged keep last frame's depths.
     pub shadow_cache: bool,
     /// How the forward pass finds its point and spot lights, and the lists it reads.
     pub culling: LightCulling,
+    /// The culled lists of `culling` (empty when it is `none`).
     pub culled: CulledLights,
     /// Samples per pixel of the forward path's colour and depth (1 on the deferred path
     /// and with AOVs).
@@ -294,6 +307,7 @@ impl FramePlan {
             .collect()
     }
 
+    /// The frame uniform for this plan and `settings` (exposure, ambient, culling grid).
     pub fn gpu_frame(&self, settings: &Settings) -> GpuFrame {
         let view = &self.view;
         GpuFrame {

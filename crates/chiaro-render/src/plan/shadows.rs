@@ -35,7 +35,14 @@ pub enum ShadowSlot {
     None,
     /// Sampled from `tile_count` tiles of its atlas from `first_tile` (one per cascade,
     /// one per spot, six per point light).
-    Realtime { first_tile: u32, tile_count: u32, filter: ShadowFilter },
+    Realtime {
+        /// Index of its first tile in its atlas.
+        first_tile: u32,
+        /// Tiles it has, consecutive from `first_tile`.
+        tile_count: u32,
+        /// The filter its shadow is sampled with.
+        filter: ShadowFilter,
+    },
     /// It casts shadows but found no free atlas tiles: no realtime shadow; baked shadows
     /// (the tutorial's negative strength) are what would apply.
     BakedOnly,
@@ -53,10 +60,13 @@ pub enum ShadowAtlas {
 /// One tile to render casters into.
 #[derive(Clone, Debug)]
 pub struct CasterTile {
+    /// The atlas the tile lies in.
     pub atlas: ShadowAtlas,
+    /// The light it holds the shadow of.
     pub light: LightId,
     /// Tile index in its atlas.
     pub tile: u32,
+    /// World space to the tile's light clip space.
     pub clip_from_world: Mat4,
     /// (x, y, size) in texels.
     pub viewport: (u32, u32, u32),
@@ -71,6 +81,7 @@ pub struct CasterTile {
 /// Tile allocators of both atlases, kept by the renderer from frame to frame.
 #[derive(Clone, Debug)]
 pub struct ShadowAtlasTiles {
+    /// The directional atlas's allocator: one run of cascade tiles per light.
     pub directional: TileAllocator<LightId>,
     /// Keyed by light and tile size: a light whose tier changes is allocated anew.
     pub other: TileAllocator<(LightId, u32)>,
@@ -91,11 +102,15 @@ impl Default for ShadowAtlasTiles {
     }
 }
 
+/// A frame's realtime shadows: the shadow uniform, atlas sizes, tiles to draw and the
+/// cascades' spheres.
 #[derive(Clone, Debug)]
 pub struct ShadowPlan {
+    /// The shadow uniform the shaders read.
     pub gpu: GpuShadows,
     /// Atlas sides in texels; 0 when no light casts into that atlas this frame.
     pub directional_atlas_size: u32,
+    /// See `directional_atlas_size`.
     pub other_atlas_size: u32,
     /// Directional tiles first, then point and spot tiles.
     pub tiles: Vec<CasterTile>,
@@ -125,7 +140,9 @@ impl ShadowPlan {
 
 /// The slot of each input light, in input order.
 pub struct ShadowSlots {
+    /// One slot per directional light.
     pub directional: Vec<ShadowSlot>,
+    /// One slot per point and spot light.
     pub other: Vec<ShadowSlot>,
 }
 

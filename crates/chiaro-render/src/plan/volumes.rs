@@ -14,6 +14,7 @@ use std::sync::OnceLock;
 /// and at 90 degrees it would be infinite.
 pub const MAX_PYRAMID_OUTER_RAD: f32 = std::f32::consts::FRAC_PI_3;
 
+/// Which mesh bounds a light's reach in the deferred path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VolumeShape {
     /// A full-screen triangle (every directional light at once).
@@ -29,6 +30,7 @@ pub enum VolumeShape {
 pub struct VolumeDraw {
     /// Index into `FramePlan::lights`.
     pub light: u32,
+    /// The mesh drawn.
     pub shape: VolumeShape,
     /// The volume mesh to world space.
     pub world_from_volume: Mat4,
@@ -46,7 +48,9 @@ impl VolumeDraw {
 
 /// A closed triangle mesh with outward, counter-clockwise faces.
 pub struct VolumeMesh {
+    /// Vertex positions around the origin.
     pub positions: Vec<Vec3>,
+    /// Triangle indices into `positions`.
     pub indices: Vec<u32>,
     /// Farthest vertex from the origin: the radius of a sphere that holds the mesh.
     pub circumradius: f32,

@@ -10,9 +10,13 @@ use chiaro_scene::baked::BakedLighting;
 use glam::Vec4;
 use wgpu::util::DeviceExt;
 
+/// The baked light bound in group 0 (1x1 stand-ins without a bake).
 pub struct BakedTextures {
+    /// The lightmaps, one layer per lightmap of the bake (RGB irradiance).
     pub lightmaps: wgpu::TextureView,
+    /// The shadow masks, laid out as the lightmaps: one light's visibility per channel.
     pub shadow_masks: wgpu::TextureView,
+    /// The probe grid: `GpuProbeGridHeader`, then ten vec4s per probe.
     pub probes: wgpu::Buffer,
 }
 
@@ -75,6 +79,7 @@ fn array_texture(
 }
 
 impl BakedTextures {
+    /// Uploads `baked` (or the stand-ins) as textures and the probe buffer.
     pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, baked: Option<&BakedLighting>) -> BakedTextures {
         let maps = baked.map(|b| b.lightmaps.as_slice()).unwrap_or_default();
         let size = maps.first().map_or((1, 1), |m| (m.width, m.height));

@@ -8,16 +8,22 @@ use super::textures::downsample;
 use crate::plan::cookies::{CookieArray, cookie_slots};
 use chiaro_scene::{Image, Scene};
 
+/// The cookie arrays bound in group 0.
 pub struct CookieTextures {
+    /// Directional and spot cookies: layers of a 2D array.
     pub flat: wgpu::TextureView,
+    /// Point cookies: cubes of a cube array.
     pub cube: wgpu::TextureView,
 }
 
 /// One RGBA8 picture of `width` x `height` texels.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texels {
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
+    /// Four bytes per texel, row-major.
     pub rgba8: Vec<u8>,
 }
 
@@ -83,6 +89,7 @@ pub fn cookie_layers(scene: &Scene) -> (Vec<Texels>, Vec<Texels>) {
 }
 
 impl CookieTextures {
+    /// Uploads every cookie of `scene` with its mip chain (white stand-ins where none).
     pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> CookieTextures {
         let (mut flat, mut cube) = cookie_layers(scene);
         if flat.is_empty() {

@@ -19,11 +19,17 @@ use glam::{Vec2, Vec3, Vec4};
 use textures::{SamplerCache, solid, upload_image};
 use wgpu::util::DeviceExt;
 
+/// A scene on the GPU: geometry, objects, materials, draws, cookies and bakes.
 pub struct GpuScene {
+    /// Every primitive's vertices, as `GeometryLayout` places them.
     pub vertices: wgpu::Buffer,
+    /// Every primitive's indices (u32).
     pub indices: wgpu::Buffer,
+    /// One `GpuObject` per mesh instance.
     pub objects: wgpu::Buffer,
+    /// One bind group (group 1) per material, then the glTF default material.
     pub materials: Vec<wgpu::BindGroup>,
+    /// Every primitive of every instance, as the plans index them.
     pub draws: Vec<Draw>,
     /// The lights' cookies, bound in group 0.
     pub cookies: CookieTextures,
@@ -31,6 +37,7 @@ pub struct GpuScene {
     pub baked: BakedTextures,
 }
 
+/// Group 1 of the mesh passes: one material's uniform, its textures and their samplers.
 pub fn material_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let mut entries = vec![wgpu::BindGroupLayoutEntry {
         binding: 0,
@@ -79,6 +86,7 @@ fn texture_transform(t: Option<&TextureRef>) -> GpuTextureTransform {
     }
 }
 
+/// A material's factors, alpha mode and texture transforms as the shaders read them.
 pub fn gpu_material(m: &Material) -> GpuMaterial {
     GpuMaterial {
         base_color: m.base_color,
@@ -105,6 +113,8 @@ pub fn gpu_material(m: &Material) -> GpuMaterial {
 }
 
 impl GpuScene {
+    /// Uploads `scene`'s geometry, objects, materials, cookies and bake into buffers and
+    /// textures, with bind groups made in `layout`.
     pub fn upload(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
