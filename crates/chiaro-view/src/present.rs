@@ -1,8 +1,8 @@
 //! Puts the panel and the 3D view in the window. egui draws the panel into a texture of
 //! its own, and only when something in it changed; every frame copies that texture and
-//! then the 3D view into the window's surface. On lavapipe egui's pass took 30 ms, an
-//! eighth of a frame of the benchmark scene, so drawing it every frame made the window
-//! cost far more than the few percent it may.
+//! then the 3D view into the window's surface. On lavapipe egui's pass is a large share of
+//! a frame (docs/viewer.md has the measurements), so drawing it every frame made the
+//! window cost far more than the few percent it may.
 
 /// A plain 2D texture of the window's pictures: the 3D view, the panel, a screenshot.
 pub fn window_texture(
