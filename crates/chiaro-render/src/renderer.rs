@@ -206,24 +206,8 @@ impl Renderer {
         }
 
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        let mut stats = PassStats::default();
-        for (&i, &name) in graph.order.iter().zip(&graph.passes) {
-            let _span = tracing::debug_span!("pass", name).entered();
-            encoder.push_debug_group(name);
-            let mut cx = PassContext {
-                device,
-                encoder: &mut encoder,
-                plan: &plan,
-                settings,
-                scene: &prepared.gpu,
-                frame_bind_group: &frame_bind_group,
-                targets: &self.targets,
-                timestamps: self.timer.as_mut().and_then(|t| t.pass(name)),
-                stats: &mut stats,
-            };
-            self.passes[i].record(&mut cx);
-            encoder.pop_debug_group();
-        }
+        let stats = self.record_passes(&mut encoder, &graph, &plan, settings, &prepared.gpu, &frame_bind_group);
+        let device = &self.ctx.device;
         if let Some(timer) = &mut self.timer {
             timer.end_frame(device, &mut encoder, frame);
         }
@@ -281,6 +265,38 @@ impl Renderer {
         self.ctx.take_error()?;
         out.timings = timings;
         Ok(out)
+    }
+
+    /// Records every pass the graph kept, in its order, each in a debug group with its
+    /// own timestamps.
+    fn record_passes(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        graph: &FrameGraph,
+        plan: &FramePlan,
+        settings: &Settings,
+        scene: &GpuScene,
+        frame_bind_group: &wgpu::BindGroup,
+    ) -> PassStats {
+        let mut stats = PassStats::default();
+        for (&i, &name) in graph.order.iter().zip(&graph.passes) {
+            let _span = tracing::debug_span!("pass", name).entered();
+            encoder.push_debug_group(name);
+            let mut cx = PassContext {
+                device: &self.ctx.device,
+                encoder,
+                plan,
+                settings,
+                scene,
+                frame_bind_group,
+                targets: &self.targets,
+                timestamps: self.timer.as_mut().and_then(|t| t.pass(name)),
+                stats: &mut stats,
+            };
+            self.passes[i].record(&mut cx);
+            encoder.pop_debug_group();
+        }
+        stats
     }
 
     /// Waits for the oldest frames until fewer than `MAX_FRAMES_IN_FLIGHT` are in flight.

@@ -131,6 +131,38 @@ fn shadowed_lights_keep_their_tiles_from_frame_to_frame() {
 }
 
 #[test]
+fn the_plan_says_which_shadow_tiles_are_drawn_again() {
+    let mut scene = demo_scene(8);
+    let mut atlases = ShadowAtlasTiles::default();
+    let view = View::from_camera(&scene, 0, 320, 180);
+    let drawn = |p: &FramePlan| p.shadows.redrawn_tiles().map(|(_, t)| t.light).collect::<Vec<_>>();
+    let first = plan(&scene, &view, &mut atlases, PlanRequest::default());
+    assert_eq!(drawn(&first).len(), first.shadows.tiles.len(), "the first frame draws every tile");
+    let still = plan(&scene, &view, &mut atlases, PlanRequest::default());
+    assert!(drawn(&still).is_empty(), "a still frame keeps every tile");
+    assert!(!passes(&still).contains(&"shadows"), "and runs no shadow pass");
+    // A moved shadowed spot draws its own tile again, and nothing else.
+    let spot = first
+        .shadows
+        .tiles
+        .iter()
+        .map(|t| t.light.index())
+        .find(|&i| matches!(scene.lights[i].kind, LightKind::Spot { .. }))
+        .expect("a shadowed spot");
+    let position = scene.lights[spot].position() + Vec3::new(0.2, 0.0, 0.0);
+    scene.lights[spot].world_from_light =
+        chiaro_math::rigid::looking_along(position, scene.lights[spot].direction() + Vec3::new(0.05, 0.0, 0.0));
+    let moved = plan(&scene, &view, &mut atlases, PlanRequest::default());
+    assert_eq!(drawn(&moved), [LightId(spot as u32)]);
+    assert!(moved.to_string().contains("1 drawn this frame"), "{moved}");
+    // A G-buffer view shades nothing: it draws no tile and leaves the cache as it was.
+    let debug = PlanRequest { debug: Some(chiaro_render::DebugView::GbufferAlbedo), ..Default::default() };
+    scene.lights[spot].world_from_light = chiaro_math::rigid::looking_along(position, Vec3::NEG_Y);
+    assert!(drawn(&plan(&scene, &view, &mut atlases, debug)).is_empty());
+    assert_eq!(drawn(&plan(&scene, &view, &mut atlases, PlanRequest::default())), [LightId(spot as u32)]);
+}
+
+#[test]
 fn lights_that_find_no_tiles_are_baked_only() {
     // Three shadowed points want 18 tiles of 16.
     let lights = (0..3).map(|i| point_light(Vec3::new(i as f32 - 1.0, 1.0, 0.0), 10.0 + i as f32, Some(4.0))).collect();
