@@ -205,18 +205,18 @@ impl SceneBvh {
     /// be unit; `t` and `max_t` are in its units. Non-finite or zero rays hit nothing.
     pub fn closest_hit(&self, origin: Vec3, direction: Vec3, max_t: f32) -> Option<Hit> {
         let bvh = self.bvh.as_ref()?;
-        let ray = make_ray(origin, direction, max_t)?;
+        let rays = Rays::new(origin, direction, max_t)?;
         let mut ray_hit = RayHit::none();
-        let found = bvh.ray_traverse(ray, &mut ray_hit, |ray, id| {
+        let found = bvh.ray_traverse(rays.traversal, &mut ray_hit, |_, id| {
             if self.triangle_mask[id] & VISIBLE == 0 {
                 return f32::INFINITY;
             }
-            let t = self.triangles[id].intersect(ray);
-            match self.alpha_at(id, ray, t) {
+            let t = self.triangles[id].intersect(&rays.caller);
+            match self.alpha_at(id, &rays.caller, t) {
                 Some((material, alpha)) if material.alpha_mode == AlphaMode::Mask && alpha < material.cutoff => {
                     f32::INFINITY
                 }
-                _ => t,
+                _ => Rays::traversal_t(t),
             }
         });
         if !found {
@@ -224,11 +224,12 @@ impl SceneBvh {
         }
         let id = ray_hit.primitive_id as usize;
         let tri = &self.triangles[id];
+        let t = tri.intersect(&rays.caller);
         let [a, b, c] = [tri.v0, tri.v1, tri.v2].map(|v| Vec3::from_array(v.into()));
-        let position = origin + direction * ray_hit.t;
+        let position = origin + direction * t;
         let (primitive, triangle) = self.triangle_source[id];
         Some(Hit {
-            t: ray_hit.t,
+            t,
             position,
             geometric_normal: (b - a).cross(c - a).normalize_or_zero(),
             instance: self.triangle_instance[id] as usize,
@@ -243,18 +244,18 @@ impl SceneBvh {
     /// `1 - alpha` over the dithered casters it crosses. Instances that cast no shadows
     /// let everything through; non-finite or zero rays too.
     pub fn transmittance(&self, origin: Vec3, direction: Vec3, max_t: f32) -> f32 {
-        let (Some(bvh), Some(ray)) = (self.bvh.as_ref(), make_ray(origin, direction, max_t)) else {
+        let (Some(bvh), Some(rays)) = (self.bvh.as_ref(), Rays::new(origin, direction, max_t)) else {
             return 1.0;
         };
         let mut crossed: Vec<u32> = Vec::new();
         let mut through = 1.0;
-        let blocked = !bvh.ray_traverse_miss(ray, |ray, id| {
+        let blocked = !bvh.ray_traverse_miss(rays.traversal, |_, id| {
             if self.triangle_mask[id] & CASTER == 0 {
                 return f32::INFINITY;
             }
-            let t = self.triangles[id].intersect(ray);
-            let Some((material, alpha)) = self.alpha_at(id, ray, t) else {
-                return t;
+            let t = self.triangles[id].intersect(&rays.caller);
+            let Some((material, alpha)) = self.alpha_at(id, &rays.caller, t) else {
+                return Rays::traversal_t(t);
             };
             match material.casting {
                 ShadowCasting::Clip if alpha < material.cutoff => f32::INFINITY,
@@ -267,7 +268,7 @@ impl SceneBvh {
                     }
                     f32::INFINITY
                 }
-                _ => t,
+                _ => Rays::traversal_t(t),
             }
         });
         if blocked { 0.0 } else { through }
@@ -311,14 +312,40 @@ fn barycentrics(a: Vec3, b: Vec3, c: Vec3, p: Vec3) -> [f32; 3] {
     [1.0 - v - w, v, w]
 }
 
-/// An obvhs ray, or `None` where obvhs's finiteness assumptions would not hold.
-fn make_ray(origin: Vec3, direction: Vec3, max_t: f32) -> Option<Ray> {
-    let valid = origin.is_finite() && direction.is_finite() && direction != Vec3::ZERO && max_t > 0.0;
-    // obvhs inverts a -0.0 component to -1/EPSILON but picks the node slab order from
-    // `direction < 0.0`, which is false for -0.0: the two disagree and the ray misses every
-    // node. Adding +0.0 turns -0.0 into +0.0 and leaves every other value as it is.
-    let direction = direction + Vec3::ZERO;
-    valid.then(|| Ray::new(origin.to_array().into(), direction.to_array().into(), 0.0, max_t))
+/// How far obvhs's compressed nodes clamp a ray's entry: their test takes
+/// `max(entry, 1e-4)` in ray lengths instead of the ray's `tmin` (obvhs 0.4,
+/// `cwbvh::node::EPSILON`), so a node the ray leaves sooner is skipped, and with it a
+/// surface that close to the origin.
+const NODE_T_MIN: f32 = 1e-4;
+
+/// The caller's ray, and the one the nodes are traversed with: the same line started
+/// `NODE_T_MIN` ray lengths behind the origin, so that nothing in front of the origin is
+/// skipped. Hits are measured on the caller's ray and handed to obvhs in the traversal
+/// ray's lengths (`traversal_t`); hits behind the origin do not count.
+struct Rays {
+    caller: Ray,
+    traversal: Ray,
+}
+
+impl Rays {
+    /// `None` where obvhs's finiteness assumptions would not hold.
+    fn new(origin: Vec3, direction: Vec3, max_t: f32) -> Option<Rays> {
+        let valid = origin.is_finite() && direction.is_finite() && direction != Vec3::ZERO && max_t > 0.0;
+        // obvhs inverts a -0.0 component to -1/EPSILON but picks the node slab order from
+        // `direction < 0.0`, which is false for -0.0: the two disagree and the ray misses
+        // every node. Adding +0.0 turns -0.0 into +0.0 and leaves every other value as it is.
+        let direction = direction + Vec3::ZERO;
+        let behind = origin - direction * NODE_T_MIN;
+        valid.then(|| Rays {
+            caller: Ray::new(origin.to_array().into(), direction.to_array().into(), 0.0, max_t),
+            traversal: Ray::new(behind.to_array().into(), direction.to_array().into(), 0.0, max_t + NODE_T_MIN),
+        })
+    }
+
+    /// A hit at `t` on the caller's ray, in the traversal ray's lengths (a miss stays one).
+    fn traversal_t(t: f32) -> f32 {
+        if t.is_finite() { t + NODE_T_MIN } else { f32::INFINITY }
+    }
 }
 
 /// The valid world-space triangles of one instance, with its mask bits (less CASTER where

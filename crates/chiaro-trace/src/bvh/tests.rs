@@ -269,3 +269,20 @@ fn invalid_geometry_and_rays_are_skipped() {
     assert!(empty.closest_hit(down, Vec3::NEG_Y, f32::INFINITY).is_none());
     assert!(!empty.occluded(down, Vec3::NEG_Y, f32::INFINITY));
 }
+
+/// obvhs's compressed nodes skip what a ray leaves within 1e-4 ray lengths of its start;
+/// the floor just in front of these origins must still be hit, and block shadow rays.
+#[test]
+fn surfaces_just_in_front_of_the_origin_are_hit() {
+    let (scene, bvh) = shared();
+    let direction = Vec3::new(-2.2201715, 2.0713806, -0.017495127);
+    // x = 0 is the edge between two of the floor's quads; x = 0.5 lies inside one.
+    for (x, below) in [(0.0, 1.818e-4f32), (0.0, 1e-4), (0.0, 1e-3), (0.5, 1e-5), (0.5, 1e-6)] {
+        let origin = Vec3::new(x, -1.0 - below, 0.0);
+        let expected = brute_force(scene, origin, direction, f32::INFINITY, |c| c != CastShadows::ShadowsOnly);
+        let got = bvh.closest_hit(origin, direction, f32::INFINITY);
+        assert_eq!(got.map(|h| (h.t, h.instance)), expected, "{below} m below the floor");
+        assert_eq!(expected.map(|(_, instance)| instance), Some(0), "the floor is the nearest");
+        assert!(bvh.occluded(origin, direction, 1.0), "{below} m below the floor: the floor blocks");
+    }
+}
