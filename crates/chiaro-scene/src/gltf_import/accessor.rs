@@ -3,7 +3,7 @@
 //! substitution applied, integer components converted to floats as KHR_mesh_quantization
 //! and glTF's normalized-integer rules say, and indices widened to `u32`.
 
-use super::{Loader, object_label, uri};
+use super::{Loader, json_label, meshopt, uri};
 use crate::error::SceneError;
 use gltf::json;
 use json::accessor::ComponentType;
@@ -15,46 +15,72 @@ use std::borrow::Cow;
 const MAX_ACCESSOR_COUNT: usize = 1 << 26;
 
 impl<'a> Loader<'a> {
-    pub(super) fn load_buffers(&self, bin: Option<&'a [u8]>) -> Result<Vec<Cow<'a, [u8]>>, SceneError> {
-        let mut buffers = Vec::with_capacity(self.root.buffers.len());
-        for (index, buffer) in self.root.buffers.iter().enumerate() {
-            let label = object_label("buffer", index, buffer.uri.as_deref(), None);
-            let data: Cow<'a, [u8]> = match &buffer.uri {
-                None => Cow::Borrowed(
-                    bin.ok_or_else(|| self.invalid(format!("{label} has no uri and the file has no binary chunk")))?,
-                ),
-                Some(uri) => {
-                    let data = uri::read_uri(self.base_dir, uri).map_err(|e| self.invalid(format!("{label}: {e}")))?;
-                    self.inputs.borrow_mut().extend(data.file);
-                    Cow::Owned(data.bytes)
-                }
-            };
-            let declared = buffer.byte_length.0;
-            if (data.len() as u64) < declared {
-                return Err(self.invalid(format!("{label} is {} bytes but the file says {declared}", data.len())));
-            }
-            buffers.push(data);
+    /// Buffer `index`'s bytes, read on first use: the GLB's BIN chunk or its URI, checked
+    /// to hold the length the file declares.
+    fn buffer(&self, index: usize) -> Result<&[u8], SceneError> {
+        if let Some(bytes) = self.buffers[index].get() {
+            return Ok(bytes);
         }
-        Ok(buffers)
+        let buffer = &self.root.buffers[index];
+        let label = json_label("buffers", index, buffer.uri.as_deref(), None);
+        let data: Cow<'a, [u8]> = match &buffer.uri {
+            None if meshopt::is_fallback(self.raw, index) => {
+                return Err(self.invalid(format!(
+                    "{label}: an EXT_meshopt_compression fallback buffer has no data, yet a buffer view that is \
+                     not compressed reads it"
+                )));
+            }
+            None => Cow::Borrowed(
+                self.bin.ok_or_else(|| self.invalid(format!("{label} has no uri and the file has no binary chunk")))?,
+            ),
+            Some(uri) => {
+                let data = uri::read_uri(self.base_dir, uri).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+                self.inputs.borrow_mut().extend(data.file);
+                Cow::Owned(data.bytes)
+            }
+        };
+        let declared = buffer.byte_length.0;
+        if (data.len() as u64) < declared {
+            return Err(self.invalid(format!("{label} is {} bytes but the file says {declared}", data.len())));
+        }
+        Ok(self.buffers[index].get_or_init(|| data))
     }
 
-    /// The bytes of a buffer view and its stride, checked to lie inside its buffer.
+    /// The bytes of a buffer view and its stride, checked to lie inside its buffer; an
+    /// EXT_meshopt_compression view is decoded from its compressed bytes first.
     pub(super) fn view_bytes(&self, view_index: usize) -> Result<(&[u8], Option<usize>), SceneError> {
         let view = &self.root.buffer_views[view_index];
-        let buffer = &self.buffers[view.buffer.value()];
-        let offset = view.byte_offset.map_or(0, |o| o.0);
-        let length = view.byte_length.0;
-        let end = offset.checked_add(length);
-        match end {
-            Some(end) if end <= buffer.len() as u64 => {
-                let stride = view.byte_stride.map(|s| s.0);
-                Ok((&buffer[offset as usize..end as usize], stride))
+        let stride = view.byte_stride.map(|s| s.0);
+        if let Some(compressed) = meshopt::view_extension(self.raw, view_index) {
+            let path = format!("bufferViews[{view_index}].extensions.EXT_meshopt_compression");
+            let compressed = compressed.map_err(|e| self.invalid(format!("{path}: {e}")))?;
+            if let Some(bytes) = self.decoded_views[view_index].get() {
+                return Ok((bytes, stride));
             }
+            let source = self.byte_range(compressed.buffer, compressed.byte_offset, compressed.byte_length, &path)?;
+            let decoded = meshopt::decode(&compressed, source, view.byte_length.0)
+                .map_err(|e| self.invalid(format!("{path}: {e}")))?;
+            return Ok((self.decoded_views[view_index].get_or_init(|| decoded), stride));
+        }
+        let offset = view.byte_offset.map_or(0, |o| o.0);
+        let bytes =
+            self.byte_range(view.buffer.value(), offset, view.byte_length.0, &format!("bufferViews[{view_index}]"))?;
+        Ok((bytes, stride))
+    }
+
+    /// Bytes `offset..offset + length` of buffer `buffer`, checked to lie inside it.
+    fn byte_range(&self, buffer_index: usize, offset: u64, length: u64, path: &str) -> Result<&[u8], SceneError> {
+        let buffer = self
+            .root
+            .buffers
+            .get(buffer_index)
+            .map(|_| self.buffer(buffer_index))
+            .ok_or_else(|| self.invalid(format!("{path}.buffer: buffer {buffer_index} is out of range")))??;
+        match offset.checked_add(length) {
+            Some(end) if end <= buffer.len() as u64 => Ok(&buffer[offset as usize..end as usize]),
             _ => Err(self.invalid(format!(
-                "buffer view {view_index} (bytes {offset}..{}) runs past the end of buffer {} \
-                 ({} bytes)",
+                "{path} (bytes {offset}..{}) runs past the end of buffers[{buffer_index}] ({} bytes)",
                 offset.saturating_add(length),
-                view.buffer.value(),
                 buffer.len()
             ))),
         }
@@ -66,7 +92,8 @@ impl<'a> Loader<'a> {
         use json::accessor::Type;
         debug_assert!((1..=4).contains(&dims));
         let accessor = &self.root.accessors[index];
-        let label = format!("accessor {index} ({what})");
+        let label = format!("accessors[{index}] ({what})");
+        let sparse_label = format!("accessors[{index}].sparse.indices ({what})");
         let (Checked::Valid(component), Checked::Valid(ty)) = (accessor.component_type, accessor.type_) else {
             return Err(self.invalid(format!("{label} has an invalid type")));
         };
@@ -101,7 +128,7 @@ impl<'a> Loader<'a> {
                 _ => {
                     return Err(self.invalid(format!(
                         "{label} reads {count} elements of {element_size} bytes every {stride} \
-                         from byte {offset}, past the end of buffer view {} ({} bytes)",
+                         from byte {offset}, past the end of bufferViews[{}] ({} bytes)",
                         view_index.value(),
                         view.len()
                     )));
@@ -139,11 +166,20 @@ impl<'a> Loader<'a> {
                 n * element_size,
                 &label,
             )?;
+            let mut previous = None;
             for k in 0..n {
                 let target = read_index(index_type, &indices[k * index_type.size()..])
                     .filter(|&t| (t as usize) < count)
-                    .ok_or_else(|| self.invalid(format!("{label} has a sparse index out of range")))?
+                    .ok_or_else(|| self.invalid(format!("{sparse_label}: an index is out of range")))?
                     as usize;
+                // glTF 2.0 §3.6.2.3: sparse indices strictly increase.
+                if previous.is_some_and(|p| p >= target) {
+                    return Err(self.invalid(format!(
+                        "{sparse_label}: {target} follows {}; sparse indices must strictly increase",
+                        previous.unwrap_or_default()
+                    )));
+                }
+                previous = Some(target);
                 bytes[target * element_size..(target + 1) * element_size]
                     .copy_from_slice(&values[k * element_size..(k + 1) * element_size]);
             }
@@ -158,7 +194,7 @@ impl<'a> Loader<'a> {
             .checked_add(length as u64)
             .filter(|&end| end <= view.len() as u64)
             .map(|end| &view[offset as usize..end as usize])
-            .ok_or_else(|| self.invalid(format!("{label}: sparse data runs past the end of buffer view {view_index}")))
+            .ok_or_else(|| self.invalid(format!("{label}: sparse data runs past the end of bufferViews[{view_index}]")))
     }
 
     /// Float elements of `N` components, integer formats converted as

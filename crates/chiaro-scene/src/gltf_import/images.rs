@@ -1,12 +1,45 @@
 //! The colour space each glTF image is used in flows in, decoded RGBA8 [`Image`]s out:
-//! only images some material uses are decoded, each once (sRGB if it is colour anywhere),
-//! and the materials' texture references are renumbered into `Scene::images`. PNG and
-//! JPEG are read, from a buffer view or a URI; anything else names the image.
+//! only images a drawn material uses are decoded, each once (sRGB if it is colour
+//! anywhere), and the materials' texture references are renumbered into `Scene::images`.
+//! PNG, JPEG and WebP (EXT_texture_webp) are read, from a buffer view or a URI; anything
+//! else names the image.
 
 use super::{Loader, object_label, uri};
 use crate::error::SceneError;
-use crate::types::{ColorSpace, Image, Light, LightKind, Material};
+use crate::types::{ColorSpace, Image, Light, LightKind, Material, Mesh};
 use std::borrow::Cow;
+
+/// The colour space each glTF image is sampled in by the materials the drawn meshes use;
+/// `None` for images nothing drawn uses, which are not read.
+pub(super) fn image_uses(materials: &[Material], meshes: &[Mesh]) -> Vec<Option<ColorSpace>> {
+    let mut drawn = vec![false; materials.len()];
+    for primitive in meshes.iter().flat_map(|m| &m.primitives) {
+        if let Some(material) = primitive.material {
+            drawn[material] = true;
+        }
+    }
+    let mut uses: Vec<Option<ColorSpace>> = Vec::new();
+    for material in materials.iter().zip(drawn).filter(|(_, drawn)| *drawn).map(|(m, _)| m) {
+        let slots = [
+            (material.base_color_texture, ColorSpace::Srgb),
+            (material.metallic_roughness_texture, ColorSpace::Linear),
+            (material.normal_texture, ColorSpace::Linear),
+            (material.occlusion_texture, ColorSpace::Linear),
+            (material.emissive_texture, ColorSpace::Srgb),
+        ];
+        for (texture, color_space) in slots {
+            let Some(texture) = texture else { continue };
+            if uses.len() <= texture.image {
+                uses.resize(texture.image + 1, None);
+            }
+            let used = &mut uses[texture.image];
+            if *used != Some(ColorSpace::Srgb) {
+                *used = Some(color_space);
+            }
+        }
+    }
+    uses
+}
 
 impl Loader<'_> {
     /// Decodes each image a material or a light's cookie uses, once, and points the
@@ -21,6 +54,7 @@ impl Loader<'_> {
         lights: &mut [Light],
     ) -> Result<Vec<Image>, SceneError> {
         let mut uses = material_uses.to_vec();
+        uses.resize(self.root.images.len(), None);
         let mut cookie_user: Vec<Option<String>> = vec![None; uses.len()];
         for light in lights.iter() {
             if let Some(cookie) = light.cookie {
@@ -34,7 +68,9 @@ impl Loader<'_> {
             if let Some(color_space) = color_space {
                 scene_index[index] = images.len();
                 let decoded = self.decode_image(index, *color_space).map_err(|e| match (&cookie_user[index], e) {
-                    (Some(light), SceneError::Invalid { path, message }) if material_uses[index].is_none() => {
+                    (Some(light), SceneError::Invalid { path, message })
+                        if material_uses.get(index).copied().flatten().is_none() =>
+                    {
                         SceneError::Invalid { path, message: format!("{light}: extras.cookie: {message}") }
                     }
                     (_, e) => e,
@@ -67,7 +103,18 @@ impl Loader<'_> {
             .flatten()
             {
                 texture.image = scene_index[texture.image];
-                debug_assert!(texture.image < images.len());
+            }
+            // A material nothing draws keeps no reference to images that were not read.
+            for texture in [
+                &mut material.base_color_texture,
+                &mut material.metallic_roughness_texture,
+                &mut material.normal_texture,
+                &mut material.occlusion_texture,
+                &mut material.emissive_texture,
+            ] {
+                if texture.is_some_and(|t| t.image >= images.len()) {
+                    *texture = None;
+                }
             }
         }
         Ok(images)
@@ -96,19 +143,21 @@ impl Loader<'_> {
             }
         };
         if let Some(mime) = mime.as_deref()
-            && !matches!(mime, "image/png" | "image/jpeg" | "image/jpg")
+            && !matches!(mime, "image/png" | "image/jpeg" | "image/jpg" | "image/webp")
         {
-            return Err(self.invalid(format!("{label}: unsupported image format {mime}; Chiaro reads PNG and JPEG")));
+            return Err(
+                self.invalid(format!("{label}: unsupported image format {mime}; Chiaro reads PNG, JPEG and WebP"))
+            );
         }
         let format = match image::guess_format(&bytes) {
-            Ok(format @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => format,
+            Ok(format @ (image::ImageFormat::Png | image::ImageFormat::Jpeg | image::ImageFormat::WebP)) => format,
             Ok(other) => {
-                return Err(
-                    self.invalid(format!("{label}: unsupported image format ({other:?}); Chiaro reads PNG and JPEG"))
-                );
+                return Err(self.invalid(format!(
+                    "{label}: unsupported image format ({other:?}); Chiaro reads PNG, JPEG and WebP"
+                )));
             }
             Err(_) => {
-                return Err(self.invalid(format!("{label}: unsupported image format; Chiaro reads PNG and JPEG")));
+                return Err(self.invalid(format!("{label}: unsupported image format; Chiaro reads PNG, JPEG and WebP")));
             }
         };
         let decoded = image::load_from_memory_with_format(&bytes, format)

@@ -23,6 +23,9 @@ impl Loader<'_> {
         else {
             return Ok(None);
         };
+        if self.skipped_lights.get(light_index) == Some(&true) {
+            return Ok(None);
+        }
         let Some(light) = self
             .root
             .extensions

@@ -1,12 +1,12 @@
 //! A glTF material index in, a [`Material`] out: PBR factors, alpha mode, emissive
 //! strength, and texture references with their samplers, UV sets and
 //! KHR_texture_transform (read from the raw JSON, as the typed model drops it on normal
-//! and occlusion textures). Each image a texture uses is recorded with the colour space
-//! it is sampled in; the images themselves are decoded later, by [`super::images`].
+//! and occlusion textures). Texture references hold glTF image indices; the images the
+//! drawn materials use are decoded later, by [`super::images`].
 
 use super::{Loader, object_label};
 use crate::error::SceneError;
-use crate::types::{AlphaMode, ColorSpace, Material, SamplerDesc, TextureRef, UvTransform, WrapMode};
+use crate::types::{AlphaMode, Material, SamplerDesc, TextureRef, UvTransform, WrapMode};
 use glam::{Vec2, Vec3, Vec4};
 use gltf::json;
 use json::validation::Checked;
@@ -15,81 +15,42 @@ use serde_json::Value;
 impl Loader<'_> {
     /// A material with `TextureRef::image` still holding the glTF image index;
     /// `decode_images` maps it to `Scene::images`.
-    pub(super) fn material(
-        &mut self,
-        index: usize,
-        image_uses: &mut [Option<ColorSpace>],
-    ) -> Result<Material, SceneError> {
+    pub(super) fn material(&mut self, index: usize) -> Result<Material, SceneError> {
         let m = &self.root.materials[index];
         let label = object_label("material", index, None, m.name.as_deref());
         let raw = self.raw.get("materials").and_then(|ms| ms.get(index)).unwrap_or(&Value::Null);
         let raw_pbr = raw.get("pbrMetallicRoughness").unwrap_or(&Value::Null);
         let pbr = &m.pbr_metallic_roughness;
 
-        let mut texture = |slot: &str,
-                           texture: usize,
-                           tex_coord: u32,
-                           info: Option<&Value>,
-                           color_space: ColorSpace|
-         -> Result<TextureRef, SceneError> {
-            let reference = self.texture_ref(&format!("{label} {slot}"), texture, tex_coord, info)?;
-            let used = &mut image_uses[reference.image];
-            if *used != Some(ColorSpace::Srgb) {
-                *used = Some(color_space);
-            }
-            Ok(reference)
+        let mut texture = |slot: &str, info: Option<(usize, u32)>, raw_info: Option<&Value>| match info {
+            Some((texture, tex_coord)) => self.texture_ref(&format!("{label} {slot}"), texture, tex_coord, raw_info),
+            None => Ok(None),
         };
-
-        let base_color_texture = match &pbr.base_color_texture {
-            Some(info) => Some(texture(
-                "baseColorTexture",
-                info.index.value(),
-                info.tex_coord,
-                raw_pbr.get("baseColorTexture"),
-                ColorSpace::Srgb,
-            )?),
-            None => None,
-        };
-        let metallic_roughness_texture = match &pbr.metallic_roughness_texture {
-            Some(info) => Some(texture(
-                "metallicRoughnessTexture",
-                info.index.value(),
-                info.tex_coord,
-                raw_pbr.get("metallicRoughnessTexture"),
-                ColorSpace::Linear,
-            )?),
-            None => None,
-        };
-        let normal_texture = match &m.normal_texture {
-            Some(info) => Some(texture(
-                "normalTexture",
-                info.index.value(),
-                info.tex_coord,
-                raw.get("normalTexture"),
-                ColorSpace::Linear,
-            )?),
-            None => None,
-        };
-        let occlusion_texture = match &m.occlusion_texture {
-            Some(info) => Some(texture(
-                "occlusionTexture",
-                info.index.value(),
-                info.tex_coord,
-                raw.get("occlusionTexture"),
-                ColorSpace::Linear,
-            )?),
-            None => None,
-        };
-        let emissive_texture = match &m.emissive_texture {
-            Some(info) => Some(texture(
-                "emissiveTexture",
-                info.index.value(),
-                info.tex_coord,
-                raw.get("emissiveTexture"),
-                ColorSpace::Srgb,
-            )?),
-            None => None,
-        };
+        let base_color_texture = texture(
+            "baseColorTexture",
+            pbr.base_color_texture.as_ref().map(|t| (t.index.value(), t.tex_coord)),
+            raw_pbr.get("baseColorTexture"),
+        )?;
+        let metallic_roughness_texture = texture(
+            "metallicRoughnessTexture",
+            pbr.metallic_roughness_texture.as_ref().map(|t| (t.index.value(), t.tex_coord)),
+            raw_pbr.get("metallicRoughnessTexture"),
+        )?;
+        let normal_texture = texture(
+            "normalTexture",
+            m.normal_texture.as_ref().map(|t| (t.index.value(), t.tex_coord)),
+            raw.get("normalTexture"),
+        )?;
+        let occlusion_texture = texture(
+            "occlusionTexture",
+            m.occlusion_texture.as_ref().map(|t| (t.index.value(), t.tex_coord)),
+            raw.get("occlusionTexture"),
+        )?;
+        let emissive_texture = texture(
+            "emissiveTexture",
+            m.emissive_texture.as_ref().map(|t| (t.index.value(), t.tex_coord)),
+            raw.get("emissiveTexture"),
+        )?;
 
         let alpha_mode = match m.alpha_mode {
             Checked::Valid(json::material::AlphaMode::Mask) => AlphaMode::Mask,
@@ -144,7 +105,7 @@ impl Loader<'_> {
         texture: usize,
         tex_coord: u32,
         info: Option<&Value>,
-    ) -> Result<TextureRef, SceneError> {
+    ) -> Result<Option<TextureRef>, SceneError> {
         #[derive(serde::Deserialize)]
         #[serde(rename_all = "camelCase")]
         struct TextureTransform {
@@ -161,6 +122,11 @@ impl Loader<'_> {
         }
 
         let gltf_texture = &self.root.textures[texture];
+        // `source` is optional: an extension Chiaro does not read may give the image.
+        if gltf_texture.source.value() >= self.root.images.len() {
+            self.ignored.push(format!("{label}: textures[{texture}] has no image Chiaro reads, drawn untextured"));
+            return Ok(None);
+        }
         let sampler = gltf_texture.sampler.map(|s| sampler_desc(&self.root.samplers[s.value()])).unwrap_or_default();
         let mut reference =
             TextureRef { image: gltf_texture.source.value(), sampler, tex_coord, transform: UvTransform::default() };
@@ -185,7 +151,7 @@ impl Loader<'_> {
             self.ignored.push(format!("{label}: TEXCOORD_{} is not read, uses TEXCOORD_0", reference.tex_coord));
             reference.tex_coord = 0;
         }
-        Ok(reference)
+        Ok(Some(reference))
     }
 }
 

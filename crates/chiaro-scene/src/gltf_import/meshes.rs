@@ -4,7 +4,7 @@
 //! primitive's material has a normal map. Primitives Chiaro cannot draw are skipped and
 //! counted in the loader's tally.
 
-use super::{Loader, object_label};
+use super::Loader;
 use crate::error::SceneError;
 use crate::types::{Material, Mesh, Primitive};
 use crate::vertex_gen;
@@ -16,15 +16,19 @@ use json::validation::Checked;
 impl Loader<'_> {
     pub(super) fn mesh(&mut self, index: usize, materials: &[Material]) -> Result<Mesh, SceneError> {
         let mesh = &self.root.meshes[index];
-        let label = object_label("mesh", index, None, mesh.name.as_deref());
+        let name = mesh.name.as_deref().map(|n| format!(" ({n})")).unwrap_or_default();
         let mut primitives = Vec::new();
         for (p, primitive) in mesh.primitives.iter().enumerate() {
-            let label = format!("{label} primitive {p}");
+            let label = format!("meshes[{index}].primitives[{p}]{name}");
             if let Some(primitive) = self.primitive(primitive, &label, materials)? {
                 primitives.push(primitive);
             }
         }
-        Ok(Mesh { name: mesh.name.clone().unwrap_or_else(|| format!("mesh {index}")), primitives })
+        Ok(Mesh { name: self.mesh_name(index), primitives })
+    }
+
+    pub(super) fn mesh_name(&self, index: usize) -> String {
+        self.root.meshes[index].name.clone().unwrap_or_else(|| format!("mesh {index}"))
     }
 
     fn primitive(

@@ -26,7 +26,9 @@ mod images;
 mod lights_cameras;
 mod materials;
 mod meshes;
+mod meshopt;
 mod nodes;
+mod normalize;
 mod spec;
 mod uri;
 mod validate;
@@ -35,18 +37,26 @@ mod validate;
 mod tests;
 
 use crate::error::SceneError;
-use crate::types::{ColorSpace, MeshInstance, Scene};
+use crate::types::{Material, Mesh, MeshInstance, Scene};
 use document::Document;
 use gltf::json;
+use nodes::Placement;
 use serde_json::Value;
 use std::borrow::Cow;
-use std::cell::RefCell;
+use std::cell::{OnceCell, RefCell};
 use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 4] =
-    ["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform", "KHR_mesh_quantization"];
+pub const SUPPORTED_EXTENSIONS: [&str; 7] = [
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_texture_transform",
+    "KHR_mesh_quantization",
+    "KHR_node_visibility",
+    "EXT_meshopt_compression",
+    "EXT_texture_webp",
+];
 
 /// Loads a `.gltf` or `.glb` file and everything it references.
 pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
@@ -65,12 +75,15 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
         base_dir,
         raw: &document.raw,
         root: &document.root,
-        buffers: Vec::new(),
-        ignored: Vec::new(),
+        bin: document.bin,
+        buffers: vec![OnceCell::new(); document.root.buffers.len()],
+        decoded_views: vec![OnceCell::new(); document.root.buffer_views.len()],
+        skipped_lights: &document.skipped_lights,
+        ignored: document.notes.clone(),
         tally: Tally::default(),
         inputs: RefCell::new(vec![path.to_path_buf()]),
     };
-    let mut scene = loader.load(document.bin)?;
+    let mut scene = loader.load()?;
     scene.source = Some(path.to_path_buf());
     scene.inputs = loader.inputs.into_inner();
     tracing::debug!(
@@ -101,7 +114,15 @@ struct Loader<'a> {
     base_dir: &'a Path,
     raw: &'a Value,
     root: &'a json::Root,
-    buffers: Vec<Cow<'a, [u8]>>,
+    /// A GLB's BIN chunk.
+    bin: Option<&'a [u8]>,
+    /// Buffers are read when something drawn needs them, so a broken buffer nothing uses
+    /// does not refuse the file.
+    buffers: Vec<OnceCell<Cow<'a, [u8]>>>,
+    /// EXT_meshopt_compression views, decoded when first read.
+    decoded_views: Vec<OnceCell<Vec<u8>>>,
+    /// Per KHR_lights_punctual light, whether its type is unknown and it is skipped.
+    skipped_lights: &'a [bool],
     ignored: Vec<String>,
     tally: Tally,
     /// Files read: the document and its external buffers and images.
@@ -113,54 +134,33 @@ impl<'a> Loader<'a> {
         SceneError::Invalid { path: self.path.to_path_buf(), message: message.into() }
     }
 
-    fn load(&mut self, bin: Option<&'a [u8]>) -> Result<Scene, SceneError> {
+    fn load(&mut self) -> Result<Scene, SceneError> {
         self.note_unsupported_extensions();
-        self.buffers = self.load_buffers(bin)?;
-
-        let mut image_uses: Vec<Option<ColorSpace>> = vec![None; self.root.images.len()];
-        let mut materials = (0..self.root.materials.len())
-            .map(|index| self.material(index, &mut image_uses))
-            .collect::<Result<Vec<_>, _>>()?;
-        let meshes =
-            (0..self.root.meshes.len()).map(|index| self.mesh(index, &materials)).collect::<Result<Vec<_>, _>>()?;
-
         let placements = self.walk_scene()?;
         let moving = self.animated_nodes();
+        let mut materials =
+            (0..self.root.materials.len()).map(|index| self.material(index)).collect::<Result<Vec<_>, _>>()?;
+        let meshes = self.drawn_meshes(&placements, &materials)?;
+
         let mut instances = Vec::new();
         let mut lights = Vec::new();
         let mut cameras = Vec::new();
         for placement in &placements {
-            let node = &self.root.nodes[placement.node];
-            if let Some(mesh) = node.mesh {
-                let name = node
-                    .name
-                    .clone()
-                    .or_else(|| self.root.meshes[mesh.value()].name.clone())
-                    .unwrap_or_else(|| format!("node {}", placement.node));
-                let (cast_shadows, receive_shadows) = extras::node_shadows(node)
-                    .map_err(|e| self.invalid(format!("node {} ({name}): {e}", placement.node)))?;
-                let is_static = extras::node_static(node)
-                    .map_err(|e| self.invalid(format!("node {} ({name}): {e}", placement.node)))?
-                    .unwrap_or(!moving[placement.node]);
-                instances.push(MeshInstance {
-                    mesh: mesh.value(),
-                    node: placement.node,
-                    name,
-                    world_from_local: placement.world_from_local,
-                    cast_shadows,
-                    receive_shadows,
-                    is_static,
-                    lightmap: None,
-                });
-            }
-            if let Some(light) = self.light(placement)? {
-                lights.push(light);
+            // KHR_node_visibility: a hidden node neither draws nor lights; cameras stay.
+            if placement.visible {
+                if let Some(instance) = self.instance(placement, &moving)? {
+                    instances.push(instance);
+                }
+                if let Some(light) = self.light(placement)? {
+                    lights.push(light);
+                }
             }
             if let Some(camera) = self.camera(placement)? {
                 cameras.push(camera);
             }
         }
 
+        let image_uses = images::image_uses(&materials, &meshes);
         let images = self.decode_images(&image_uses, &mut materials, &mut lights)?;
         self.note_tally();
         Ok(Scene {
@@ -175,6 +175,53 @@ impl<'a> Loader<'a> {
             inputs: Vec::new(),
             baked: None,
         })
+    }
+
+    /// Every mesh a visible node of the scene places, converted; the others stay empty
+    /// (keeping the file's indices) and are not read.
+    fn drawn_meshes(&mut self, placements: &[Placement], materials: &[Material]) -> Result<Vec<Mesh>, SceneError> {
+        let mut drawn = vec![false; self.root.meshes.len()];
+        for placement in placements.iter().filter(|p| p.visible) {
+            if let Some(mesh) = self.root.nodes[placement.node].mesh {
+                drawn[mesh.value()] = true;
+            }
+        }
+        let unread = drawn.iter().filter(|d| !**d).count();
+        if unread > 0 {
+            let what = if unread == 1 { "mesh" } else { "meshes" };
+            self.ignored.push(format!("{unread} {what}: no visible node of the scene places it, not read"));
+        }
+        (0..self.root.meshes.len())
+            .map(|index| match drawn[index] {
+                true => self.mesh(index, materials),
+                false => Ok(Mesh { name: self.mesh_name(index), primitives: Vec::new() }),
+            })
+            .collect()
+    }
+
+    fn instance(&self, placement: &Placement, moving: &[bool]) -> Result<Option<MeshInstance>, SceneError> {
+        let node = &self.root.nodes[placement.node];
+        let Some(mesh) = node.mesh else { return Ok(None) };
+        let name = node
+            .name
+            .clone()
+            .or_else(|| self.root.meshes[mesh.value()].name.clone())
+            .unwrap_or_else(|| format!("node {}", placement.node));
+        let (cast_shadows, receive_shadows) =
+            extras::node_shadows(node).map_err(|e| self.invalid(format!("node {} ({name}): {e}", placement.node)))?;
+        let is_static = extras::node_static(node)
+            .map_err(|e| self.invalid(format!("node {} ({name}): {e}", placement.node)))?
+            .unwrap_or(!moving[placement.node]);
+        Ok(Some(MeshInstance {
+            mesh: mesh.value(),
+            node: placement.node,
+            name,
+            world_from_local: placement.world_from_local,
+            cast_shadows,
+            receive_shadows,
+            is_static,
+            lightmap: None,
+        }))
     }
 
     fn note_unsupported_extensions(&mut self) {
@@ -217,6 +264,16 @@ fn object_label(kind: &str, index: usize, uri: Option<&str>, name: Option<&str>)
     match detail {
         Some(detail) => format!("{kind} {index} ({detail})"),
         None => format!("{kind} {index}"),
+    }
+}
+
+/// `kind[index] (detail)`: the object's JSON path, with its file name or name as in
+/// [`object_label`].
+fn json_label(kind: &str, index: usize, uri: Option<&str>, name: Option<&str>) -> String {
+    let detail = uri.filter(|u| !u.starts_with("data:")).or(name);
+    match detail {
+        Some(detail) => format!("{kind}[{index}] ({detail})"),
+        None => format!("{kind}[{index}]"),
     }
 }
 

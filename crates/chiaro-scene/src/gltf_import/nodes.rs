@@ -1,7 +1,8 @@
-//! The node hierarchy in, a [`Placement`] (world transform) for each node of the scene out,
-//! parents before children. Cycles, shared children and non-finite transforms are errors.
+//! The node hierarchy in, a [`Placement`] (world transform and KHR_node_visibility) for each
+//! node of the scene out, parents before children. Cycles, shared children and non-finite
+//! transforms are errors.
 
-use super::{Loader, object_label};
+use super::{Loader, json_label};
 use crate::error::SceneError;
 use glam::{Mat4, Quat, Vec3};
 use gltf::json;
@@ -10,34 +11,36 @@ use gltf::json;
 pub(super) struct Placement {
     pub(super) node: usize,
     pub(super) world_from_local: Mat4,
+    /// KHR_node_visibility: false where the node or an ancestor has `visible: false`.
+    pub(super) visible: bool,
 }
 
 impl Loader<'_> {
-    /// World transforms of the nodes of the default scene (else scene 0, else every root
-    /// node), parents before children. A node reached twice (a cycle, or a child shared by
-    /// two parents) is an error, as glTF requires disjoint trees.
-    pub(super) fn walk_scene(&self) -> Result<Vec<Placement>, SceneError> {
+    /// World transforms of the nodes of the default scene (else scene 0), parents before
+    /// children. A file without scenes, or a scene without nodes, is empty, with a note
+    /// that says so. A node reached twice (a cycle, or a child shared by two parents) is an
+    /// error, as glTF requires disjoint trees.
+    pub(super) fn walk_scene(&mut self) -> Result<Vec<Placement>, SceneError> {
         let root = self.root;
-        let roots: Vec<usize> =
-            match root.scene.map(|s| s.value()).or(if root.scenes.is_empty() { None } else { Some(0) }) {
-                Some(scene) => root.scenes[scene].nodes.iter().map(|n| n.value()).collect(),
-                None => {
-                    let mut is_child = vec![false; root.nodes.len()];
-                    for node in &root.nodes {
-                        for child in node.children.iter().flatten() {
-                            is_child[child.value()] = true;
-                        }
-                    }
-                    (0..root.nodes.len()).filter(|&n| !is_child[n]).collect()
-                }
-            };
+        let scene = root.scene.map(|s| s.value()).or(if root.scenes.is_empty() { None } else { Some(0) });
+        let roots: Vec<usize> = match scene {
+            Some(scene) => root.scenes[scene].nodes.iter().map(|n| n.value()).collect(),
+            None => Vec::new(),
+        };
+        match scene {
+            None => self.ignored.push("the file has no scene: nothing to draw".into()),
+            Some(scene) if roots.is_empty() => {
+                self.ignored.push(format!("scenes[{scene}] has no nodes: nothing to draw"));
+            }
+            Some(_) => {}
+        }
 
         let mut visited = vec![false; root.nodes.len()];
         let mut placements = Vec::new();
-        let mut stack: Vec<(usize, Mat4)> = roots.iter().rev().map(|&n| (n, Mat4::IDENTITY)).collect();
-        while let Some((index, parent_from_world)) = stack.pop() {
+        let mut stack: Vec<(usize, Mat4, bool)> = roots.iter().rev().map(|&n| (n, Mat4::IDENTITY, true)).collect();
+        while let Some((index, parent_from_world, parent_visible)) = stack.pop() {
             let node = &root.nodes[index];
-            let label = object_label("node", index, None, node.name.as_deref());
+            let label = json_label("nodes", index, None, node.name.as_deref());
             if std::mem::replace(&mut visited[index], true) {
                 return Err(
                     self.invalid(format!("{label}: reached twice in the node hierarchy (a cycle or a shared child)"))
@@ -47,16 +50,23 @@ impl Loader<'_> {
             if !world_from_local.is_finite() {
                 return Err(self.invalid(format!("{label}: transform is not finite")));
             }
+            let visible = parent_visible && self.node_visible(index);
             for child in node.children.iter().flatten().rev() {
-                stack.push((child.value(), world_from_local));
+                stack.push((child.value(), world_from_local, visible));
             }
-            placements.push(Placement { node: index, world_from_local });
+            placements.push(Placement { node: index, world_from_local, visible });
         }
         Ok(placements)
     }
 }
 
 impl Loader<'_> {
+    /// KHR_node_visibility's `visible` on the node itself; true without the extension.
+    fn node_visible(&self, index: usize) -> bool {
+        let visible = self.raw.pointer(&format!("/nodes/{index}/extensions/KHR_node_visibility/visible"));
+        visible.and_then(serde_json::Value::as_bool).unwrap_or(true)
+    }
+
     /// Per node, whether a glTF animation moves it or one of its ancestors: those nodes are
     /// dynamic, so the baker gives them light probes rather than lightmaps.
     pub(super) fn animated_nodes(&self) -> Vec<bool> {

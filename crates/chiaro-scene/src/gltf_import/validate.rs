@@ -58,7 +58,8 @@ pub(super) fn validate(path: &Path, raw: &Value, root: &json::Root) -> Result<()
         let tolerated = p.starts_with("extensionsRequired")
             || (p.ends_with("attributes[\"POSITION\"]") && error == json::validation::Error::Missing)
             || p.ends_with("attributes[\"POSITION\"].min")
-            || p.ends_with("attributes[\"POSITION\"].max");
+            || p.ends_with("attributes[\"POSITION\"].max")
+            || optional_in_the_spec(p, error);
         if !tolerated {
             problems.push((path, error));
         }
@@ -76,6 +77,19 @@ pub(super) fn validate(path: &Path, raw: &Value, root: &json::Root) -> Result<()
         message += &format!("; and {} more", problems.len() - 3);
     }
     Err(invalid(message))
+}
+
+/// What the `gltf` crate requires and glTF 2.0 does not: an accessor without a buffer view
+/// (its elements are zeros), a texture without a source (an extension may give the image,
+/// or nothing uses it).
+fn optional_in_the_spec(path: &str, error: json::validation::Error) -> bool {
+    let missing = error == json::validation::Error::Missing;
+    let under = |kind: &str, field: &str| {
+        path.strip_prefix(kind).and_then(|rest| rest.strip_suffix(field)).is_some_and(|index| {
+            index.strip_prefix('[').and_then(|i| i.strip_suffix(']')).is_some_and(|i| i.parse::<usize>().is_ok())
+        })
+    };
+    missing && (under("accessors", ".bufferView") || under("textures", ".source"))
 }
 
 fn semantic_name(semantic: &Checked<json::mesh::Semantic>) -> String {

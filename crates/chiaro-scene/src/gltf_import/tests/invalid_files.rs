@@ -64,11 +64,11 @@ fn short_or_missing_buffers_name_the_buffer() {
     doc["buffers"][0]["byteLength"] = json!(400);
     doc["bufferViews"][0]["byteLength"] = json!(36);
     let message = invalid_message(load_doc(&dir, &doc));
-    assert_eq!(message, "buffer 0 is 36 bytes but the file says 400");
+    assert_eq!(message, "buffers[0] is 36 bytes but the file says 400");
 
     doc["buffers"][0] = json!({ "byteLength": 36, "uri": "missing%20file.bin" });
     let message = invalid_message(load_doc(&dir, &doc));
-    assert!(message.starts_with("buffer 0 (missing%20file.bin): cannot read"), "{message}");
+    assert!(message.starts_with("buffers[0] (missing%20file.bin): cannot read"), "{message}");
     assert!(message.contains("missing file.bin"), "{message}");
 
     // An external buffer next to the file loads.
@@ -99,13 +99,13 @@ fn out_of_range_indices_are_errors_not_panics() {
     let mut doc = triangle_doc();
     doc["accessors"][0]["count"] = json!(30);
     let message = invalid_message(load_doc(&dir, &doc));
-    assert!(message.starts_with("accessor 0 (POSITION of mesh 0 (triangle) primitive 0)"), "{message}");
+    assert!(message.starts_with("accessors[0] (POSITION of meshes[0].primitives[0] (triangle))"), "{message}");
 
     // A buffer view past the end of its buffer.
     let mut doc = triangle_doc();
     doc["bufferViews"][0]["byteOffset"] = json!(8);
     let message = invalid_message(load_doc(&dir, &doc));
-    assert!(message.contains("buffer view 0"), "{message}");
+    assert!(message.contains("bufferViews[0]"), "{message}");
 
     // Sizes that would overflow.
     let mut doc = triangle_doc();
@@ -146,7 +146,7 @@ fn non_finite_positions_and_transforms_are_invalid() {
         { "name": "Bigger", "scale": [1e38, 1e38, 1e38], "mesh": 0 }
     ]);
     let message = invalid_message(load_doc(&dir, &doc));
-    assert_eq!(message, "node 1 (Bigger): transform is not finite");
+    assert_eq!(message, "nodes[1] (Bigger): transform is not finite");
 
     let mut doc = triangle_doc();
     let bytes = f32_bytes(&[0.0, 0.0, 0.0, f32::NAN, 0.0, 0.0, 0.0, 1.0, 0.0]);
