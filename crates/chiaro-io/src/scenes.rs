@@ -33,6 +33,12 @@ pub fn load_scene(path: Option<&Path>, demo: &DemoScene) -> Result<Scene> {
             for reason in &scene.ignored {
                 tracing::info!("{}: ignored {reason}", p.display());
             }
+            // An empty picture is the spec's answer to a file without a scene, but rarely the
+            // user's intent, so it is said at the default log level.
+            if scene.instances.is_empty() {
+                let why = scene.ignored.iter().find(|r| r.ends_with("nothing to draw"));
+                tracing::warn!("{}: {}", p.display(), why.map_or("the scene draws nothing", String::as_str));
+            }
             Ok(scene)
         }
         None => Ok(demo_scene_with_shadows(demo.lights, demo.shadowed_spots, demo.shadowed_points)),

@@ -278,3 +278,60 @@ fn an_error_after_the_gpu_starts_is_one_line_without_xdg_runtime_dir() {
     assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
     assert!(run.stderr.starts_with("chiaro: error: output size 4000000x4"), "{}", run.stderr);
 }
+
+/// Data broken where it is drawn is refused: status 1, one line naming the file, the JSON
+/// path and the rule, and no output left behind.
+#[test]
+fn data_broken_where_drawn_is_refused_with_status_1() {
+    let triangle = good_triangle();
+    let cases: Vec<(Vec<u8>, &str, &str)> = vec![
+        (
+            triangle.replace(r#""count": 3"#, r#""count": 30"#).into_bytes(),
+            "scene.gltf",
+            "accessors[0] (POSITION of meshes[0].primitives[0]) reads 30 elements",
+        ),
+        (
+            triangle.replace(r#"[{"mesh": 0}]"#, r#"[{"mesh": 0, "children": [0]}]"#).into_bytes(),
+            "scene.gltf",
+            "nodes[0]: reached twice in the node hierarchy",
+        ),
+        (
+            triangle
+                .replace(r#""byteOffset": 0, "byteLength": 36"#, r#""byteOffset": 8, "byteLength": 36"#)
+                .into_bytes(),
+            "scene.gltf",
+            "bufferViews[0] (bytes 8..44) runs past the end of buffers[0] (36 bytes)",
+        ),
+        (
+            b"glTF\x02\x00\x00\x00\xff\x00\x00\x00".to_vec(),
+            "scene.glb",
+            "GLB header says 255 bytes but the file has 12",
+        ),
+    ];
+    for (bytes, name, expected) in &cases {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join(name), bytes).unwrap();
+        let run = chiaro(&["render", name, "-o", "out.png"], &[], dir.path());
+        assert_eq!(run.code, 1, "{name}: {}", run.stderr);
+        expect_failure(&[(name, bytes)], &["render", name, "-o", "out.png"], &[], &[&format!("{name}: "), expected]);
+    }
+}
+
+/// A file without a scene is valid: it renders empty, with a warning, and `info` lists
+/// what was set aside under `ignored:`.
+#[test]
+fn a_file_without_a_scene_renders_empty_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let gltf = r#"{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "area"}]}}}"#;
+    std::fs::write(dir.path().join("empty.gltf"), gltf).unwrap();
+    let run = chiaro(&["render", "empty.gltf", "-o", "out.png"], &[], dir.path());
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stderr.contains("empty.gltf: the file has no scene: nothing to draw"), "{}", run.stderr);
+    assert!(dir.path().join("out.png").is_file());
+    let info = chiaro(&["info", "empty.gltf"], &[], dir.path());
+    assert_eq!(info.code, 0, "{}", info.stderr);
+    let ignored = info.stdout.split_once("ignored:").map(|(_, rest)| rest).unwrap_or_default();
+    assert!(ignored.contains("the file has no scene"), "{}", info.stdout);
+    assert!(ignored.contains("lights[0]: type \"area\""), "{}", info.stdout);
+}
