@@ -8,8 +8,11 @@
 mod common;
 
 use base64::Engine as _;
+use chiaro_math::Aabb;
+use chiaro_scene::shapes::{plane, sphere};
+use chiaro_scene::types::Primitive;
 use chiaro_scene::{Scene, Settings, load_gltf};
-use common::{render, renderer};
+use common::{ldr_rgb, mean_flip, render, renderer};
 use glam::{Mat4, Vec3};
 use serde_json::{Value, json};
 use std::path::PathBuf;
@@ -25,48 +28,18 @@ enum Variant {
     Webp,
 }
 
-/// Vertex data of one primitive.
-struct Geometry {
-    positions: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
-    uvs: Vec<[f32; 2]>,
-    indices: Vec<u32>,
-}
+/// Positions are stored as SHORT in steps of 1/QUANTUM m, undone by the node's scale; the
+/// model lies within [-3, 3] m, inside SHORT's range.
+const QUANTUM: f32 = 8192.0;
 
-/// A unit sphere, latitude by longitude.
-fn sphere(rings: u32, segments: u32) -> Geometry {
-    let mut g = Geometry { positions: Vec::new(), normals: Vec::new(), uvs: Vec::new(), indices: Vec::new() };
-    for r in 0..=rings {
-        let v = r as f32 / rings as f32;
-        let theta = v * std::f32::consts::PI;
-        for s in 0..=segments {
-            let u = s as f32 / segments as f32;
-            let phi = u * std::f32::consts::TAU;
-            let p = [theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin()];
-            g.positions.push(p);
-            g.normals.push(p);
-            g.uvs.push([u, v]);
-        }
-    }
-    let row = segments + 1;
-    for r in 0..rings {
-        for s in 0..segments {
-            let a = r * row + s;
-            let b = a + row;
-            g.indices.extend([a, b, a + 1, a + 1, b, b + 1]);
-        }
-    }
-    g
-}
-
-/// A 6 m square floor at y = -1, facing up, with whole-metre corners (exact as integers).
-fn floor() -> Geometry {
-    Geometry {
-        positions: vec![[-3.0, -1.0, -3.0], [-3.0, -1.0, 3.0], [3.0, -1.0, 3.0], [3.0, -1.0, -3.0]],
-        normals: vec![[0.0, 1.0, 0.0]; 4],
-        uvs: vec![[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]],
-        indices: vec![0, 1, 2, 0, 2, 3],
-    }
+/// A 6 m square floor at y = -1, facing up, with whole-metre corners (exact as integers)
+/// and UVs in [0, 1] (as normalized integers hold them).
+fn floor() -> Primitive {
+    let mut floor = plane(6.0, 1);
+    floor.positions.iter_mut().for_each(|p| p.y = -1.0);
+    floor.uv0.iter_mut().for_each(|uv| *uv /= 6.0);
+    floor.bounds = Aabb::from_points(floor.positions.iter().copied());
+    floor
 }
 
 fn checker(colors: [[u8; 4]; 2]) -> image::DynamicImage {
@@ -96,18 +69,14 @@ struct Document {
 }
 
 impl Document {
-    fn view(
-        &mut self,
-        plain: &[u8],
-        stride: Option<usize>,
-        compressed: impl FnOnce() -> (Vec<u8>, usize, &'static str),
-    ) -> usize {
+    /// A buffer view of `plain`; with meshopt, `compressed` gives its compressed bytes, its
+    /// element count and the extension's mode.
+    fn view(&mut self, plain: &[u8], stride: Option<usize>, compressed: Option<(Vec<u8>, usize, &str)>) -> usize {
         let mut view = json!({ "buffer": 0, "byteLength": plain.len() });
         if let Some(stride) = stride {
             view["byteStride"] = json!(stride);
         }
-        if self.variant == Variant::Meshopt {
-            let (bytes, count, mode) = compressed();
+        if let Some((bytes, count, mode)) = compressed {
             view["byteOffset"] = json!(self.plain_length);
             view["extensions"] = json!({ "EXT_meshopt_compression": {
                 "buffer": 1, "byteOffset": self.bytes.len(), "byteLength": bytes.len(),
@@ -125,6 +94,24 @@ impl Document {
         self.views.len() - 1
     }
 
+    fn meshopt(&self) -> bool {
+        self.variant == Variant::Meshopt
+    }
+
+    fn attribute_view<T: bytemuck::Pod>(&mut self, values: &[T], stride: Option<usize>) -> usize {
+        let compressed = self
+            .meshopt()
+            .then(|| (meshopt::encoding::encode_vertex_buffer(values).unwrap(), values.len(), "ATTRIBUTES"));
+        self.view(bytemuck::cast_slice(values), stride, compressed)
+    }
+
+    fn index_view(&mut self, indices: &[u32], vertex_count: usize) -> usize {
+        let compressed = self.meshopt().then(|| {
+            (meshopt::encoding::encode_index_buffer(indices, vertex_count).unwrap(), indices.len(), "TRIANGLES")
+        });
+        self.view(bytemuck::cast_slice(indices), None, compressed)
+    }
+
     fn accessor(&mut self, view: usize, component: u32, normalized: bool, count: usize, ty: &str) -> usize {
         self.accessors.push(json!({
             "bufferView": view, "componentType": component, "normalized": normalized, "count": count, "type": ty
@@ -133,89 +120,71 @@ impl Document {
     }
 
     /// Float attributes, or with quantization the integer formats KHR_mesh_quantization allows.
-    fn primitive(&mut self, g: &Geometry, material: usize) -> Value {
-        let n = g.positions.len();
-        let attributes = if self.variant == Variant::Quantized {
-            // Positions lie in [-3, 3]: SHORT with 1/8192 m steps, undone by the node's scale.
+    fn primitive(&mut self, p: &Primitive, material: usize) -> Value {
+        let n = p.positions.len();
+        let (position, normal, uv, (min, max)) = if self.variant == Variant::Quantized {
             let positions: Vec<[i16; 4]> =
-                g.positions.iter().map(|p| [p[0], p[1], p[2], 0.0].map(|c| (c * 8192.0).round() as i16)).collect();
+                p.positions.iter().map(|v| v.extend(0.0).to_array().map(|c| (c * QUANTUM).round() as i16)).collect();
             let normals: Vec<[i8; 4]> =
-                g.normals.iter().map(|v| [v[0], v[1], v[2], 0.0].map(|c| (c * 127.0).round() as i8)).collect();
-            let uvs: Vec<[u16; 2]> = g.uvs.iter().map(|uv| uv.map(|c| (c * 65535.0).round() as u16)).collect();
-            let p = self.view(bytemuck::cast_slice(&positions), Some(8), || unreachable!());
-            let nv = self.view(bytemuck::cast_slice(&normals), Some(4), || unreachable!());
-            let t = self.view(bytemuck::cast_slice(&uvs), None, || unreachable!());
-            let position = self.accessor(p, 5122, false, n, "VEC3");
-            let normal = self.accessor(nv, 5120, true, n, "VEC3");
-            let uv = self.accessor(t, 5123, true, n, "VEC2");
-            json!({ "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv })
+                p.normals.iter().map(|v| v.extend(0.0).to_array().map(|c| (c * 127.0).round() as i8)).collect();
+            let uvs: Vec<[u16; 2]> =
+                p.uv0.iter().map(|uv| uv.to_array().map(|c| (c * 65535.0).round() as u16)).collect();
+            let (position, normal, uv) = (
+                self.attribute_view(&positions, Some(8)),
+                self.attribute_view(&normals, Some(4)),
+                self.attribute_view(&uvs, None),
+            );
+            // Rounding keeps order, so the stored bounds are the rounded bounds.
+            let bounds = ((p.bounds.min * QUANTUM).round(), (p.bounds.max * QUANTUM).round());
+            (
+                self.accessor(position, 5122, false, n, "VEC3"),
+                self.accessor(normal, 5120, true, n, "VEC3"),
+                self.accessor(uv, 5123, true, n, "VEC2"),
+                bounds,
+            )
         } else {
-            let p = self.view(bytemuck::cast_slice(&g.positions), Some(12), || {
-                (meshopt::encoding::encode_vertex_buffer(&g.positions).unwrap(), n, "ATTRIBUTES")
-            });
-            let nv = self.view(bytemuck::cast_slice(&g.normals), Some(12), || {
-                (meshopt::encoding::encode_vertex_buffer(&g.normals).unwrap(), n, "ATTRIBUTES")
-            });
-            let t = self.view(bytemuck::cast_slice(&g.uvs), Some(8), || {
-                (meshopt::encoding::encode_vertex_buffer(&g.uvs).unwrap(), n, "ATTRIBUTES")
-            });
-            let position = self.accessor(p, 5126, false, n, "VEC3");
-            let normal = self.accessor(nv, 5126, false, n, "VEC3");
-            let uv = self.accessor(t, 5126, false, n, "VEC2");
-            json!({ "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv })
+            let (position, normal, uv) = (
+                self.attribute_view(&p.positions, Some(12)),
+                self.attribute_view(&p.normals, Some(12)),
+                self.attribute_view(&p.uv0, Some(8)),
+            );
+            (
+                self.accessor(position, 5126, false, n, "VEC3"),
+                self.accessor(normal, 5126, false, n, "VEC3"),
+                self.accessor(uv, 5126, false, n, "VEC2"),
+                (p.bounds.min, p.bounds.max),
+            )
         };
-        let mut attributes = attributes;
-        let (min, max) = bounds(&g.positions, if self.variant == Variant::Quantized { 8192.0 } else { 1.0 });
-        let position = attributes["POSITION"].as_u64().unwrap() as usize;
-        self.accessors[position]["min"] = json!(min);
-        self.accessors[position]["max"] = json!(max);
-        let i = self.view(bytemuck::cast_slice(&g.indices), None, || {
-            (meshopt::encoding::encode_index_buffer(&g.indices, n).unwrap(), g.indices.len(), "TRIANGLES")
-        });
-        let indices = self.accessor(i, 5125, false, g.indices.len(), "SCALAR");
-        attributes = json!({ "attributes": attributes, "indices": indices, "material": material });
-        attributes
+        self.accessors[position]["min"] = json!(min.to_array());
+        self.accessors[position]["max"] = json!(max.to_array());
+        let indices = self.index_view(&p.indices, n);
+        let indices = self.accessor(indices, 5125, false, p.indices.len(), "SCALAR");
+        json!({
+            "attributes": { "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv },
+            "indices": indices,
+            "material": material
+        })
     }
-}
-
-/// Per-axis bounds of `points` in the accessor's units (`scale` times metres, rounded
-/// where the values are stored as integers).
-fn bounds(points: &[[f32; 3]], scale: f32) -> ([f32; 3], [f32; 3]) {
-    let stored = |c: f32| if scale == 1.0 { c } else { (c * scale).round() };
-    let mut min = [f32::MAX; 3];
-    let mut max = [f32::MIN; 3];
-    for p in points {
-        for k in 0..3 {
-            min[k] = min[k].min(stored(p[k]));
-            max[k] = max[k].max(stored(p[k]));
-        }
-    }
-    (min, max)
 }
 
 /// The model as a glTF document: a textured sphere over a floor, a directional light that
 /// casts the sphere's shadow, and a camera.
 fn model(variant: Variant, texture: &image::DynamicImage) -> Value {
     let mut doc = Document { variant, plain_length: 0, bytes: Vec::new(), views: Vec::new(), accessors: Vec::new() };
-    let sphere = doc.primitive(&sphere(24, 48), 0);
+    let sphere = doc.primitive(&sphere(1.0, 48, 24), 0);
     let floor = doc.primitive(&floor(), 1);
-    let node_scale = if variant == Variant::Quantized { 1.0 / 8192.0 } else { 1.0 };
+    let node_scale = if variant == Variant::Quantized { 1.0 / QUANTUM } else { 1.0 };
     let world_from_camera = Mat4::look_at_rh(Vec3::new(0.0, 1.5, 4.5), Vec3::new(0.0, -0.3, 0.0), Vec3::Y).inverse();
     let world_from_light = Mat4::look_at_rh(Vec3::ZERO, Vec3::new(-0.4, -1.0, -0.5), Vec3::Y).inverse();
-    let (image, extensions) = match variant {
-        Variant::Webp => (
-            json!({ "uri": data_uri("image/webp", &encoded(texture, image::ImageFormat::WebP)) }),
-            vec!["EXT_texture_webp"],
-        ),
-        Variant::Quantized => (
-            json!({ "uri": data_uri("image/png", &encoded(texture, image::ImageFormat::Png)) }),
-            vec!["KHR_mesh_quantization"],
-        ),
-        Variant::Meshopt => (
-            json!({ "uri": data_uri("image/png", &encoded(texture, image::ImageFormat::Png)) }),
-            vec!["EXT_meshopt_compression"],
-        ),
-        Variant::Plain => (json!({ "uri": data_uri("image/png", &encoded(texture, image::ImageFormat::Png)) }), vec![]),
+    let image = match variant {
+        Variant::Webp => json!({ "uri": data_uri("image/webp", &encoded(texture, image::ImageFormat::WebP)) }),
+        _ => json!({ "uri": data_uri("image/png", &encoded(texture, image::ImageFormat::Png)) }),
+    };
+    let extensions = match variant {
+        Variant::Plain => vec![],
+        Variant::Quantized => vec!["KHR_mesh_quantization"],
+        Variant::Meshopt => vec!["EXT_meshopt_compression"],
+        Variant::Webp => vec!["EXT_texture_webp"],
     };
     let texture_json = match variant {
         Variant::Webp => json!({ "extensions": { "EXT_texture_webp": { "source": 0 } } }),
@@ -270,36 +239,26 @@ fn load(doc: &Value, name: &str) -> Scene {
 fn rendered(scene: &Scene) -> Vec<u8> {
     let mut settings = Settings::default();
     settings.render.msaa = 1;
-    let frame = render(&mut renderer(), scene, &settings, SIZE);
-    frame.ldr.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
-}
-
-fn mean_flip(reference: &[u8], test: &[u8]) -> f32 {
-    let error = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(SIZE, SIZE, reference),
-        nv_flip::FlipImageRgb8::with_data(SIZE, SIZE, test),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    nv_flip::FlipPool::from_image(&error).mean()
+    ldr_rgb(&render(&mut renderer(), scene, &settings, SIZE))
 }
 
 #[test]
 fn quantized_meshopt_and_webp_variants_render_as_the_plain_model() {
     let texture = checker([[200, 40, 30, 255], [240, 240, 230, 255]]);
     let plain_scene = load(&model(Variant::Plain, &texture), "plain.gltf");
-    assert_eq!(plain_scene.triangle_count(), 24 * 48 * 2 + 2);
+    assert_eq!(plain_scene.triangle_count(), sphere(1.0, 48, 24).triangle_count() + floor().triangle_count());
     let plain = rendered(&plain_scene);
     for variant in [Variant::Quantized, Variant::Meshopt, Variant::Webp] {
         let scene = load(&model(variant, &texture), &format!("{variant:?}.gltf"));
         assert_eq!(scene.triangle_count(), plain_scene.triangle_count(), "{variant:?}");
-        let flip = mean_flip(&plain, &rendered(&scene));
+        let flip = mean_flip(SIZE, &plain, &rendered(&scene));
         eprintln!("{variant:?} against the plain model: mean FLIP {flip}");
         assert!(flip < MAX_MEAN_FLIP, "{variant:?}: mean FLIP {flip}");
     }
 
     // The same model with its checker's red turned blue scores well above the limit.
     let changed = checker([[30, 40, 200, 255], [240, 240, 230, 255]]);
-    let flip = mean_flip(&plain, &rendered(&load(&model(Variant::Plain, &changed), "changed.gltf")));
+    let flip = mean_flip(SIZE, &plain, &rendered(&load(&model(Variant::Plain, &changed), "changed.gltf")));
     eprintln!("a changed texture against the plain model: mean FLIP {flip}");
     assert!(flip > 2.0 * MAX_MEAN_FLIP, "a changed texture scored only {flip}");
 }

@@ -8,7 +8,7 @@ mod common;
 use chiaro_render::{FrameOptions, FrameOutput, View};
 use chiaro_scene::demo::{DEMO_OTHER_LIGHTS, demo_scene};
 use chiaro_scene::{RenderPath, Scene, Settings};
-use common::renderer;
+use common::{ldr_rgb, mean_flip, renderer};
 
 const SIZE: u32 = 256;
 const REFERENCE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/demo_256.png");
@@ -35,16 +35,7 @@ fn render_path(scene: &Scene, path: RenderPath) -> Vec<u8> {
     let frame: FrameOutput = renderer
         .render(scene, &prepared, &view, &settings, FrameOptions { readback: true, ..Default::default() })
         .unwrap();
-    frame.ldr.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
-}
-
-fn mean_flip(reference: &[u8], test: &[u8]) -> f32 {
-    let error = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(SIZE, SIZE, reference),
-        nv_flip::FlipImageRgb8::with_data(SIZE, SIZE, test),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    nv_flip::FlipPool::from_image(&error).mean()
+    ldr_rgb(&frame)
 }
 
 fn reference() -> Vec<u8> {
@@ -65,7 +56,7 @@ fn demo_matches_the_reference_image_on_each_path() {
         if std::env::var_os("CHIARO_UPDATE_REFERENCE").is_some() {
             image::save_buffer(file, &rendered, SIZE, SIZE, image::ExtendedColorType::Rgb8).unwrap();
         }
-        let mean = mean_flip(&read_reference(file), &rendered);
+        let mean = mean_flip(SIZE, &read_reference(file), &rendered);
         eprintln!("{path:?}: mean FLIP against the reference: {mean}");
         assert!(mean < MAX_MEAN_FLIP, "{path:?}: mean FLIP {mean} against {file}");
     }
@@ -76,7 +67,7 @@ fn the_metric_notices_a_moved_light() {
     let mut scene = demo_scene(DEMO_OTHER_LIGHTS);
     let spot = scene.lights.iter_mut().find(|l| l.name.starts_with("spot")).unwrap();
     spot.world_from_light.w_axis.x += 2.0;
-    let mean = mean_flip(&reference(), &render_rgb(&scene));
+    let mean = mean_flip(SIZE, &reference(), &render_rgb(&scene));
     eprintln!("a spot moved 2 m: mean FLIP {mean}, {:.1} times the limit", mean / MAX_MEAN_FLIP);
     assert!(mean > MOVED_LIGHT_MARGIN * MAX_MEAN_FLIP, "moving a spot light scored only {mean}");
 }

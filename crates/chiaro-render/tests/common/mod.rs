@@ -24,6 +24,21 @@ pub fn render(renderer: &mut Renderer, scene: &Scene, settings: &Settings, size:
         .expect("render")
 }
 
+/// The frame's LDR image as RGB8, alpha dropped, as FLIP compares it.
+pub fn ldr_rgb(frame: &FrameOutput) -> Vec<u8> {
+    frame.ldr.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
+}
+
+/// NVIDIA FLIP's mean error between two `size` x `size` RGB8 images.
+pub fn mean_flip(size: u32, reference: &[u8], test: &[u8]) -> f32 {
+    let error = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(size, size, reference),
+        nv_flip::FlipImageRgb8::with_data(size, size, test),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    nv_flip::FlipPool::from_image(&error).mean()
+}
+
 /// Covered pixels: (index, world position, normal, rendered radiance).
 pub fn surface_pixels(frame: &FrameOutput) -> Vec<(usize, Vec3, Vec3, Vec3)> {
     let aovs = frame.aovs.as_ref().expect("aovs");

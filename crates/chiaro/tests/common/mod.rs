@@ -63,8 +63,9 @@ pub fn error_lines(run: &Run) -> Vec<&str> {
     run.stderr.lines().filter(|l| l.starts_with("chiaro: error:")).collect()
 }
 
-/// Writes `files` into a fresh folder, renders `scene` there, and checks the failure.
-pub fn expect_failure(files: &[(&str, &[u8])], args: &[&str], env: &[(&str, &str)], must_contain: &[&str]) {
+/// Writes `files` into a fresh folder, renders `scene` there, and checks the failure;
+/// returns its exit status.
+pub fn expect_failure(files: &[(&str, &[u8])], args: &[&str], env: &[(&str, &str)], must_contain: &[&str]) -> i32 {
     let dir = tempfile::tempdir().unwrap();
     for (name, content) in files {
         std::fs::write(dir.path().join(name), content).unwrap();
@@ -88,6 +89,7 @@ pub fn expect_failure(files: &[(&str, &[u8])], args: &[&str], env: &[(&str, &str
         })
         .collect();
     assert!(leftovers.is_empty(), "left files behind: {leftovers:?}");
+    run.code
 }
 
 pub fn read_exr_channels(path: &Path) -> Vec<(String, Vec<f32>)> {
