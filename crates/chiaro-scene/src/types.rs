@@ -234,6 +234,10 @@ pub struct Material {
     pub double_sided: bool,
     /// How its surfaces cast shadows (`extras.shadowCasting`, or by alpha mode).
     pub shadow_casting: ShadowCasting,
+    /// KHR_materials_unlit: the surface shows its base colour (factor times texture, alpha
+    /// by `alpha_mode`) as emitted radiance, lit by no light, shadow, ambient or bake. It
+    /// still casts shadows by `shadow_casting`.
+    pub unlit: bool,
 }
 
 impl Default for Material {
@@ -257,6 +261,7 @@ impl Default for Material {
             alpha_cutoff: 0.5,
             double_sided: false,
             shadow_casting: ShadowCasting::On,
+            unlit: false,
         }
     }
 }

@@ -78,6 +78,7 @@ impl Loader<'_> {
             alpha_cutoff: m.alpha_cutoff.map_or(0.5, |c| c.0),
             double_sided: m.double_sided,
             shadow_casting,
+            unlit: raw.pointer("/extensions/KHR_materials_unlit").is_some(),
         };
         let factors_finite = material.base_color.is_finite()
             && material.emissive.is_finite()

@@ -48,9 +48,10 @@ use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 7] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 8] = [
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
+    "KHR_materials_unlit",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "KHR_node_visibility",

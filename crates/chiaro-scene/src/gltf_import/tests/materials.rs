@@ -131,3 +131,23 @@ fn materials_textures_and_generated_tangents() {
         assert_eq!(t.w, 1.0);
     }
 }
+
+#[test]
+fn khr_materials_unlit_marks_its_materials_unlit() {
+    let dir = TempDir::new("unlit");
+    let mut doc = triangle_doc();
+    doc["meshes"][0]["primitives"][0]["material"] = json!(0);
+    // Required, as files that cannot be shown lit ask: the importer must accept it.
+    doc["extensionsUsed"] = json!(["KHR_materials_unlit"]);
+    doc["extensionsRequired"] = json!(["KHR_materials_unlit"]);
+    doc["materials"] = json!([
+        { "name": "flat", "extensions": { "KHR_materials_unlit": {} },
+          "pbrMetallicRoughness": { "baseColorFactor": [0.2, 0.4, 0.6, 1.0] } },
+        { "name": "lit" }
+    ]);
+    let scene = load_doc(&dir, &doc).unwrap();
+    assert!(scene.materials[0].unlit, "the extension's presence makes the material unlit");
+    assert_eq!(scene.materials[0].base_color, Vec4::new(0.2, 0.4, 0.6, 1.0));
+    assert!(!scene.materials[1].unlit, "a material without the extension is lit");
+    assert!(!scene.ignored.iter().any(|note| note.contains("KHR_materials_unlit")), "{:?}", scene.ignored);
+}
