@@ -67,6 +67,9 @@ pub const MATERIAL_ALPHA_MASK: u32 = 1;
 pub const MATERIAL_ALPHA_BLEND: u32 = 2;
 /// `GpuMaterial::flags` bit: the material has a normal texture.
 pub const MATERIAL_FLAG_NORMAL_TEXTURE: u32 = 1;
+/// `GpuMaterial::flags` bit: KHR_materials_unlit, the surface shows its base colour and no
+/// light.
+pub const MATERIAL_FLAG_UNLIT: u32 = 2;
 
 /// `GpuFrame::debug_view`.
 pub const DEBUG_VIEW_NONE: u32 = 0;
@@ -135,6 +138,7 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("MATERIAL_ALPHA_MASK", MATERIAL_ALPHA_MASK),
     ("MATERIAL_ALPHA_BLEND", MATERIAL_ALPHA_BLEND),
     ("MATERIAL_FLAG_NORMAL_TEXTURE", MATERIAL_FLAG_NORMAL_TEXTURE),
+    ("MATERIAL_FLAG_UNLIT", MATERIAL_FLAG_UNLIT),
     ("DEBUG_VIEW_NONE", DEBUG_VIEW_NONE),
     ("DEBUG_VIEW_CASCADES", DEBUG_VIEW_CASCADES),
     ("CASTER_CLAMP_DEPTH", CASTER_CLAMP_DEPTH),

@@ -9,7 +9,7 @@ mod textures;
 use crate::gpu::{GpuMaterial, GpuObject, GpuTextureTransform, GpuVertex};
 use crate::plan::draws::{Draw, GeometryLayout, scene_draws};
 use crate::shader_constants::{
-    MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_ALPHA_OPAQUE, MATERIAL_FLAG_NORMAL_TEXTURE,
+    MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_ALPHA_OPAQUE, MATERIAL_FLAG_NORMAL_TEXTURE, MATERIAL_FLAG_UNLIT,
 };
 use baked::BakedTextures;
 use bytemuck::Zeroable;
@@ -102,7 +102,8 @@ pub fn gpu_material(m: &Material) -> GpuMaterial {
             AlphaMode::Blend => MATERIAL_ALPHA_BLEND,
         },
         double_sided: m.double_sided as u32,
-        flags: if m.normal_texture.is_some() { MATERIAL_FLAG_NORMAL_TEXTURE } else { 0 },
+        flags: if m.normal_texture.is_some() { MATERIAL_FLAG_NORMAL_TEXTURE } else { 0 }
+            | if m.unlit { MATERIAL_FLAG_UNLIT } else { 0 },
         _pad: 0,
         base_color_uv: texture_transform(m.base_color_texture.as_ref()),
         metallic_roughness_uv: texture_transform(m.metallic_roughness_texture.as_ref()),
