@@ -9,6 +9,7 @@
 pub mod mutate;
 pub mod rng;
 pub mod seeds;
+pub mod spec_seeds;
 
 use rng::Rng;
 use serde_json::Value;

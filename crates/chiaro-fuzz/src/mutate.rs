@@ -1,16 +1,18 @@
 //! Mutations. Byte-level ones (flips, interesting bytes, insertions, deletions, repeats,
 //! splices from another seed) find parser bugs; structure-aware ones keep the input
 //! well-formed so that the importer's later checks are reached: on glTF JSON they swap a
-//! value for an interesting one, delete or repeat members, and add glTF keys; on TOML they
-//! rewrite values, repeat lines and add keys.
+//! value for an interesting one, delete or repeat members, add glTF keys, and change the
+//! bytes inside a data URI (meshopt streams, WebP images, accessor data) while keeping it
+//! a valid URI; on TOML they rewrite values, repeat lines and add keys.
 
 use crate::rng::Rng;
+use base64::Engine as _;
 use serde_json::{Value, json};
 
 const INTERESTING_BYTES: [u8; 12] = [0, 0xff, 0x7f, 0x80, b'"', b'{', b'[', b'-', b'9', b',', b'.', b'e'];
 
 /// Keys the glTF schema knows, to add where they do not belong (or do, with bad values).
-const GLTF_KEYS: [&str; 44] = [
+const GLTF_KEYS: [&str; 58] = [
     "byteStride",
     "byteOffset",
     "byteLength",
@@ -55,6 +57,20 @@ const GLTF_KEYS: [&str; 44] = [
     "animations",
     "channels",
     "target",
+    "visible",
+    "filter",
+    "fallback",
+    "buffer",
+    "KHR_node_visibility",
+    "KHR_materials_unlit",
+    "EXT_meshopt_compression",
+    "EXT_texture_webp",
+    "KHR_mesh_quantization",
+    "scenes",
+    "perspective",
+    "aspectRatio",
+    "zfar",
+    "pointer",
 ];
 
 fn interesting_value(rng: &mut Rng) -> Value {
@@ -97,6 +113,28 @@ fn interesting_value(rng: &mut Rng) -> Value {
         json!([[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]),
         json!({"KHR_lights_punctual": {"light": 0}, "KHR_texture_transform": {"scale": [1e38, 0]}}),
         json!(["KHR_draco_mesh_compression"]),
+        json!(0.0),
+        json!(1.0),
+        json!(2.5),
+        json!("area"),
+        json!("spot"),
+        json!("ATTRIBUTES"),
+        json!("TRIANGLES"),
+        json!("INDICES"),
+        json!("OCTAHEDRAL"),
+        json!("QUATERNION"),
+        json!("EXPONENTIAL"),
+        json!({ "KHR_node_visibility": { "visible": false } }),
+        json!({ "KHR_materials_unlit": {} }),
+        json!({ "EXT_texture_webp": { "source": 0 } }),
+        json!({ "EXT_meshopt_compression": { "fallback": true } }),
+        json!({ "EXT_meshopt_compression": { "buffer": 0, "byteLength": 64, "byteStride": 4, "count": 16, "mode": "ATTRIBUTES" } }),
+        json!({ "EXT_meshopt_compression": { "buffer": 0, "byteLength": 8, "byteStride": 8, "count": 1 << 30, "mode": "ATTRIBUTES", "filter": "QUATERNION" } }),
+        json!({ "EXT_meshopt_compression": { "buffer": 0, "byteLength": 16, "byteStride": 2, "count": 3, "mode": "TRIANGLES" } }),
+        json!({ "count": 1, "indices": { "bufferView": 0, "componentType": 5121 }, "values": { "bufferView": 0 } }),
+        json!({ "count": 4294967295u64, "indices": { "bufferView": 0, "componentType": 5125 }, "values": { "bufferView": 0 } }),
+        json!(["KHR_mesh_quantization", "EXT_meshopt_compression", "KHR_materials_unlit", "EXT_texture_webp"]),
+        json!("data:image/webp;base64,UklGRg=="),
     ];
     rng.pick(&values).clone()
 }
@@ -146,6 +184,18 @@ pub fn mutate_json(rng: &mut Rng, doc: &Value) -> Vec<u8> {
     let mut doc = doc.clone();
     let mut all = Vec::new();
     places(&doc, &mut Vec::new(), &mut all, &mut 4096);
+    // Data URIs are few among a document's places: picked at random they would rarely
+    // be reached, so a quarter of the mutants change one's bytes.
+    if rng.chance(4) {
+        let uris: Vec<&Vec<Step>> =
+            all.iter().filter(|path| at(&mut doc, path).and_then(|v| v.as_str()).is_some_and(is_data_uri)).collect();
+        if !uris.is_empty() {
+            let path = rng.pick(&uris).to_vec();
+            if let Some(uri) = at(&mut doc, &path) {
+                *uri = Value::from(mutate_payload(rng, uri.as_str().unwrap_or_default()));
+            }
+        }
+    }
     for _ in 0..1 + rng.below(3) {
         let path = rng.pick(&all).clone();
         let Some(target) = at(&mut doc, &path) else { continue };
@@ -199,6 +249,19 @@ pub fn mutate_json(rng: &mut Rng, doc: &Value) -> Vec<u8> {
         }
     }
     serde_json::to_vec(&doc).expect("a Value serializes")
+}
+
+fn is_data_uri(s: &str) -> bool {
+    s.starts_with("data:") && s.contains(";base64,")
+}
+
+/// A base64 data URI with its decoded bytes mutated, still a valid URI.
+fn mutate_payload(rng: &mut Rng, uri: &str) -> String {
+    let base64 = &base64::engine::general_purpose::STANDARD;
+    let Some((head, payload)) = uri.split_once(";base64,") else { return uri.to_owned() };
+    let bytes = base64.decode(payload).unwrap_or_default();
+    let mutated = mutate_bytes(rng, &bytes, &bytes);
+    format!("{head};base64,{}", base64.encode(mutated))
 }
 
 /// Lines to add to a settings file.

@@ -1,6 +1,7 @@
 //! The corpus the mutators start from: every scene of the repository's `tests/assets`, made
 //! self-contained (buffers inlined as data URIs, images swapped for a 1x1 PNG so that
-//! each input loads in milliseconds), one of them packed as a GLB, and a few settings
+//! each input loads in milliseconds), one of them packed as a GLB, the seeds written by
+//! code for the rules and extensions the assets lack (`spec_seeds`), and a few settings
 //! files that cover every section.
 
 use base64::Engine as _;
@@ -78,7 +79,7 @@ pub fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
     out
 }
 
-/// The glTF seeds: each test scene inlined, and the smallest also as a GLB.
+/// The glTF seeds: each test scene inlined, the smallest also as a GLB, then the spec seeds.
 pub fn gltf_seeds() -> anyhow::Result<Vec<Vec<u8>>> {
     let mut files = Vec::new();
     gltf_files(&test_assets(), &mut files)?;
@@ -97,6 +98,7 @@ pub fn gltf_seeds() -> anyhow::Result<Vec<Vec<u8>>> {
         doc["buffers"][0].as_object_mut().map(|b| b.remove("uri"));
         seeds.push(glb(&serde_json::to_vec(&doc)?, &bin));
     }
+    seeds.extend(crate::spec_seeds::spec_seeds().into_iter().map(|seed| seed.bytes));
     Ok(seeds)
 }
 
