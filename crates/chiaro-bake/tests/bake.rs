@@ -31,6 +31,7 @@ fn room(size: f32, rho: f32) -> Scene {
             receive_shadows: true,
             is_static: true,
             lightmap: None,
+            label: 0,
         }],
         materials: vec![Material {
             name: "grey".into(),

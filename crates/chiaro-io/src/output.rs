@@ -16,6 +16,8 @@ pub enum Encoded<'a> {
     ExrRgb { width: u32, height: u32, rgb: &'a [[f32; 3]] },
     /// One float32 channel named `Y`.
     ExrSingle { width: u32, height: u32, values: &'a [f32] },
+    /// One uint32 channel named `Y` (ids, exact).
+    ExrU32 { width: u32, height: u32, values: &'a [u32] },
 }
 
 impl Encoded<'_> {
@@ -39,6 +41,13 @@ impl Encoded<'_> {
                 Image::from_channels((w, *height as usize), pixels).write().to_file(path)?
             }
             Encoded::ExrSingle { width, height, values } => {
+                let w = *width as usize;
+                let pixels = SpecificChannels::build()
+                    .with_channel("Y")
+                    .with_pixel_fn(|p: Vec2<usize>| (values[p.1 * w + p.0],));
+                Image::from_channels((w, *height as usize), pixels).write().to_file(path)?
+            }
+            Encoded::ExrU32 { width, height, values } => {
                 let w = *width as usize;
                 let pixels = SpecificChannels::build()
                     .with_channel("Y")

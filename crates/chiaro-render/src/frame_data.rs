@@ -114,7 +114,8 @@ impl FrameData {
                 entry(0, S::VERTEX | S::FRAGMENT, buffer(uniform)),
                 entry(1, S::FRAGMENT, buffer(uniform)),
                 entry(2, S::FRAGMENT, buffer(uniform)),
-                entry(3, S::VERTEX, buffer(storage)),
+                // The id pass reads its objects' node and label in the fragment stage.
+                entry(3, S::VERTEX | S::FRAGMENT, buffer(storage)),
                 entry(4, S::FRAGMENT, buffer(uniform)),
                 entry(5, S::FRAGMENT, DEPTH_TEXTURE),
                 entry(6, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),

@@ -33,7 +33,7 @@ pub use wgpu;
 pub use context::GpuContext;
 pub use debug_view::{AovView, DebugView};
 pub use error::RenderError;
-pub use output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, ShadowStatus};
+pub use output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, Ids, ShadowStatus};
 pub use plan::FramePlan;
 pub use renderer::{PreparedScene, Renderer};
 pub use view::View;

@@ -15,6 +15,8 @@ pub struct FrameOptions {
     pub aovs: bool,
     /// Also render each light's shadow attenuation (needs `readback`).
     pub shadow_aovs: bool,
+    /// Also render each pixel's glTF node and label (`FrameOutput::ids`).
+    pub ids: bool,
     /// Copy the images back to the CPU, waiting for the frame (off for benchmarking and
     /// for frames that go to a window).
     pub readback: bool,
@@ -28,7 +30,7 @@ pub struct FrameOptions {
 impl FrameOptions {
     /// Whether the frame must be waited for.
     pub fn reads_back(&self) -> bool {
-        self.readback || self.shadow_aovs || self.read_shadow_atlas
+        self.readback || self.shadow_aovs || self.ids || self.read_shadow_atlas
     }
 }
 
@@ -83,6 +85,15 @@ pub struct Aovs {
     pub baked_irradiance: Vec<[f32; 3]>,
 }
 
+/// Which surface each pixel shows, exactly (one sample a pixel, never blended).
+#[derive(Clone, Debug, Default)]
+pub struct Ids {
+    /// The glTF node (demo object) whose mesh the pixel shows; `NO_NODE` (u32::MAX) on the sky.
+    pub instance: Vec<u32>,
+    /// That node's `extras.label`; 0 where it has none and on the sky.
+    pub label: Vec<u32>,
+}
+
 /// A shadow atlas as read back: its side and depths, row-major.
 #[derive(Clone, Debug)]
 pub struct AtlasImage {
@@ -108,6 +119,8 @@ pub struct FrameOutput {
     pub ldr: Vec<u8>,
     /// World position, normal, depth and baked light per pixel, if asked for.
     pub aovs: Option<Aovs>,
+    /// The glTF node and label per pixel, if asked for.
+    pub ids: Option<Ids>,
     /// CPU and GPU times of the frame.
     pub timings: FrameTimings,
     /// Per scene light (by index in `Scene::lights`): the shadow attenuation the shading

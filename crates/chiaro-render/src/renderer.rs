@@ -101,7 +101,12 @@ impl Renderer {
         settings: &Settings,
         options: FrameOptions,
     ) -> FramePlan {
-        let request = PlanRequest { aovs: options.aovs, debug: options.debug, shadow_aovs: options.shadow_aovs };
+        let request = PlanRequest {
+            aovs: options.aovs,
+            debug: options.debug,
+            shadow_aovs: options.shadow_aovs,
+            ids: options.ids,
+        };
         FramePlan::new(scene, &prepared.gpu.draws, view, settings, &mut self.atlas_tiles, request)
     }
 
@@ -237,6 +242,7 @@ impl Renderer {
             hdr: Vec::new(),
             ldr: Vec::new(),
             aovs: None,
+            ids: None,
             timings: FrameTimings::default(),
             shadow_aovs: Vec::new(),
             shadow_atlases: Vec::new(),

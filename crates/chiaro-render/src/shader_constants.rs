@@ -110,6 +110,8 @@ pub const CLUSTER_SLICES: u32 = chiaro_math::culling::CLUSTER_SLICES;
 
 /// `GpuAovLight::list_index` of a light the frame does not shade.
 pub const NO_LIGHT: u32 = u32::MAX;
+/// `GpuObject::node` of an object no glTF node places, and the id pass's sky.
+pub const NO_NODE: u32 = u32::MAX;
 
 /// Every `u32` constant above, by the name the shaders import it with.
 pub const U32_CONSTANTS: &[(&str, u32)] = &[
@@ -143,6 +145,7 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("DEBUG_VIEW_CASCADES", DEBUG_VIEW_CASCADES),
     ("CASTER_CLAMP_DEPTH", CASTER_CLAMP_DEPTH),
     ("NO_LIGHT", NO_LIGHT),
+    ("NO_NODE", NO_NODE),
     ("LIGHT_CULLING_NONE", LIGHT_CULLING_NONE),
     ("LIGHT_CULLING_CLUSTERED", LIGHT_CULLING_CLUSTERED),
     ("LIGHT_CULLING_PER_OBJECT", LIGHT_CULLING_PER_OBJECT),

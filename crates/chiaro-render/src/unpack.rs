@@ -4,10 +4,10 @@
 //! exported target stays as bytes in `FrameOutput::images`.
 
 use crate::graph::{OUTPUT, Target};
-use crate::output::{Aovs, AtlasImage, FrameOutput, f16_to_f32};
+use crate::output::{Aovs, AtlasImage, FrameOutput, Ids, f16_to_f32};
 use crate::passes::forward::HDR;
 use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
-use crate::passes::{aov, shadow_aov};
+use crate::passes::{aov, id, shadow_aov};
 
 /// Fills `out` from the read-back bytes of each target.
 pub fn unpack_images(out: &mut FrameOutput, read: Vec<(Target, Vec<u8>)>, exposure: f32) {
@@ -21,6 +21,7 @@ pub fn unpack_images(out: &mut FrameOutput, read: Vec<(Target, Vec<u8>)>, exposu
             aov::POSITION => position = Some(bytes),
             aov::NORMAL_DEPTH => normal = Some(bytes),
             aov::BAKED => baked = Some(bytes),
+            id::IDS => out.ids = Some(ids(&bytes)),
             shadow_aov::SHADOW => out.shadow_aovs = shadow_layers(&bytes, out.width, out.height),
             DIRECTIONAL_ATLAS => {
                 let size = out.plan.shadows.directional_atlas_size;
@@ -38,6 +39,15 @@ pub fn unpack_images(out: &mut FrameOutput, read: Vec<(Target, Vec<u8>)>, exposu
     if let (Some(position), Some(normal), Some(baked)) = (position, normal, baked) {
         out.aovs = Some(aovs(&position, &normal, &baked));
     }
+}
+
+/// Rg32Uint (node, label) texels to the two id images.
+fn ids(bytes: &[u8]) -> Ids {
+    let (instance, label) = bytes
+        .chunks_exact(8)
+        .map(|t| (u32::from_le_bytes([t[0], t[1], t[2], t[3]]), u32::from_le_bytes([t[4], t[5], t[6], t[7]])))
+        .unzip();
+    Ids { instance, label }
 }
 
 /// Rgba16Float pre-exposed radiance to linear radiance.

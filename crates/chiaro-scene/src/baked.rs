@@ -233,6 +233,7 @@ mod tests {
                 receive_shadows: true,
                 is_static: true,
                 lightmap: None,
+                label: 0,
             });
         }
         scene

@@ -98,6 +98,7 @@ fn place_demo_objects(scene: &mut Scene) {
             receive_shadows: true,
             is_static: true,
             lightmap: None,
+            label: 0,
         });
     };
     place(0, "floor", Mat4::IDENTITY);

@@ -30,6 +30,7 @@ pub fn floor_scene(size: f32, eye: Vec3, lights: Vec<Light>) -> Scene {
             receive_shadows: true,
             is_static: true,
             lightmap: None,
+            label: 0,
         }],
         materials: vec![Material {
             name: "white".into(),
@@ -78,6 +79,7 @@ pub fn add_box(scene: &mut Scene, position: Vec3, size: Vec3, yaw_rad: f32, cast
         receive_shadows: true,
         is_static: true,
         lightmap: None,
+        label: 0,
     });
 }
 

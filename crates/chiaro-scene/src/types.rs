@@ -83,6 +83,8 @@ pub struct MeshInstance {
     pub is_static: bool,
     /// The atlas layer of its lightmap, once a bake is applied.
     pub lightmap: Option<u32>,
+    /// Node `extras.label`: an integer class id for datasets, 0 if none.
+    pub label: u32,
 }
 
 /// glTF's alpha mode: how base colour alpha is used.

@@ -26,6 +26,12 @@ pub enum Aov {
     /// `<stem>.lightmap.exr`: the baked irradiance (lux, RGB float32) each pixel used,
     /// from its lightmap or the light probes; zero where no bake lights it.
     Lightmap,
+    /// `<stem>.instance.exr`: the glTF node index of the mesh each pixel shows, one uint32
+    /// channel, 4294967295 on the sky; exact (one sample a pixel).
+    Instance,
+    /// `<stem>.label.exr`: that node's `extras.label` (an integer class id), one uint32
+    /// channel, 0 where none.
+    Label,
 }
 
 /// The debug views `render --debug` takes, with their help.
@@ -108,9 +114,14 @@ pub struct RenderArgs {
 /// Every file the render will write, known before it runs.
 fn planned_outputs(args: &RenderArgs, scene: &chiaro_scene::Scene) -> Vec<PathBuf> {
     let mut outputs = vec![args.output.clone()];
-    for (aov, name) in
-        [(Aov::Position, "position"), (Aov::Normal, "normal"), (Aov::Depth, "depth"), (Aov::Lightmap, "lightmap")]
-    {
+    for (aov, name) in [
+        (Aov::Position, "position"),
+        (Aov::Normal, "normal"),
+        (Aov::Depth, "depth"),
+        (Aov::Lightmap, "lightmap"),
+        (Aov::Instance, "instance"),
+        (Aov::Label, "label"),
+    ] {
         if args.aov.contains(&aov) {
             outputs.push(aov_path(&args.output, name));
         }
@@ -155,6 +166,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let options = FrameOptions {
         aovs: wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Depth) || wants(Aov::Lightmap),
         shadow_aovs: wants(Aov::Shadow),
+        ids: wants(Aov::Instance) || wants(Aov::Label),
         readback: true,
         read_shadow_atlas: args.debug.contains(&DebugView::ShadowAtlases),
         debug,
@@ -184,9 +196,19 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 Aov::Normal => ("normal", Encoded::ExrRgb { width, height, rgb: &aovs.normal_ws }),
                 Aov::Depth => ("depth", Encoded::ExrSingle { width, height, values: &aovs.depth }),
                 Aov::Lightmap => ("lightmap", Encoded::ExrRgb { width, height, rgb: &aovs.baked_irradiance }),
-                Aov::Shadow => continue,
+                Aov::Shadow | Aov::Instance | Aov::Label => continue,
             };
             files.push((aov_path(&args.output, name), image));
+        }
+    }
+    if let Some(ids) = &frame.ids {
+        for aov in &args.aov {
+            let (name, values) = match aov {
+                Aov::Instance => ("instance", &ids.instance),
+                Aov::Label => ("label", &ids.label),
+                _ => continue,
+            };
+            files.push((aov_path(&args.output, name), Encoded::ExrU32 { width, height, values }));
         }
     }
     for (light, shadow) in scene.lights.iter().zip(&frame.shadow_aovs) {

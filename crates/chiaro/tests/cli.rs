@@ -458,3 +458,55 @@ fn compare_reports_every_light() {
     assert_eq!(run.code, 1, "{}", run.stdout);
     assert!(error_lines(&run)[0].contains("limit 0.5%"), "{}", run.stderr);
 }
+
+/// Two triangles, node 0 labelled 5 by its extras, node 1 without a label.
+fn labelled_triangles(label: &str) -> String {
+    let nodes = format!(
+        r#"[{{"mesh": 0, "translation": [-1.2, 0, 0], "extras": {{"label": {label}}}}}, {{"mesh": 0, "translation": [0.2, 0, 0]}}]"#
+    );
+    triangle_gltf(&nodes, TRIANGLE_BUFFER, 36, 0).replace(r#""nodes": [0]"#, r#""nodes": [0, 1]"#)
+}
+
+#[test]
+fn instance_and_label_aovs_are_exact_uint32_ids() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tri.gltf"), labelled_triangles("5")).unwrap();
+    let run = chiaro(
+        &[
+            "render", "tri.gltf", "--width", "64", "--height", "64", "-o", "tri.png", "--aov", "instance", "--aov",
+            "label",
+        ],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let read = |name: &str| {
+        use exr::prelude::*;
+        let image = read_all_flat_layers_from_file(dir.path().join(name)).unwrap();
+        let channels = &image.layer_data[0].channel_data.list;
+        assert_eq!(channels.len(), 1, "{name}: one channel");
+        match &channels[0].sample_data {
+            FlatSamples::U32(values) => values.clone(),
+            other => panic!("{name}: uint32 samples expected, got {other:?}"),
+        }
+    };
+    let (instance, label) = (read("tri.instance.exr"), read("tri.label.exr"));
+    assert_eq!(instance.len(), 64 * 64);
+    let count = |node: u32| instance.iter().filter(|&&n| n == node).count();
+    println!("node 0: {} pixels, node 1: {}, sky: {}", count(0), count(1), count(u32::MAX));
+    assert!(count(0) > 20 && count(1) > 20 && count(u32::MAX) > 20);
+    assert_eq!(count(0) + count(1) + count(u32::MAX), instance.len(), "only the two nodes and the sky");
+    for (node, label) in instance.iter().zip(&label) {
+        assert_eq!(*label, if *node == 0 { 5 } else { 0 }, "node {node}");
+    }
+}
+
+#[test]
+fn a_label_that_is_no_class_id_names_the_node_and_the_key() {
+    expect_failure(
+        &[("tri.gltf", labelled_triangles("\"car\"").as_bytes())],
+        &["render", "tri.gltf", "-o", "tri.png", "--aov", "label"],
+        &[],
+        &["tri.gltf", "node 0", "extras.label"],
+    );
+}

@@ -1,6 +1,6 @@
 //! The per-frame uniform and the per-object transforms (`shaders/common/frame.wesl`).
 
-use crate::shader_constants::{OBJECT_LIGHTMAPPED, OBJECT_PROBE_LIT, OBJECT_RECEIVES_SHADOWS};
+use crate::shader_constants::{NO_NODE, OBJECT_LIGHTMAPPED, OBJECT_PROBE_LIT, OBJECT_RECEIVES_SHADOWS};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
@@ -63,8 +63,10 @@ pub struct GpuObject {
     pub flags: u32,
     /// Its lightmap's layer in the lightmap array, with `OBJECT_LIGHTMAPPED`.
     pub lightmap_layer: u32,
-    /// Pads the struct to WGSL's 16-byte alignment.
-    pub _pad: [u32; 2],
+    /// The glTF node that places it, for the id pass; `NO_NODE` for none.
+    pub node: u32,
+    /// Its node's `extras.label`, 0 if none.
+    pub label: u32,
 }
 
 /// The head of the light probe buffer (`shaders/lighting/baked.wesl`); nine RGB
@@ -95,8 +97,14 @@ impl GpuObject {
             normal_from_local: world_from_local.inverse().transpose(),
             flags: if receives_shadows { OBJECT_RECEIVES_SHADOWS } else { 0 },
             lightmap_layer: 0,
-            _pad: [0; 2],
+            node: NO_NODE,
+            label: 0,
         }
+    }
+
+    /// Placed by glTF node `node`, labelled `label`, as the id pass writes them.
+    pub fn identified(self, node: usize, label: u32) -> GpuObject {
+        GpuObject { node: u32::try_from(node).unwrap_or(NO_NODE), label, ..self }
     }
 
     /// Lit by layer `layer` of the lightmaps instead of the ambient term.

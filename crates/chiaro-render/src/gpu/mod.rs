@@ -47,7 +47,7 @@ layouts! {
         mixed_mode, cluster_tile_width, cluster_tile_height, cluster_slice_scale, cluster_slice_bias,
     }
     GpuListRecord { offset, shadowed, count }
-    GpuObject { world_from_local, normal_from_local, flags, lightmap_layer }
+    GpuObject { world_from_local, normal_from_local, flags, lightmap_layer, node, label }
     GpuProbeGridHeader { origin, lightmap_scale, spacing, counts }
     GpuLight {
         color, kind, position_ws, range, direction_ws, shadow_slot, spot_scale, spot_offset,

@@ -12,6 +12,7 @@ macro_rules! frame_passes {
             ldr_decode: LdrDecodePass ["ldr_decode"],
             forward: ForwardPass ["forward"],
             aov: AovPass ["aov"],
+            id: IdPass ["id"],
             shadow_aov: ShadowAovPass ["shadow_aov"],
             tonemap: TonemapPass ["tonemap"],
             debug_view: DebugViewPass ["debug_view"],

@@ -208,6 +208,7 @@ mod tests {
                 receive_shadows: true,
                 is_static: true,
                 lightmap: None,
+                label: 0,
             });
         }
         scene

@@ -44,6 +44,8 @@ pub struct PlanRequest {
     pub debug: Option<DebugView>,
     /// Per-light shadow AOVs, which (like `aovs`) test against single-sampled depth.
     pub shadow_aovs: bool,
+    /// The node and label of each pixel's surface, single-sampled like the AOVs.
+    pub ids: bool,
 }
 
 impl PlanRequest {
@@ -210,8 +212,8 @@ impl FramePlan {
         } else {
             cull_lights(culling, scene, draws, forward_draws, view, &lights, lists.directional.len(), &shadowed)
         };
-        // AOVs test against single-sampled depth, and the G-buffer has one sample.
-        let single = path == RenderPath::Deferred || request.aovs || request.shadow_aovs;
+        // AOVs and ids test against single-sampled depth, and the G-buffer has one sample.
+        let single = path == RenderPath::Deferred || request.aovs || request.shadow_aovs || request.ids;
         let msaa = if single { 1 } else { settings.render.msaa };
         // A debug view of the G-buffer shades nothing, so it draws no shadow tiles (and
         // the cache keeps what the atlases hold for the next lit frame).

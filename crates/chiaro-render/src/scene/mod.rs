@@ -153,7 +153,8 @@ impl GpuScene {
             .instances
             .iter()
             .map(|inst| {
-                let object = GpuObject::new(inst.world_from_local, inst.receive_shadows);
+                let object =
+                    GpuObject::new(inst.world_from_local, inst.receive_shadows).identified(inst.node, inst.label);
                 match inst.lightmap {
                     Some(layer) if scene.baked.is_some() => object.lightmapped(layer),
                     _ if has_probes => object.probe_lit(),

@@ -2,7 +2,7 @@
 //! light's `{"shadows": "none"|"hard"|"soft", "shadowStrength", "shadowDepthBias",
 //! "shadowNormalBias", "shadowNearPlane", "cookie": {"image": N, "size": [W, H]}, "mode":
 //! "realtime"|"mixed"|"baked"}`, a mesh node's `{"castShadows":
-//! "on"|"off"|"two-sided"|"shadows-only", "receiveShadows": bool, "static": bool}`, and a material's `{"shadowCasting": "on"|"clip"|"dither"|"off"}`. Other keys
+//! "on"|"off"|"two-sided"|"shadows-only", "receiveShadows": bool, "static": bool, "label": class id}`, and a material's `{"shadowCasting": "on"|"clip"|"dither"|"off"}`. Other keys
 //! are left alone; a known key with a wrong value is an error naming it.
 
 use crate::types::{AlphaMode, CastShadows, LightMode, LightShadow, ShadowCasting, ShadowMode};
@@ -39,6 +39,7 @@ struct NodeExtras {
     receive_shadows: Option<bool>,
     #[serde(rename = "static")]
     is_static: Option<serde_json::Value>,
+    label: Option<serde_json::Value>,
 }
 
 #[derive(Deserialize, Default)]
@@ -119,6 +120,20 @@ pub(super) fn node_static(node: &json::scene::Node) -> Result<Option<bool>, Stri
         None => Ok(None),
         Some(serde_json::Value::Bool(b)) => Ok(Some(b)),
         Some(other) => Err(format!("extras.static: {other} is not true or false")),
+    }
+}
+
+/// A mesh node's `extras.label`, a class id from 0 to 2^32 - 1; 0 if it gives none.
+pub(super) fn node_label(node: &json::scene::Node) -> Result<u32, String> {
+    let e: NodeExtras = parse(node.extras.as_deref())?;
+    match e.label {
+        None => Ok(0),
+        Some(value) => value
+            .as_u64()
+            // JSON has one number type: 3.0 is the integer 3.
+            .or_else(|| value.as_f64().filter(|f| f.fract() == 0.0 && *f >= 0.0).map(|f| f as u64))
+            .and_then(|n| u32::try_from(n).ok())
+            .ok_or_else(|| format!("extras.label: {value} is not an integer from 0 to 4294967295")),
     }
 }
 
@@ -232,6 +247,12 @@ mod tests {
         assert_eq!(node_static(&node(r#"{"static": false}"#)).unwrap(), Some(false));
         assert_eq!(node_static(&node(r#"{"castShadows": "on"}"#)).unwrap(), None);
         assert!(node_static(&node(r#"{"static": "yes"}"#)).unwrap_err().starts_with("extras.static"));
+        assert_eq!(node_label(&node(r#"{"label": 7}"#)).unwrap(), 7);
+        assert_eq!(node_label(&node(r#"{"label": 4294967295.0}"#)).unwrap(), u32::MAX);
+        assert_eq!(node_label(&node(r#"{"static": true}"#)).unwrap(), 0);
+        for bad in [r#"{"label": -1}"#, r#"{"label": 1.5}"#, r#"{"label": 4294967296}"#, r#"{"label": "car"}"#] {
+            assert!(node_label(&node(bad)).unwrap_err().starts_with("extras.label"), "{bad}");
+        }
     }
 
     #[test]

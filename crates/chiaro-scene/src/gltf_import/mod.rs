@@ -213,6 +213,8 @@ impl<'a> Loader<'a> {
         let is_static = extras::node_static(node)
             .map_err(|e| self.invalid(format!("node {} ({name}): {e}", placement.node)))?
             .unwrap_or(!moving[placement.node]);
+        let label =
+            extras::node_label(node).map_err(|e| self.invalid(format!("node {} ({name}): {e}", placement.node)))?;
         Ok(Some(MeshInstance {
             mesh: mesh.value(),
             node: placement.node,
@@ -222,6 +224,7 @@ impl<'a> Loader<'a> {
             receive_shadows,
             is_static,
             lightmap: None,
+            label,
         }))
     }
 
