@@ -49,6 +49,7 @@ pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shado
         scene.lights.push(demo_other_light(i, other_lights, light_node_base + 1 + i, shadowed));
     }
     scene.cameras.push(demo_camera(light_node_base + 1 + other_lights));
+    scene.ensure_nodes();
     scene
 }
 

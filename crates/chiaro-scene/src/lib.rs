@@ -10,6 +10,7 @@ pub mod demo;
 pub mod error;
 pub mod files;
 pub mod gltf_import;
+pub mod nodes;
 pub mod settings;
 pub mod shapes;
 pub mod test_scenes;
@@ -18,5 +19,6 @@ pub mod vertex_gen;
 
 pub use error::SceneError;
 pub use gltf_import::{load_gltf, load_gltf_bytes};
+pub use nodes::{NodeError, NodeMove, SceneNode};
 pub use settings::{CascadeBlend, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
 pub use types::*;

@@ -524,6 +524,9 @@ pub struct Scene {
     pub inputs: Vec<PathBuf>,
     /// Lightmaps and light probes, once a bake is applied (`baked::apply`).
     pub baked: Option<crate::baked::BakedLighting>,
+    /// Every node at its glTF index (objects' `node` fields index it); empty for scenes
+    /// made in code until `ensure_nodes`.
+    pub nodes: Vec<crate::nodes::SceneNode>,
 }
 
 impl Scene {

@@ -175,6 +175,7 @@ impl<'a> Loader<'a> {
             ignored: std::mem::take(&mut self.ignored),
             inputs: Vec::new(),
             baked: None,
+            nodes: self.node_table(&placements),
         })
     }
 

@@ -61,6 +61,32 @@ impl Loader<'_> {
 }
 
 impl Loader<'_> {
+    /// Every node of the file: its name, its parent, and where the walk placed it (its
+    /// local transform when the drawn scene does not hold it).
+    pub(super) fn node_table(&self, placements: &[Placement]) -> Vec<crate::nodes::SceneNode> {
+        let nodes = &self.root.nodes;
+        let mut table: Vec<crate::nodes::SceneNode> = nodes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| crate::nodes::SceneNode {
+                name: n.name.clone().unwrap_or_else(|| format!("node {i}")),
+                parent: None,
+                world_from_node: local_transform(n),
+            })
+            .collect();
+        for (i, n) in nodes.iter().enumerate() {
+            for child in n.children.iter().flatten() {
+                if let Some(entry) = table.get_mut(child.value()) {
+                    entry.parent = Some(i);
+                }
+            }
+        }
+        for p in placements {
+            table[p.node].world_from_node = p.world_from_local;
+        }
+        table
+    }
+
     /// KHR_node_visibility's `visible` on the node itself; true without the extension.
     fn node_visible(&self, index: usize) -> bool {
         let visible = self.raw.pointer(&format!("/nodes/{index}/extensions/KHR_node_visibility/visible"));

@@ -258,3 +258,29 @@ fn light_mode_comes_from_extras() {
     doc["extensions"]["KHR_lights_punctual"]["lights"][1]["extras"] = json!({ "mode": "never" });
     assert!(invalid_message(load_doc(&dir, &doc)).contains("extras.mode"));
 }
+
+#[test]
+fn the_node_table_keeps_names_parents_and_places_and_a_parent_moves_what_hangs_below() {
+    let dir = TempDir::new("node-table");
+    let mut doc = triangle_doc();
+    doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    doc["extensions"] = json!({ "KHR_lights_punctual": { "lights": [{ "type": "point", "intensity": 5.0 }] } });
+    doc["scenes"] = json!([{ "nodes": [1] }]);
+    doc["nodes"] = json!([
+        { "mesh": 0, "name": "tri", "translation": [0.0, 1.0, 0.0] },
+        { "name": "rig", "translation": [2.0, 0.0, 0.0], "children": [0, 2] },
+        { "extensions": { "KHR_lights_punctual": { "light": 0 } }, "translation": [0.0, 3.0, 0.0] },
+        { "name": "unused", "translation": [9.0, 0.0, 0.0] }
+    ]);
+    let mut scene = load_doc(&dir, &doc).unwrap();
+    let names: Vec<&str> = scene.nodes.iter().map(|n| n.name.as_str()).collect();
+    assert_eq!(names, ["tri", "rig", "node 2", "unused"]);
+    let parents: Vec<Option<usize>> = scene.nodes.iter().map(|n| n.parent).collect();
+    assert_eq!(parents, [Some(1), None, Some(1), None]);
+    assert_eq!(scene.nodes[0].world_from_node, Mat4::from_translation(Vec3::new(2.0, 1.0, 0.0)));
+    assert_eq!(scene.nodes[3].world_from_node, Mat4::from_translation(Vec3::new(9.0, 0.0, 0.0)));
+    let moved = scene.set_node_transform(1, Mat4::from_translation(Vec3::new(2.0, 0.0, 5.0))).unwrap();
+    assert_eq!((moved.instances, moved.lights), (1, 1));
+    assert!(scene.instances[0].world_from_local.w_axis.truncate().abs_diff_eq(Vec3::new(2.0, 1.0, 5.0), 1e-6));
+    assert!(scene.lights[0].position().abs_diff_eq(Vec3::new(2.0, 3.0, 5.0), 1e-6));
+}
