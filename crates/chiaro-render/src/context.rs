@@ -42,14 +42,29 @@ impl GpuContext {
         Ok((ctx, surface.expect("made for the target")))
     }
 
+    /// Every adapter of the primary backends (or those `WGPU_BACKEND` names), in wgpu's
+    /// order, for a caller that chooses one itself (`with_adapter`).
+    pub fn adapters() -> Vec<wgpu::Adapter> {
+        let instance = Self::instance();
+        let backends = instance_backends();
+        pollster::block_on(instance.enumerate_adapters(backends))
+    }
+
+    /// Opens `adapter` (one of `adapters()`) as `new` opens the best one.
+    pub fn with_adapter(adapter: &wgpu::Adapter) -> Result<GpuContext, RenderError> {
+        Self::open_adapter(adapter)
+    }
+
+    fn instance() -> wgpu::Instance {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        desc.backends = instance_backends();
+        wgpu::Instance::new(desc)
+    }
+
     fn open(
         target: Option<wgpu::SurfaceTarget<'static>>,
     ) -> Result<(GpuContext, Option<wgpu::Surface<'static>>), RenderError> {
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        if std::env::var_os("WGPU_BACKEND").is_none() {
-            desc.backends = wgpu::Backends::PRIMARY;
-        }
-        let instance = wgpu::Instance::new(desc);
+        let instance = Self::instance();
         let surface = match target {
             Some(t) => Some(instance.create_surface(t).map_err(|e| RenderError::Device(format!("no surface: {e}")))?),
             None => None,
@@ -61,6 +76,16 @@ impl GpuContext {
             apply_limit_buckets: false,
         }))
         .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
+        let mut ctx = Self::open_adapter(&adapter)?;
+        if let Some(s) = &surface {
+            let capabilities = s.get_capabilities(&adapter);
+            ctx.surface_formats = capabilities.formats;
+            ctx.surface_usages = capabilities.usages;
+        }
+        Ok((ctx, surface))
+    }
+
+    fn open_adapter(adapter: &wgpu::Adapter) -> Result<GpuContext, RenderError> {
         let has_timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let mut required_features = wgpu::Features::empty();
         if has_timestamps {
@@ -97,13 +122,7 @@ impl GpuContext {
             trace: wgpu::Trace::Off,
         }))
         .map_err(|e| RenderError::Device(e.to_string()))?;
-        let mut ctx = GpuContext::from_device(&adapter, device, queue);
-        if let Some(s) = &surface {
-            let capabilities = s.get_capabilities(&adapter);
-            ctx.surface_formats = capabilities.formats;
-            ctx.surface_usages = capabilities.usages;
-        }
-        Ok((ctx, surface))
+        Ok(GpuContext::from_device(adapter, device, queue))
     }
 
     /// Renders with a device the caller made (an engine's own), on `adapter`. What the
@@ -187,5 +206,14 @@ impl GpuContext {
     pub fn wait_idle(&self) -> Result<(), RenderError> {
         self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RenderError::Gpu(e.to_string()))?;
         Ok(())
+    }
+}
+
+/// The backends to look on: `WGPU_BACKEND`'s when set, else the primary ones (Vulkan,
+/// Metal, DX12).
+fn instance_backends() -> wgpu::Backends {
+    match std::env::var_os("WGPU_BACKEND") {
+        Some(_) => wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY),
+        None => wgpu::Backends::PRIMARY,
     }
 }

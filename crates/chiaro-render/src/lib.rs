@@ -35,5 +35,5 @@ pub use debug_view::{AovView, DebugView};
 pub use error::RenderError;
 pub use output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, Ids, ShadowStatus};
 pub use plan::FramePlan;
-pub use renderer::{PreparedScene, Renderer};
+pub use renderer::{PendingFrame, PreparedScene, Renderer};
 pub use view::View;

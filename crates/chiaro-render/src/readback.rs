@@ -46,6 +46,16 @@ pub fn copy_texture(
 /// Waits once for the submitted copies and returns each one's tightly packed rows (layer
 /// after layer).
 pub fn finish_copies(ctx: &GpuContext, copies: Vec<PendingCopy>) -> Result<Vec<Vec<u8>>, RenderError> {
+    finish_copies_of(ctx, copies, None)
+}
+
+/// As [`finish_copies`], waiting only for `submission` (the one that recorded the copies)
+/// when given, so that frames submitted after it keep running.
+pub fn finish_copies_of(
+    ctx: &GpuContext,
+    copies: Vec<PendingCopy>,
+    submission: Option<wgpu::SubmissionIndex>,
+) -> Result<Vec<Vec<u8>>, RenderError> {
     let receivers: Vec<_> = copies
         .iter()
         .map(|copy| {
@@ -56,7 +66,14 @@ pub fn finish_copies(ctx: &GpuContext, copies: Vec<PendingCopy>) -> Result<Vec<V
             receiver
         })
         .collect();
-    ctx.wait_idle()?;
+    match submission {
+        Some(index) => {
+            ctx.device
+                .poll(wgpu::PollType::Wait { submission_index: Some(index), timeout: None })
+                .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        }
+        None => ctx.wait_idle()?,
+    }
     copies
         .into_iter()
         .zip(receivers)

@@ -15,7 +15,7 @@ use crate::passes::forward::HDR;
 use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::plan::shadows::{ShadowAtlas, ShadowAtlasTiles};
 use crate::plan::{FramePlan, PlanRequest};
-use crate::readback::{copy_texture, finish_copies};
+use crate::readback::{PendingCopy, copy_texture, finish_copies_of};
 use crate::scene::{GpuScene, material_layout};
 use crate::unpack::unpack_images;
 use crate::view::View;
@@ -30,6 +30,16 @@ pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSr
 const MAX_FRAMES_IN_FLIGHT: usize = 2;
 /// Finished frames' GPU times kept until taken.
 const MAX_KEPT_GPU_TIMES: usize = 1024;
+
+/// A frame submitted by [`Renderer::submit`], to be read back by [`Renderer::finish`].
+pub struct PendingFrame {
+    out: FrameOutput,
+    copies: Vec<(Target, PendingCopy)>,
+    submission: wgpu::SubmissionIndex,
+    start: Instant,
+    exposure: f32,
+    reads_back: bool,
+}
 
 /// A scene on the GPU.
 pub struct PreparedScene {
@@ -50,7 +60,8 @@ pub struct Renderer {
     targets: Targets,
     timer: Option<GpuTimer>,
     atlas_tiles: ShadowAtlasTiles,
-    in_flight: VecDeque<wgpu::SubmissionIndex>,
+    /// Submitted frames (frame number, submission) not known to be finished, oldest first.
+    in_flight: VecDeque<(u64, wgpu::SubmissionIndex)>,
     next_frame: u64,
     gpu_times: VecDeque<GpuFrameTimes>,
 }
@@ -177,6 +188,34 @@ impl Renderer {
         options: FrameOptions,
         output: Option<(&wgpu::TextureView, wgpu::TextureFormat)>,
     ) -> Result<FrameOutput, RenderError> {
+        let pending = self.submit_frame(scene, prepared, view, settings, options, output)?;
+        self.finish(pending)
+    }
+
+    /// Plans, records and submits one frame of `scene` into a texture of the renderer's,
+    /// without waiting for it: [`Renderer::finish`] reads it back. Submitting the next
+    /// frame before finishing this one keeps the GPU busy while the CPU unpacks (at most
+    /// two frames are in flight; a third submission waits for the oldest).
+    pub fn submit(
+        &mut self,
+        scene: &Scene,
+        prepared: &PreparedScene,
+        view: &View,
+        settings: &Settings,
+        options: FrameOptions,
+    ) -> Result<PendingFrame, RenderError> {
+        self.submit_frame(scene, prepared, view, settings, options, None)
+    }
+
+    fn submit_frame(
+        &mut self,
+        scene: &Scene,
+        prepared: &PreparedScene,
+        view: &View,
+        settings: &Settings,
+        options: FrameOptions,
+        output: Option<(&wgpu::TextureView, wgpu::TextureFormat)>,
+    ) -> Result<PendingFrame, RenderError> {
         let _span = tracing::info_span!("frame", width = view.width, height = view.height).entered();
         let start = Instant::now();
         let max = self.ctx.max_texture_size();
@@ -230,20 +269,19 @@ impl Renderer {
 
         self.throttle()?;
         let submission = self.ctx.queue.submit([encoder.finish()]);
-        self.in_flight.push_back(submission);
+        self.in_flight.push_back((frame, submission.clone()));
         if let Some(timer) = &mut self.timer {
             timer.submitted();
         }
 
-        let mut timings = FrameTimings { frame, cpu_prepare_ms, ..Default::default() };
-        let mut out = FrameOutput {
+        let out = FrameOutput {
             width: view.width,
             height: view.height,
             hdr: Vec::new(),
             ldr: Vec::new(),
             aovs: None,
             ids: None,
-            timings: FrameTimings::default(),
+            timings: FrameTimings { frame, cpu_prepare_ms, ..Default::default() },
             shadow_aovs: Vec::new(),
             shadow_atlases: Vec::new(),
             shadow_tiles: stats.shadow_tiles_rendered,
@@ -252,24 +290,37 @@ impl Renderer {
             plan,
             graph,
         };
-        if options.reads_back() {
-            let (targets, copies): (Vec<Target>, Vec<_>) = copies.into_iter().unzip();
-            let bytes = finish_copies(&self.ctx, copies)?;
-            self.in_flight.clear();
-            timings.wall_ms = Some(start.elapsed().as_secs_f64() * 1e3);
-            let exposure = exposure_scale(settings.render.exposure_ev100);
-            unpack_images(&mut out, targets.into_iter().zip(bytes).collect(), exposure);
-            self.collect_gpu_times();
-            if let Some(k) = self.gpu_times.iter().position(|t| t.frame == frame) {
-                timings.gpu_pass_ms = self.gpu_times.remove(k).expect("found").passes;
-            }
-        } else {
+        self.targets.set_external_output(None);
+        if !options.reads_back() {
             self.ctx.device.poll(wgpu::PollType::Poll).map_err(|e| RenderError::Gpu(e.to_string()))?;
             self.collect_gpu_times();
         }
-        self.targets.set_external_output(None);
         self.ctx.take_error()?;
-        out.timings = timings;
+        let exposure = exposure_scale(settings.render.exposure_ev100);
+        Ok(PendingFrame { out, copies, submission, start, exposure, reads_back: options.reads_back() })
+    }
+
+    /// Waits for a submitted frame (and the frames before it, not those after) and reads
+    /// it back as `FrameOutput`; a frame that reads nothing back returns at once.
+    pub fn finish(&mut self, pending: PendingFrame) -> Result<FrameOutput, RenderError> {
+        let PendingFrame { mut out, copies, submission, start, exposure, reads_back } = pending;
+        if !reads_back {
+            return Ok(out);
+        }
+        let (targets, copies): (Vec<Target>, Vec<_>) = copies.into_iter().unzip();
+        let bytes = finish_copies_of(&self.ctx, copies, Some(submission))?;
+        // Submissions finish in order: every frame up to this one is done.
+        let frame = out.timings.frame;
+        while self.in_flight.front().is_some_and(|(f, _)| *f <= frame) {
+            self.in_flight.pop_front();
+        }
+        out.timings.wall_ms = Some(start.elapsed().as_secs_f64() * 1e3);
+        unpack_images(&mut out, targets.into_iter().zip(bytes).collect(), exposure);
+        self.collect_gpu_times();
+        if let Some(k) = self.gpu_times.iter().position(|t| t.frame == frame) {
+            out.timings.gpu_pass_ms = self.gpu_times.remove(k).expect("found").passes;
+        }
+        self.ctx.take_error()?;
         Ok(out)
     }
 
@@ -308,7 +359,7 @@ impl Renderer {
     /// Waits for the oldest frames until fewer than `MAX_FRAMES_IN_FLIGHT` are in flight.
     fn throttle(&mut self) -> Result<(), RenderError> {
         while self.in_flight.len() >= MAX_FRAMES_IN_FLIGHT {
-            let oldest = self.in_flight.pop_front().expect("non-empty");
+            let (_, oldest) = self.in_flight.pop_front().expect("non-empty");
             self.ctx
                 .device
                 .poll(wgpu::PollType::Wait { submission_index: Some(oldest), timeout: None })

@@ -118,3 +118,36 @@ fn tone_mapping_matches_the_cpu_twin() {
     assert!(compressed > 100, "only {compressed} pixels in the highlight roll-off");
     assert!(worst <= 1.0, "tone mapped pixels differ from chiaro_math::tonemap by up to {worst}/255");
 }
+
+#[test]
+fn frames_submitted_before_the_last_is_read_back_come_back_as_rendered_one_at_a_time() {
+    let mut renderer = renderer();
+    let scene = demo_scene(4);
+    let prepared = renderer.prepare(&scene).unwrap();
+    let settings = Settings::default();
+    let options = FrameOptions { readback: true, aovs: true, ids: true, ..Default::default() };
+    let views: Vec<View> = [Vec3::new(6.0, 4.0, 8.0), Vec3::new(-7.0, 5.0, 3.0), Vec3::new(2.0, 9.0, -6.0)]
+        .into_iter()
+        .map(|eye| {
+            let mut view = View::from_camera(&scene, 0, SIZE, SIZE);
+            view.world_from_view = glam::Mat4::look_at_rh(eye, Vec3::ZERO, Vec3::Y).inverse();
+            view
+        })
+        .collect();
+    let alone: Vec<_> =
+        views.iter().map(|v| renderer.render(&scene, &prepared, v, &settings, options).unwrap()).collect();
+    // Three frames in flight at most two at a time: the third submission waits for the
+    // first, whose read-back buffers must still hold its own pixels.
+    let first = renderer.submit(&scene, &prepared, &views[0], &settings, options).unwrap();
+    let second = renderer.submit(&scene, &prepared, &views[1], &settings, options).unwrap();
+    let third = renderer.submit(&scene, &prepared, &views[2], &settings, options).unwrap();
+    let pipelined =
+        [renderer.finish(first).unwrap(), renderer.finish(second).unwrap(), renderer.finish(third).unwrap()];
+    for (k, (one, piped)) in alone.iter().zip(&pipelined).enumerate() {
+        assert_eq!(one.ldr, piped.ldr, "view {k}: the tone-mapped image");
+        assert_eq!(one.aovs.as_ref().unwrap().depth, piped.aovs.as_ref().unwrap().depth, "view {k}: depth");
+        assert_eq!(one.ids.as_ref().unwrap().instance, piped.ids.as_ref().unwrap().instance, "view {k}: ids");
+        assert!(piped.timings.wall_ms.is_some());
+    }
+    assert_ne!(alone[0].ldr, alone[1].ldr, "the views differ, so a mix-up would show");
+}

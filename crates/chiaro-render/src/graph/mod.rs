@@ -102,8 +102,9 @@ pub struct PrepareContext<'a> {
     pub output_format: wgpu::TextureFormat,
 }
 
-/// A pass at work: the part the renderer calls each frame it runs.
-pub trait FramePass {
+/// A pass at work: the part the renderer calls each frame it runs. `Send`, so that a
+/// renderer may move between threads (the Python package shares one among them).
+pub trait FramePass: Send {
     /// Makes the pipelines and uploads the data the frame will need.
     fn prepare(&mut self, cx: &PrepareContext<'_>);
     /// Records the pass's commands, reading and writing the targets its setup declared.
