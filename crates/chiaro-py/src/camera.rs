@@ -1,0 +1,206 @@
+//! `chiaro.Camera`: a perspective camera placed in the world, and how a render's `camera=`
+//! argument (a Camera, a glTF camera's name or index, or None) becomes the frame's view.
+
+use crate::scene::matrix_rows;
+use chiaro_math::camera::perspective_reverse_z;
+use chiaro_render::View;
+use chiaro_scene::{Scene, Settings};
+use glam::{Mat4, Vec3};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+
+/// A perspective camera: where it is (its node looks down -Z with +Y up), its vertical
+/// field of view and its clip planes in metres. The aspect ratio is the image's.
+#[pyclass(module = "chiaro", frozen)]
+#[derive(Clone)]
+pub struct Camera {
+    pub world_from_view: Mat4,
+    pub yfov_rad: f32,
+    pub znear: f32,
+    pub zfar: Option<f32>,
+    pub name: Option<String>,
+}
+
+impl Camera {
+    /// A glTF camera of a scene, as a Camera.
+    pub fn from_scene_camera(c: &chiaro_scene::Camera) -> Camera {
+        Camera {
+            world_from_view: c.world_from_view,
+            yfov_rad: c.yfov_rad,
+            znear: c.znear,
+            zfar: c.zfar,
+            name: Some(c.name.clone()),
+        }
+    }
+
+    /// The view of this camera for a `width` x `height` image.
+    pub fn view(&self, width: u32, height: u32) -> View {
+        let aspect = width as f32 / height as f32;
+        View {
+            width,
+            height,
+            world_from_view: self.world_from_view,
+            clip_from_view: perspective_reverse_z(self.yfov_rad, aspect, self.znear, self.zfar),
+            yfov_rad: self.yfov_rad,
+            znear: self.znear,
+            zfar: self.zfar,
+        }
+    }
+}
+
+fn finite3(name: &str, v: [f64; 3]) -> PyResult<Vec3> {
+    let v = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
+    if !v.is_finite() {
+        return Err(PyValueError::new_err(format!("{name}: {v} is not finite")));
+    }
+    Ok(v)
+}
+
+#[pymethods]
+impl Camera {
+    /// A camera at `eye` looking at `target` (metres, world space), `up` giving the
+    /// image's up direction, with a vertical field of view of `yfov_deg` degrees and clip
+    /// planes at `znear` and `zfar` metres (None: no far plane).
+    #[staticmethod]
+    #[pyo3(signature = (eye, target, up = [0.0, 1.0, 0.0], yfov_deg = 45.0, znear = 0.05, zfar = None))]
+    fn look_at(
+        eye: [f64; 3],
+        target: [f64; 3],
+        up: [f64; 3],
+        yfov_deg: f32,
+        znear: f32,
+        zfar: Option<f32>,
+    ) -> PyResult<Camera> {
+        let (eye, target, up) = (finite3("eye", eye)?, finite3("target", target)?, finite3("up", up)?);
+        let forward = target - eye;
+        if forward.length() < 1e-9 {
+            return Err(PyValueError::new_err("look_at: eye and target are the same point"));
+        }
+        if up.length() < 1e-9 || forward.normalize().cross(up.normalize()).length() < 1e-6 {
+            return Err(PyValueError::new_err("look_at: up is zero or parallel to the viewing direction"));
+        }
+        if !(yfov_deg > 0.0 && yfov_deg < 180.0) {
+            return Err(PyValueError::new_err(format!("yfov_deg: {yfov_deg} is not between 0 and 180 degrees")));
+        }
+        if !(znear.is_finite() && znear > 0.0) {
+            return Err(PyValueError::new_err(format!("znear: {znear} is not positive")));
+        }
+        if let Some(far) = zfar
+            && !(far.is_finite() && far > znear)
+        {
+            return Err(PyValueError::new_err(format!("zfar: {far} is not beyond znear ({znear})")));
+        }
+        Ok(Camera {
+            world_from_view: Mat4::look_at_rh(eye, target, up).inverse(),
+            yfov_rad: yfov_deg.to_radians(),
+            znear,
+            zfar,
+            name: None,
+        })
+    }
+
+    /// The camera's position, metres.
+    #[getter]
+    fn eye(&self) -> [f32; 3] {
+        self.world_from_view.w_axis.truncate().to_array()
+    }
+
+    /// The unit direction the camera looks along (its -Z).
+    #[getter]
+    fn forward(&self) -> [f32; 3] {
+        (-self.world_from_view.z_axis.truncate()).normalize().to_array()
+    }
+
+    /// Vertical field of view, degrees.
+    #[getter]
+    fn yfov_deg(&self) -> f32 {
+        self.yfov_rad.to_degrees()
+    }
+
+    /// Near clip plane, metres.
+    #[getter]
+    fn znear(&self) -> f32 {
+        self.znear
+    }
+
+    /// Far clip plane in metres, or None.
+    #[getter]
+    fn zfar(&self) -> Option<f32> {
+        self.zfar
+    }
+
+    /// The glTF camera's name, or None for a camera made with `look_at`.
+    #[getter]
+    fn name(&self) -> Option<String> {
+        self.name.clone()
+    }
+
+    /// The camera's world transform as a row-major 4x4 list (`M @ [x, y, z, 1]` takes view
+    /// space to world space).
+    #[getter]
+    fn world_from_view(&self) -> [[f32; 4]; 4] {
+        matrix_rows(self.world_from_view)
+    }
+
+    fn __repr__(&self) -> String {
+        let e = self.eye();
+        format!(
+            "<chiaro.Camera{} at ({:.3}, {:.3}, {:.3}), yfov {:.1} deg>",
+            self.name.as_ref().map_or(String::new(), |n| format!(" {n:?}")),
+            e[0],
+            e[1],
+            e[2],
+            self.yfov_deg()
+        )
+    }
+}
+
+/// A render's `camera=` argument.
+pub enum CameraChoice {
+    /// A Camera object.
+    Given(Camera),
+    /// A glTF camera by name or index, as `--camera` takes it.
+    Named(String),
+    /// The scene's first camera, or one that frames its bounds.
+    Default,
+}
+
+impl CameraChoice {
+    /// Reads `camera=`: a Camera, a str, an int, or None.
+    pub fn extract(value: Option<&Bound<'_, PyAny>>) -> PyResult<CameraChoice> {
+        let Some(value) = value.filter(|v| !v.is_none()) else { return Ok(CameraChoice::Default) };
+        if let Ok(camera) = value.cast::<Camera>() {
+            return Ok(CameraChoice::Given(camera.get().clone()));
+        }
+        if value.is_instance_of::<pyo3::types::PyBool>() {
+            return Err(PyTypeError::new_err("camera: expected a chiaro.Camera, a camera name or index, or None"));
+        }
+        if let Ok(index) = value.extract::<i64>() {
+            if index < 0 {
+                return Err(PyValueError::new_err(format!("camera: index {index} is negative")));
+            }
+            return Ok(CameraChoice::Named(index.to_string()));
+        }
+        if let Ok(name) = value.extract::<String>() {
+            return Ok(CameraChoice::Named(name));
+        }
+        Err(PyTypeError::new_err(format!(
+            "camera: expected a chiaro.Camera, a camera name or index, or None, not {}",
+            value.get_type().name()?
+        )))
+    }
+
+    /// The frame's view, chosen as `chiaro render` chooses it; an unknown camera names the
+    /// scene's cameras.
+    pub fn view(&self, scene: &Scene, settings: &Settings, width: u32, height: u32) -> Result<View, String> {
+        match self {
+            CameraChoice::Given(camera) => Ok(camera.view(width, height)),
+            CameraChoice::Named(key) => {
+                chiaro_io::scenes::choose_view(scene, Some(key), settings, width, height).map_err(|e| format!("{e:#}"))
+            }
+            CameraChoice::Default => {
+                chiaro_io::scenes::choose_view(scene, None, settings, width, height).map_err(|e| format!("{e:#}"))
+            }
+        }
+    }
+}

@@ -1,0 +1,277 @@
+//! `chiaro.Light`: a view of one light of a scene; reading or setting an attribute reads or
+//! changes the scene itself, with the checks the glTF importer makes.
+
+use crate::scene::{SharedScene, read, write};
+use chiaro_math::light::MAX_LIGHT_INTENSITY;
+use chiaro_scene::{LightKind, LightMode, ShadowMode};
+use glam::Vec3;
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+
+/// A punctual light of a scene (KHR_lights_punctual), in physical units: directional
+/// lights in lux, point and spot lights in candela. Setting an attribute changes the
+/// scene; the next frame uses it.
+#[pyclass(module = "chiaro", frozen)]
+pub struct Light {
+    pub state: SharedScene,
+    pub index: usize,
+}
+
+impl Light {
+    fn with<T>(&self, f: impl FnOnce(&chiaro_scene::Light) -> T) -> T {
+        f(&read(&self.state).scene.lights[self.index])
+    }
+
+    fn edit<T>(&self, f: impl FnOnce(&mut chiaro_scene::Light) -> PyResult<T>) -> PyResult<T> {
+        f(&mut write(&self.state).scene.lights[self.index])
+    }
+}
+
+fn check_brightness(intensity: f32, color: Vec3) -> PyResult<()> {
+    let peak = intensity * color.max_element();
+    if peak > MAX_LIGHT_INTENSITY {
+        return Err(PyValueError::new_err(format!(
+            "intensity {intensity:e} times colour {color} is beyond {MAX_LIGHT_INTENSITY:e}, the brightest light \
+             Chiaro shades"
+        )));
+    }
+    Ok(())
+}
+
+#[pymethods]
+impl Light {
+    /// The light's name (the glTF light's, else its node's).
+    #[getter]
+    fn name(&self) -> String {
+        self.with(|l| l.name.clone())
+    }
+
+    /// The glTF node index that carries the light (the `shadow.<node>` AOV's number).
+    #[getter]
+    fn node(&self) -> usize {
+        self.with(|l| l.node)
+    }
+
+    /// "directional", "point" or "spot".
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.with(|l| l.kind.name())
+    }
+
+    /// Linear RGB colour, each channel 0 or more.
+    #[getter]
+    fn color(&self) -> [f32; 3] {
+        self.with(|l| l.color.to_array())
+    }
+
+    #[setter]
+    fn set_color(&self, color: [f32; 3]) -> PyResult<()> {
+        let c = Vec3::from_array(color);
+        if !c.is_finite() || c.min_element() < 0.0 {
+            return Err(PyValueError::new_err(format!("color: {color:?} is not a linear RGB colour")));
+        }
+        self.edit(|l| {
+            check_brightness(l.intensity, c)?;
+            l.color = c;
+            Ok(())
+        })
+    }
+
+    /// Lux for directional lights, candela for point and spot lights.
+    #[getter]
+    fn intensity(&self) -> f32 {
+        self.with(|l| l.intensity)
+    }
+
+    #[setter]
+    fn set_intensity(&self, intensity: f32) -> PyResult<()> {
+        if !intensity.is_finite() || intensity < 0.0 {
+            return Err(PyValueError::new_err(format!("intensity: {intensity} is negative or not finite")));
+        }
+        self.edit(|l| {
+            check_brightness(intensity, l.color)?;
+            l.intensity = intensity;
+            Ok(())
+        })
+    }
+
+    /// Range in metres beyond which the light gives nothing; None for the range the
+    /// renderer derives from the intensity (`[lights] range_threshold_lux`).
+    #[getter]
+    fn range(&self) -> Option<f32> {
+        self.with(|l| l.range)
+    }
+
+    #[setter]
+    fn set_range(&self, range: Option<f32>) -> PyResult<()> {
+        if let Some(r) = range
+            && !(r.is_finite() && r > 0.0)
+        {
+            return Err(PyValueError::new_err(format!("range: {r} is not positive")));
+        }
+        self.edit(|l| {
+            l.range = range;
+            Ok(())
+        })
+    }
+
+    /// A spot's inner cone half-angle in degrees (full intensity inside); None for other
+    /// lights.
+    #[getter]
+    fn inner_cone_deg(&self) -> Option<f32> {
+        self.with(|l| match l.kind {
+            LightKind::Spot { inner_cone_rad, .. } => Some(inner_cone_rad.to_degrees()),
+            _ => None,
+        })
+    }
+
+    #[setter]
+    fn set_inner_cone_deg(&self, degrees: f32) -> PyResult<()> {
+        self.set_cone(Some(degrees), None)
+    }
+
+    /// A spot's outer cone half-angle in degrees (no light beyond); None for other lights.
+    #[getter]
+    fn outer_cone_deg(&self) -> Option<f32> {
+        self.with(|l| match l.kind {
+            LightKind::Spot { outer_cone_rad, .. } => Some(outer_cone_rad.to_degrees()),
+            _ => None,
+        })
+    }
+
+    #[setter]
+    fn set_outer_cone_deg(&self, degrees: f32) -> PyResult<()> {
+        self.set_cone(None, Some(degrees))
+    }
+
+    /// Whether the light casts realtime shadows. Set True (the settings' filter), False,
+    /// or a mode name: "none", "hard" (2x2 filter) or "soft".
+    #[getter]
+    fn shadows(&self) -> bool {
+        self.with(|l| l.shadow.casts())
+    }
+
+    #[setter]
+    fn set_shadows(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mode = if let Ok(on) = value.extract::<bool>() {
+            if on { ShadowMode::Soft } else { ShadowMode::None }
+        } else if let Ok(name) = value.extract::<String>() {
+            match name.as_str() {
+                "none" => ShadowMode::None,
+                "hard" => ShadowMode::Hard,
+                "soft" => ShadowMode::Soft,
+                _ => {
+                    return Err(PyValueError::new_err(format!(
+                        "shadows: '{name}' is not one of True, False, 'none', 'hard', 'soft'"
+                    )));
+                }
+            }
+        } else {
+            return Err(PyTypeError::new_err("shadows: expected a bool or 'none', 'hard' or 'soft'"));
+        };
+        self.edit(|l| {
+            l.shadow.mode = mode;
+            Ok(())
+        })
+    }
+
+    /// The shadow mode by name: "none", "hard" or "soft" (the light's `extras.shadows`).
+    #[getter]
+    fn shadow_mode(&self) -> &'static str {
+        self.with(|l| l.shadow.mode.name())
+    }
+
+    /// How dark the shadow is, 0 to 1.
+    #[getter]
+    fn shadow_strength(&self) -> f32 {
+        self.with(|l| l.shadow.strength)
+    }
+
+    #[setter]
+    fn set_shadow_strength(&self, strength: f32) -> PyResult<()> {
+        if !(0.0..=1.0).contains(&strength) {
+            return Err(PyValueError::new_err(format!("shadow_strength: {strength} is not between 0 and 1")));
+        }
+        self.edit(|l| {
+            l.shadow.strength = strength;
+            Ok(())
+        })
+    }
+
+    /// "realtime", "mixed" or "baked" (the light's `extras.mode`).
+    #[getter]
+    fn mode(&self) -> &'static str {
+        self.with(|l| l.mode.name())
+    }
+
+    #[setter]
+    fn set_mode(&self, mode: &str) -> PyResult<()> {
+        let mode = match mode {
+            "realtime" => LightMode::Realtime,
+            "mixed" => LightMode::Mixed,
+            "baked" => LightMode::Baked,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "mode: '{other}' is not one of 'realtime', 'mixed', 'baked'"
+                )));
+            }
+        };
+        self.edit(|l| {
+            l.mode = mode;
+            Ok(())
+        })
+    }
+
+    /// World-space position in metres (a directional light's node position).
+    #[getter]
+    fn position(&self) -> [f32; 3] {
+        self.with(|l| l.position().to_array())
+    }
+
+    /// World-space unit direction the light points along (its node's -Z).
+    #[getter]
+    fn direction(&self) -> [f32; 3] {
+        self.with(|l| l.direction().to_array())
+    }
+
+    fn __repr__(&self) -> String {
+        self.with(|l| {
+            format!(
+                "<chiaro.Light {:?} node {}: {} {:.4} {}, shadows {}>",
+                l.name,
+                l.node,
+                l.kind.name(),
+                l.intensity,
+                if l.kind == LightKind::Directional { "lx" } else { "cd" },
+                l.shadow.mode.name()
+            )
+        })
+    }
+}
+
+impl Light {
+    /// Sets a spot's cone angles (either or both), keeping 0 <= inner < outer <= 90 degrees.
+    fn set_cone(&self, inner_deg: Option<f32>, outer_deg: Option<f32>) -> PyResult<()> {
+        self.edit(|l| {
+            let LightKind::Spot { inner_cone_rad, outer_cone_rad } = l.kind else {
+                return Err(PyValueError::new_err(format!(
+                    "cone angles: light '{}' is a {} light, not a spot",
+                    l.name,
+                    l.kind.name()
+                )));
+            };
+            let inner = inner_deg.map_or(inner_cone_rad, f32::to_radians);
+            let outer = outer_deg.map_or(outer_cone_rad, f32::to_radians);
+            if !(inner.is_finite() && outer.is_finite() && 0.0 <= inner && inner < outer && outer <= 90f32.to_radians())
+            {
+                return Err(PyValueError::new_err(format!(
+                    "cone angles must satisfy 0 <= inner ({:.3}) < outer ({:.3}) <= 90 degrees",
+                    inner.to_degrees(),
+                    outer.to_degrees()
+                )));
+            }
+            l.kind = LightKind::Spot { inner_cone_rad: inner, outer_cone_rad: outer };
+            Ok(())
+        })
+    }
+}

@@ -1,0 +1,208 @@
+//! `chiaro.Scene` and `chiaro.load`: a loaded scene shared by the Python objects that look
+//! into it (its lights) and the renderers that draw it. Every change bumps a version, so a
+//! renderer knows when its uploaded copy is stale.
+
+use crate::camera::Camera;
+use crate::errors::SceneError;
+use crate::light::Light;
+use glam::Mat4;
+use numpy::{AllowTypeChange, PyArrayLike2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, RwLock, RwLockReadGuard, RwLockWriteGuard};
+
+/// Scene ids are unique in the process, so a renderer never mistakes one for another.
+static NEXT_SCENE_ID: AtomicU64 = AtomicU64::new(1);
+
+/// The scene and what a renderer needs to know of its changes.
+pub struct SceneState {
+    /// The plain scene the renderer draws.
+    pub scene: chiaro_scene::Scene,
+    /// Unique per loaded scene.
+    pub id: u64,
+    /// Bumped when mesh instances move: the renderer's uploaded objects are then stale.
+    pub geometry_version: u64,
+}
+
+/// Shared between a `Scene` and its `Light`s.
+pub type SharedScene = Arc<RwLock<SceneState>>;
+
+/// Reads the scene; a poisoned lock (a panic elsewhere) still holds a whole scene.
+pub fn read(state: &SharedScene) -> RwLockReadGuard<'_, SceneState> {
+    state.read().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Writes the scene.
+pub fn write(state: &SharedScene) -> RwLockWriteGuard<'_, SceneState> {
+    state.write().unwrap_or_else(|e| e.into_inner())
+}
+
+/// A glTF scene (or the built-in demo) loaded into memory: meshes, materials, lights and
+/// cameras in world space (metres). Lights are edited through `scene.lights`, nodes moved
+/// with `set_transform`; a renderer picks up every change at its next frame.
+#[pyclass(module = "chiaro", frozen)]
+pub struct Scene {
+    pub state: SharedScene,
+}
+
+impl Scene {
+    fn new(mut scene: chiaro_scene::Scene) -> Scene {
+        scene.ensure_nodes();
+        let id = NEXT_SCENE_ID.fetch_add(1, Ordering::Relaxed);
+        Scene { state: Arc::new(RwLock::new(SceneState { scene, id, geometry_version: 0 })) }
+    }
+}
+
+/// Loads a .gltf or .glb file. Raises `SceneError` naming the file and the problem (the
+/// message `chiaro render` prints).
+#[pyfunction]
+pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Scene> {
+    let loaded = py.detach(|| chiaro_scene::load_gltf(&path));
+    let mut scene = loaded.map_err(|e| SceneError::new_err(e.to_string()))?;
+    scene.source = Some(path);
+    Ok(Scene::new(scene))
+}
+
+/// A row-major 4x4 matrix (numpy's `M @ p` convention) as glam's column-major one.
+pub fn matrix_from_rows(rows: &[[f64; 4]; 4]) -> Mat4 {
+    Mat4::from_cols_array_2d(&std::array::from_fn(|c| std::array::from_fn(|r| rows[r][c] as f32)))
+}
+
+/// glam's matrix as rows, for numpy.
+pub fn matrix_rows(m: Mat4) -> [[f32; 4]; 4] {
+    let cols = m.to_cols_array_2d();
+    std::array::from_fn(|r| std::array::from_fn(|c| cols[c][r]))
+}
+
+#[pymethods]
+impl Scene {
+    /// The built-in demo scene: a floor, boxes and spheres, a sun, and `lights` point and
+    /// spot lights (alternating, spots first) of which the first `shadowed_spots` spots and
+    /// `shadowed_points` points cast shadows.
+    #[staticmethod]
+    #[pyo3(signature = (lights = 8, shadowed_spots = 4, shadowed_points = 2))]
+    fn demo(lights: usize, shadowed_spots: usize, shadowed_points: usize) -> PyResult<Scene> {
+        const MAX_DEMO_LIGHTS: usize = 65536;
+        if lights > MAX_DEMO_LIGHTS {
+            return Err(PyValueError::new_err(format!("lights: {lights} is more than {MAX_DEMO_LIGHTS}")));
+        }
+        Ok(Scene::new(chiaro_scene::demo::demo_scene_with_shadows(lights, shadowed_spots, shadowed_points)))
+    }
+
+    /// The file the scene was loaded from, or None for the demo.
+    #[getter]
+    fn path(&self) -> Option<PathBuf> {
+        read(&self.state).scene.source.clone()
+    }
+
+    /// The scene's punctual lights, in the file's order. Each one's attributes are live:
+    /// setting `scene.lights[0].intensity` changes the scene.
+    #[getter]
+    fn lights(&self) -> Vec<Light> {
+        let count = read(&self.state).scene.lights.len();
+        (0..count).map(|index| Light { state: self.state.clone(), index }).collect()
+    }
+
+    /// Every node's name, indexed by glTF node index (`node N` where the file gives none).
+    #[getter]
+    fn node_names(&self) -> Vec<String> {
+        read(&self.state).scene.nodes.iter().map(|n| n.name.clone()).collect()
+    }
+
+    /// The scene's glTF cameras, as `Camera` objects placed where their nodes are.
+    #[getter]
+    fn cameras(&self) -> Vec<Camera> {
+        read(&self.state).scene.cameras.iter().map(Camera::from_scene_camera).collect()
+    }
+
+    /// World-space bounds of every mesh, `((min_x, min_y, min_z), (max_x, max_y, max_z))`
+    /// in metres.
+    #[getter]
+    fn bounds(&self) -> ([f32; 3], [f32; 3]) {
+        let b = read(&self.state).scene.bounds();
+        (b.min.to_array(), b.max.to_array())
+    }
+
+    /// What the file had that Chiaro does not use, one line each, saying why.
+    #[getter]
+    fn ignored(&self) -> Vec<String> {
+        read(&self.state).scene.ignored.clone()
+    }
+
+    /// Triangles drawn.
+    #[getter]
+    fn triangle_count(&self) -> usize {
+        read(&self.state).scene.triangle_count()
+    }
+
+    /// Places node `node` (a glTF node index) at `matrix`, a 4x4 world transform in
+    /// numpy's row-major convention (`matrix @ [x, y, z, 1]`), metres. Its children and
+    /// whatever the moved nodes carry (meshes, lights, cameras) follow. Raises ValueError
+    /// for an unknown node or a matrix that is not finite or cannot be inverted.
+    fn set_transform(
+        &self,
+        py: Python<'_>,
+        node: usize,
+        matrix: PyArrayLike2<'_, f64, AllowTypeChange>,
+    ) -> PyResult<()> {
+        let view = matrix.as_array();
+        if view.shape() != [4, 4] {
+            let shape = view.shape();
+            return Err(PyValueError::new_err(format!(
+                "matrix: expected shape (4, 4), got ({}, {})",
+                shape[0], shape[1]
+            )));
+        }
+        let rows: [[f64; 4]; 4] = std::array::from_fn(|r| std::array::from_fn(|c| view[[r, c]]));
+        let world_from_node = matrix_from_rows(&rows);
+        let state = self.state.clone();
+        py.detach(move || {
+            let mut guard = write(&state);
+            let moved = guard.scene.set_node_transform(node, world_from_node);
+            match moved {
+                Ok(m) if m.instances > 0 => {
+                    guard.geometry_version += 1;
+                    Ok(())
+                }
+                Ok(_) => Ok(()),
+                Err(e) => Err(e.to_string()),
+            }
+        })
+        .map_err(PyValueError::new_err)
+    }
+
+    /// The transform of node `node` as a row-major 4x4 float32 array.
+    fn transform<'py>(&self, py: Python<'py>, node: usize) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
+        let guard = read(&self.state);
+        let count = guard.scene.nodes.len();
+        let n = guard
+            .scene
+            .nodes
+            .get(node)
+            .ok_or_else(|| PyValueError::new_err(format!("no node {node} in the scene (it has {count} nodes)")))?;
+        let rows = matrix_rows(n.world_from_node);
+        numpy::PyArray2::from_vec2(py, &rows.iter().map(|r| r.to_vec()).collect::<Vec<_>>())
+            .map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    fn __repr__(&self) -> String {
+        let guard = read(&self.state);
+        let s = &guard.scene;
+        let source = s.source.as_ref().map_or("demo".to_string(), |p| p.display().to_string());
+        format!(
+            "<chiaro.Scene {source}: {} meshes, {} triangles, {} lights, {} cameras>",
+            s.instances.len(),
+            s.triangle_count(),
+            s.lights.len(),
+            s.cameras.len()
+        )
+    }
+
+    fn __reduce__(&self) -> PyResult<()> {
+        Err(pyo3::exceptions::PyTypeError::new_err(
+            "a chiaro.Scene cannot be pickled: load it in each process (chiaro.load(path))",
+        ))
+    }
+}

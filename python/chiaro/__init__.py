@@ -1,0 +1,170 @@
+"""Chiaro: real-time lights and shadows for glTF 2.0 scenes, rendered to numpy arrays.
+
+    import chiaro
+    scene = chiaro.load("scene.glb")            # or chiaro.Scene.demo(lights=8)
+    renderer = chiaro.Renderer()                # device="auto", settings=None
+    camera = chiaro.Camera.look_at((4, 3, 6), (0, 0.5, 0))
+    out = renderer.render(scene, camera=camera, width=640, height=480,
+                          outputs=("rgb", "depth", "instance", "shadow"))
+
+Units are metres, lux (directional lights) and candela (point and spot lights). Arrays are
+row-major images, row 0 at the top. See docs/python.md in the Chiaro repository.
+"""
+
+import atexit as _atexit
+import json as _json
+import os as _os
+import shutil as _shutil
+import sys as _sys
+import tempfile as _tempfile
+
+
+def _quiet_wayland_probe():
+    """Mesa's Vulkan drivers load libwayland, which prints "XDG_RUNTIME_DIR is invalid or
+    not set" on every device it opens when the variable is missing, as on servers. As the
+    CLI does, point it at a private folder made for this process (there is no Wayland
+    session to find then anyway), removed at exit."""
+    if not _sys.platform.startswith("linux"):
+        return
+    current = _os.environ.get("XDG_RUNTIME_DIR")
+    if current and _os.path.isdir(current):
+        return
+    folder = _tempfile.mkdtemp(prefix="chiaro-runtime-")
+    _os.environ["XDG_RUNTIME_DIR"] = folder
+    _atexit.register(_shutil.rmtree, folder, True)
+
+
+_quiet_wayland_probe()
+
+from . import _chiaro, _devices  # noqa: E402
+from ._chiaro import (  # noqa: E402
+    OUTPUTS,
+    Camera,
+    ChiaroError,
+    DeviceError,
+    Light,
+    RenderError,
+    Scene,
+    SceneError,
+    SettingsError,
+)
+from ._doctor import doctor  # noqa: E402
+
+__version__ = _chiaro.__version__
+
+__all__ = [
+    "OUTPUTS", "Camera", "ChiaroError", "DeviceError", "Light", "RenderError", "Renderer", "Scene",
+    "SceneError", "SettingsError", "compare", "devices", "doctor", "load", "__version__",
+]
+
+
+def devices():
+    """The adapters Chiaro can render with, as dicts: index (what `Renderer(device=...)`
+    takes), name, backend, device_type ("discrete_gpu", "integrated_gpu", "virtual_gpu",
+    "cpu" or "other"), driver, driver_info, vendor_id, device_id, pci_bus_id."""
+    return _chiaro.adapters()
+
+
+def load(path):
+    """Loads a .gltf or .glb file into a `Scene`. Raises `SceneError` with the file and the
+    problem (as `chiaro render` prints it)."""
+    return _chiaro.load(_os.fspath(path))
+
+
+def _settings_args(settings):
+    if settings is None:
+        return None, None
+    if isinstance(settings, dict):
+        try:
+            return None, _json.dumps(settings)
+        except (TypeError, ValueError) as e:
+            raise SettingsError("settings: %s" % e) from None
+    if isinstance(settings, (str, bytes, _os.PathLike)):
+        return _os.fsdecode(settings), None
+    raise TypeError("settings: expected a TOML file's path or a dict, not %s" % type(settings).__name__)
+
+
+class Renderer:
+    """Renders scenes on one device.
+
+    device: "auto" (a discrete GPU, else an integrated one, else the CPU), "cpu", an index
+    into `devices()`, "pci:0000:01:00.0", or "cuda:N" (the CUDA device N as this process
+    sees it, after CUDA_VISIBLE_DEVICES, matched by PCI bus id). The CHIARO_DEVICE
+    environment variable sets the default. Raises `DeviceError` when no device fits.
+    settings: the path of a settings.toml (docs/settings.md) or a dict of the same
+    sections, e.g. {"render": {"msaa": 1}, "shadows": {"max_distance": 30.0}}.
+
+    A Renderer may be shared by threads (frames are rendered one at a time, without the
+    GIL); it cannot be pickled: make one per process.
+    """
+
+    def __init__(self, device="auto", settings=None):
+        if device == "auto" and _os.environ.get("CHIARO_DEVICE"):
+            device = None  # the environment's choice
+        found = devices()
+        index = _devices.choose(device, found)
+        path, settings_json = _settings_args(settings)
+        self._core = _chiaro._Renderer(index, path, settings_json)
+        self._index = index
+
+    @property
+    def device(self):
+        """The adapter in use: index, name, backend, device_type, driver, pci_bus_id."""
+        info = dict(self._core.device)
+        info["index"] = self._index
+        return info
+
+    @property
+    def settings(self):
+        """The settings in use, as settings.toml text."""
+        return self._core.settings_toml
+
+    def render(self, scene, camera=None, width=None, height=None, outputs=("rgb",)):
+        """Renders one frame of `scene` and returns a dict of numpy arrays, by name:
+
+        rgb       (H, W, 3) uint8, tone-mapped sRGB, as `chiaro render` writes PNG
+        hdr       (H, W, 3) float32 linear radiance, as the EXR
+        depth     (H, W) float32 linear view depth in metres, inf where nothing is hit
+        normal    (H, W, 3) float32 world-space shading normal, NaN on the sky
+        position  (H, W, 3) float32 world-space position in metres, NaN on the sky
+        instance  (H, W) uint32 glTF node index of the mesh seen, 0xFFFFFFFF on the sky
+        label     (H, W) uint32 the node's extras "label" (a class id), 0 if none
+        shadow    (L, H, W) float32 per light, the realtime shadow attenuation the shading
+                  used (1 lit, 0 shadowed); "shadow_lights" lists the L lights' nodes
+
+        camera: a `Camera`, a glTF camera's name or index, or None (the file's first
+        camera, else one framing the scene). width and height default to the settings'.
+        Only the outputs asked for are rendered and read back; asking for depth, normal
+        or position renders the frame without MSAA, as the CLI's AOVs do.
+        """
+        return self._core.render(scene, camera, width, height, outputs)
+
+    def render_many(self, scene, cameras, width=None, height=None, outputs=("rgb",)):
+        """Renders one frame per camera of `cameras` and returns a list of dicts as
+        `render` does. Two frames are kept in flight: one is read back while the next
+        renders."""
+        return self._core.render_many(scene, cameras, width, height, outputs)
+
+    def compare(self, scene, camera=None, width=256, height=256):
+        """See `chiaro.compare`."""
+        return self._core.compare(scene, camera, width, height)
+
+    def __reduce__(self):
+        raise TypeError("a chiaro.Renderer cannot be pickled (it holds a GPU device): make one per process")
+
+    def __repr__(self):
+        d = self.device
+        return "<chiaro.Renderer on %s (%s, %s)>" % (d["name"], d["device_type"], d["backend"])
+
+
+def compare(scene, camera=None, width=256, height=256, renderer=None, device="auto", settings=None):
+    """Realtime shadows against a ray-traced reference of the same view, per light, as
+    `chiaro compare` prints them: a list of dicts with node, light (its name), kind,
+    compared (pixels judged), disagree_percent, false_percent (shadow where the reference
+    has light: acne), missed_percent (light where it has shadow: peter-panning, leaks),
+    not_compared (why a light was not judged, else None) and shadow_mask_only."""
+    if renderer is None:
+        renderer = Renderer(device=device, settings=settings)
+    elif settings is not None:
+        raise ValueError("compare: give settings to the renderer, not beside it")
+    return renderer.compare(scene, camera, width, height)
