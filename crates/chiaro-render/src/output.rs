@@ -186,37 +186,3 @@ pub enum ShadowStatus {
     /// No free atlas tiles, but a shadow mask channel: its baked shadows are used.
     MaskOnly,
 }
-
-/// IEEE half to single precision (the HDR target is Rgba16Float).
-pub(crate) fn f16_to_f32(h: u16) -> f32 {
-    let sign = ((h >> 15) as u32) << 31;
-    let exponent = ((h >> 10) & 0x1f) as u32;
-    let mantissa = (h & 0x3ff) as u32;
-    let bits = match (exponent, mantissa) {
-        (0, 0) => sign,
-        (0, m) => {
-            // Subnormal: renormalise.
-            let shift = m.leading_zeros() - 21;
-            sign | ((127 - 15 - shift + 1) << 23) | ((m << shift) & 0x3ff) << 13
-        }
-        (0x1f, m) => sign | 0x7f80_0000 | (m << 13),
-        (e, m) => sign | ((e + 127 - 15) << 23) | (m << 13),
-    };
-    f32::from_bits(bits)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::f16_to_f32;
-
-    #[test]
-    fn half_floats_convert() {
-        assert_eq!(f16_to_f32(0x3c00), 1.0);
-        assert_eq!(f16_to_f32(0xc000), -2.0);
-        assert_eq!(f16_to_f32(0x7bff), 65504.0);
-        assert!(f16_to_f32(0x7c00).is_infinite());
-        assert!((f16_to_f32(0x0001) - 5.960_464_5e-8).abs() < 1e-12);
-        assert!((f16_to_f32(0x0200) - 3.051_757_8e-5).abs() < 1e-10);
-        assert_eq!(f16_to_f32(0x3555), 0.333_251_95);
-    }
-}

@@ -4,7 +4,7 @@
 //! exported target stays as bytes in `FrameOutput::images`.
 
 use crate::graph::{OUTPUT, Target};
-use crate::output::{Aovs, AtlasImage, FrameOutput, Ids, f16_to_f32};
+use crate::output::{Aovs, AtlasImage, FrameOutput, Ids};
 use crate::passes::forward::HDR;
 use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::passes::{aov, id, shadow_aov};
@@ -36,8 +36,9 @@ pub fn unpack_images(out: &mut FrameOutput, read: Vec<(Target, Vec<u8>)>, exposu
             }
         }
     }
-    if let (Some(position), Some(normal), Some(baked)) = (position, normal, baked) {
-        out.aovs = Some(aovs(&position, &normal, &baked));
+    // Without a bake the AOV pass writes no baked target: the irradiance is zero.
+    if let (Some(position), Some(normal)) = (position, normal) {
+        out.aovs = Some(aovs(&position, &normal, baked.as_deref()));
     }
 }
 
@@ -52,18 +53,14 @@ fn ids(bytes: &[u8]) -> Ids {
 
 /// Rgba16Float pre-exposed radiance to linear radiance.
 fn hdr_image(bytes: &[u8], exposure: f32) -> Vec<[f32; 4]> {
-    let halves: &[u16] = bytemuck::cast_slice(bytes);
-    halves
-        .chunks_exact(4)
-        .map(|p| {
-            let c = [p[0], p[1], p[2], p[3]].map(f16_to_f32);
-            [c[0] / exposure, c[1] / exposure, c[2] / exposure, c[3]]
-        })
-        .collect()
+    use half::slice::{HalfBitsSliceExt, HalfFloatSliceExt};
+    let bits: &[u16] = bytemuck::cast_slice(bytes);
+    // half converts whole slices with the CPU's F16C instructions where it has them.
+    let mut linear = vec![0.0f32; bits.len()];
+    bits.reinterpret_cast::<half::f16>().convert_to_f32_slice(&mut linear);
+    linear.chunks_exact(4).map(|c| [c[0] / exposure, c[1] / exposure, c[2] / exposure, c[3]]).collect()
 }
 
-/// Each light's layer of (shadow term, coverage) pairs: the term where a surface is, NaN
-/// elsewhere.
 fn shadow_layers(bytes: &[u8], width: u32, height: u32) -> Vec<Vec<f32>> {
     let pairs: &[[f32; 2]] = bytemuck::cast_slice(bytes);
     pairs
@@ -78,23 +75,61 @@ fn depths(bytes: &[u8]) -> Vec<f32> {
 
 /// Position, normal-and-depth and baked AOVs to world-space values, NaN (infinite depth,
 /// no irradiance) where no surface is.
-fn aovs(position: &[u8], normal: &[u8], baked: &[u8]) -> Aovs {
+fn aovs(position: &[u8], normal: &[u8], baked: Option<&[u8]>) -> Aovs {
     let position: &[[f32; 4]] = bytemuck::cast_slice(position);
     let normal: &[[f32; 4]] = bytemuck::cast_slice(normal);
-    let baked: &[[f32; 4]] = bytemuck::cast_slice(baked);
-    let mut a = Aovs::default();
-    for ((p, n), e) in position.iter().zip(normal).zip(baked) {
-        if p[3] > 0.5 {
-            a.position_ws.push([p[0], p[1], p[2]]);
-            a.normal_ws.push([n[0], n[1], n[2]]);
-            a.depth.push(n[3]);
-            a.baked_irradiance.push([e[0], e[1], e[2]]);
-        } else {
-            a.position_ws.push([f32::NAN; 3]);
-            a.normal_ws.push([f32::NAN; 3]);
-            a.depth.push(f32::INFINITY);
-            a.baked_irradiance.push([0.0; 3]);
+    // Alpha 1 marks a surface; the sky holds NaN (position, normal) or infinity (depth).
+    let covered = |p: &[f32; 4]| p[3] > 0.5;
+    let baked_irradiance = match baked {
+        Some(bytes) => {
+            let baked: &[[f32; 4]] = bytemuck::cast_slice(bytes);
+            position.iter().zip(baked).map(|(p, e)| if covered(p) { [e[0], e[1], e[2]] } else { [0.0; 3] }).collect()
         }
+        // No bake, no baked pass: zero everywhere.
+        None => vec![[0.0; 3]; position.len()],
+    };
+    Aovs {
+        position_ws: position.iter().map(|p| if covered(p) { [p[0], p[1], p[2]] } else { [f32::NAN; 3] }).collect(),
+        normal_ws: position
+            .iter()
+            .zip(normal)
+            .map(|(p, n)| if covered(p) { [n[0], n[1], n[2]] } else { [f32::NAN; 3] })
+            .collect(),
+        depth: position.iter().zip(normal).map(|(p, n)| if covered(p) { n[3] } else { f32::INFINITY }).collect(),
+        baked_irradiance,
     }
-    a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{aovs, hdr_image};
+
+    #[test]
+    fn half_floats_convert_exactly_and_lose_the_exposure() {
+        // 1, -2, the largest half, infinity; then a subnormal, a small normal, 1/3 rounded.
+        let halves: [u16; 8] = [0x3c00, 0xc000, 0x7bff, 0x7c00, 0x0001, 0x0200, 0x3555, 0x3c00];
+        let image = hdr_image(bytemuck::cast_slice(&halves), 2.0);
+        assert_eq!(image[0][..3], [0.5, -1.0, 32752.0]);
+        assert!(image[0][3].is_infinite(), "alpha keeps no exposure");
+        assert_eq!(image[1][0], 5.960_464_5e-8 / 2.0);
+        assert_eq!(image[1][1], 3.051_757_8e-5 / 2.0);
+        assert_eq!(image[1][2], 0.333_251_95 / 2.0);
+        assert_eq!(image[1][3], 1.0);
+    }
+
+    #[test]
+    fn aovs_mark_the_sky_and_fill_zero_irradiance_without_a_bake() {
+        let position: [[f32; 4]; 2] = [[1.0, 2.0, 3.0, 1.0], [0.0; 4]];
+        let normal: [[f32; 4]; 2] = [[0.0, 1.0, 0.0, 7.5], [0.0; 4]];
+        let a = aovs(bytemuck::cast_slice(&position), bytemuck::cast_slice(&normal), None);
+        assert_eq!(a.position_ws[0], [1.0, 2.0, 3.0]);
+        assert_eq!(a.normal_ws[0], [0.0, 1.0, 0.0]);
+        assert_eq!(a.depth, [7.5, f32::INFINITY]);
+        assert!(a.position_ws[1].iter().chain(&a.normal_ws[1]).all(|v| v.is_nan()));
+        assert_eq!(a.baked_irradiance, [[0.0; 3]; 2]);
+        let baked: [[f32; 4]; 2] = [[4.0, 5.0, 6.0, 1.0], [9.0; 4]];
+        let a =
+            aovs(bytemuck::cast_slice(&position), bytemuck::cast_slice(&normal), Some(bytemuck::cast_slice(&baked)));
+        assert_eq!(a.baked_irradiance, [[4.0, 5.0, 6.0], [0.0; 3]]);
+    }
 }

@@ -17,7 +17,7 @@ pub const NORMAL_DEPTH: Target = Target("aov normal depth");
 pub const BAKED: Target = Target("aov baked");
 
 /// Draws the AOV targets over the forward pass's depth: one mesh pass for position, normal
-/// and depth, one for baked irradiance.
+/// and depth, one for baked irradiance when a bake is applied.
 pub struct AovPass {
     pipelines: MeshPipelines,
     /// The baked irradiance, in a pass of its own.
@@ -34,8 +34,12 @@ impl PassType for AovPass {
             return;
         }
         pass.modify(DEPTH);
-        for target in [POSITION, NORMAL_DEPTH, BAKED] {
+        for target in [POSITION, NORMAL_DEPTH] {
             pass.create(target, TargetDesc::view_sized(AOV_FORMAT, ATTACHMENT_COPY)).export(target);
+        }
+        // Without a bake the irradiance is zero everywhere: no pass, no target, no read-back.
+        if plan.features.baked {
+            pass.create(BAKED, TargetDesc::view_sized(AOV_FORMAT, ATTACHMENT_COPY)).export(BAKED);
         }
     }
 
@@ -70,7 +74,9 @@ impl AovPass {
 impl FramePass for AovPass {
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         self.pipelines.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
-        self.baked.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
+        if cx.plan.features.baked {
+            self.baked.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
+        }
     }
 
     fn record(&self, cx: &mut PassContext<'_>) {
@@ -89,6 +95,9 @@ impl FramePass for AovPass {
         pass.set_bind_group(0, cx.frame_bind_group, &[]);
         self.pipelines.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
         drop(pass);
+        if !cx.plan.features.baked {
+            return;
+        }
         let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("aov baked pass"),
             color_attachments: &[cleared(cx.targets.view(BAKED), wgpu::Color::TRANSPARENT)],
