@@ -202,3 +202,25 @@ def test_spot_cones_in_the_demo(renderer):
     assert len(demo.node_names) > len(demo.lights)
     out = renderer.render(demo, width=64, height=48, outputs=("rgb",))
     assert out["rgb"].mean() > 10
+
+
+def test_spot_shadow_masks_read_lit_outside_the_cone(renderer):
+    demo = chiaro.Scene.demo(lights=4)
+    camera = chiaro.Camera.look_at((7.0, 6.0, 9.0), (0.0, 0.5, 0.0))
+    out = renderer.render(demo, camera=camera, width=W, height=H, outputs=("shadow", "position"))
+    position = out["position"]
+    checked = 0
+    for layer, node in enumerate(out["shadow_lights"]):
+        (light,) = [l for l in demo.lights if l.node == node]
+        if light.kind != "spot" or not light.shadows:
+            continue
+        to_surface = position - np.array(light.position)
+        cos = (to_surface @ np.array(light.direction)) / np.linalg.norm(to_surface, axis=-1)
+        # A degree beyond the outer cone, so rounding at the edge is left out.
+        outside = cos < np.cos(np.radians(light.outer_cone_deg + 1.0))
+        mask = out["shadow"][layer]
+        assert outside.sum() > 100
+        assert np.all(mask[outside] == 1.0), "light %s: shadowed outside its cone" % light.name
+        assert (mask[~outside & ~np.isnan(cos)] < 0.5).any(), "light %s casts no shadow at all" % light.name
+        checked += 1
+    assert checked >= 2
