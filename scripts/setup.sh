@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what Chiaro needs on a fresh Debian/Ubuntu machine: a C/C++ toolchain (the
-# FLIP image metric in the tests builds C++), the Vulkan loader, and Mesa's software
-# Vulkan driver (lavapipe) when no Vulkan driver is present. Rust comes from rustup.
+# FLIP image metric in the tests builds C++), the Vulkan loader, Mesa's software Vulkan
+# driver (lavapipe) when no Vulkan driver is present, and Python's venv for the Python
+# package. Rust comes from rustup.
 set -euo pipefail
 
 as_root() {
@@ -18,6 +19,8 @@ command -v cc >/dev/null 2>&1 && command -v c++ >/dev/null 2>&1 || packages+=(bu
 command -v pkg-config >/dev/null 2>&1 || packages+=(pkg-config)
 have_vulkan_driver || packages+=(libvulkan1 mesa-vulkan-drivers)
 command -v curl >/dev/null 2>&1 || packages+=(curl ca-certificates)
+# Python with venv and pip, for the Python package and its tests.
+python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || packages+=(python3 python3-venv python3-pip)
 # A virtual X display for the windowed test of `chiaro view`.
 command -v xvfb-run >/dev/null 2>&1 || packages+=(xvfb xauth)
 
