@@ -5,6 +5,7 @@
 
 mod arrays;
 mod camera;
+mod comparison;
 mod devices;
 mod errors;
 mod light;

@@ -4,11 +4,12 @@
 
 use crate::arrays::FrameArrays;
 use crate::camera::CameraChoice;
+use crate::comparison::LightVerdict;
 use crate::devices::device_type_name;
 use crate::errors::{SettingsError, render_error};
 use crate::outputs::Outputs;
 use crate::scene::{Scene, SceneState, SharedScene, read};
-use chiaro_compare::{compare_shadows, not_compared_because};
+use chiaro_compare::compare_shadows;
 use chiaro_render::{GpuContext, PreparedScene, RenderError, Renderer, View};
 use chiaro_scene::Settings;
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -270,8 +271,7 @@ impl RendererCore {
         let choice = CameraChoice::extract(camera)?;
         let size = (size(Some(width), 0, "width")?, size(Some(height), 0, "height")?);
         let state = scene.get().state.clone();
-        type Row = (usize, String, &'static str, Option<&'static str>, bool, usize, f64, f64, f64);
-        let rows = py.detach(|| -> Result<Vec<Row>, Failure> {
+        let verdicts = py.detach(|| -> Result<Vec<LightVerdict>, Failure> {
             let guard = read(&state);
             let view = choice.view(&guard.scene, &self.settings, size.0, size.1).map_err(Failure::Value)?;
             let mut inner = self.lock();
@@ -280,44 +280,9 @@ impl RendererCore {
             let gpu = &uploaded.as_ref().expect("uploaded").gpu;
             let settings = first_frame_settings(&self.settings, true);
             let result = compare_shadows(renderer, &guard.scene, gpu, &view, &settings)?;
-            Ok(result
-                .reports
-                .iter()
-                .map(|report| {
-                    let light = &guard.scene.lights[report.light];
-                    let status = result.status[report.light];
-                    let c = &report.comparison;
-                    let mask_only = status == chiaro_render::ShadowStatus::MaskOnly;
-                    (
-                        light.node,
-                        light.name.clone(),
-                        light.kind.name(),
-                        not_compared_because(status),
-                        mask_only,
-                        c.compared,
-                        100.0 * c.disagreement(),
-                        100.0 * c.false_share(),
-                        100.0 * c.missed_share(),
-                    )
-                })
-                .collect())
+            Ok(LightVerdict::all(&guard.scene, &result))
         })?;
-        rows.into_iter()
-            .map(|(node, name, kind, why, mask_only, compared, disagree, false_, missed)| {
-                let d = PyDict::new(py);
-                d.set_item("node", node)?;
-                d.set_item("light", name)?;
-                d.set_item("kind", kind)?;
-                d.set_item("compared", if why.is_some() { 0 } else { compared })?;
-                let judged = why.is_none();
-                d.set_item("disagree_percent", judged.then_some(disagree))?;
-                d.set_item("false_percent", judged.then_some(false_))?;
-                d.set_item("missed_percent", judged.then_some(missed))?;
-                d.set_item("not_compared", why)?;
-                d.set_item("shadow_mask_only", mask_only)?;
-                Ok(d)
-            })
-            .collect()
+        verdicts.into_iter().map(|v| v.into_dict(py)).collect()
     }
 
     fn __reduce__(&self) -> PyResult<()> {
