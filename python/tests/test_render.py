@@ -224,3 +224,10 @@ def test_spot_shadow_masks_read_lit_outside_the_cone(renderer):
         assert (mask[~outside & ~np.isnan(cos)] < 0.5).any(), "light %s casts no shadow at all" % light.name
         checked += 1
     assert checked >= 2
+
+
+def test_depth_alone_equals_the_depth_of_a_full_aov_frame(renderer, scene):
+    alone = renderer.render(scene, camera=overview(), width=W, height=H, outputs=("depth",))
+    full = renderer.render(scene, camera=overview(), width=W, height=H, outputs=("depth", "normal"))
+    np.testing.assert_array_equal(alone["depth"], full["depth"])
+    assert np.isinf(alone["depth"]).any() and np.isfinite(alone["depth"]).any()

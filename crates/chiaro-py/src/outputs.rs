@@ -85,6 +85,8 @@ impl Outputs {
         let any = |list: &[Output]| list.iter().any(|o| self.wants(*o));
         FrameOptions {
             aovs: any(&[Output::Depth, Output::Normal, Output::Position]),
+            // Depth without normal or position: one float a pixel instead of two float4s.
+            depth_only: !any(&[Output::Normal, Output::Position]),
             shadow_aovs: self.wants(Output::Shadow),
             ids: any(&[Output::Instance, Output::Label]),
             readback: any(&[Output::Rgb, Output::Hdr, Output::Depth, Output::Normal, Output::Position]),

@@ -13,6 +13,10 @@ use chiaro_scene::{LightMode, Scene};
 pub struct FrameOptions {
     /// Also render world position, normal and view depth.
     pub aovs: bool,
+    /// With `aovs`, render the view depth alone: `Aovs::depth` is filled and the other
+    /// AOVs come back empty. One float a pixel instead of three four-float targets, for
+    /// callers (datasets) that want depth and no more.
+    pub depth_only: bool,
     /// Also render each light's shadow attenuation (needs `readback`).
     pub shadow_aovs: bool,
     /// Also render each pixel's glTF node and label (`FrameOutput::ids`).
@@ -71,7 +75,8 @@ impl GpuFrameTimes {
     }
 }
 
-/// World-space AOVs; `NaN` where no surface covers the pixel.
+/// World-space AOVs; `NaN` where no surface covers the pixel. A depth-only frame
+/// (`FrameOptions::depth_only`) fills `depth` alone.
 #[derive(Clone, Debug, Default)]
 pub struct Aovs {
     /// World-space position, metres, per pixel.

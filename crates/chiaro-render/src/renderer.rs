@@ -114,6 +114,7 @@ impl Renderer {
     ) -> FramePlan {
         let request = PlanRequest {
             aovs: options.aovs,
+            depth_only: options.aovs && options.depth_only,
             debug: options.debug,
             shadow_aovs: options.shadow_aovs,
             ids: options.ids,

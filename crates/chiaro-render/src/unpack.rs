@@ -21,6 +21,7 @@ pub fn unpack_images(out: &mut FrameOutput, read: Vec<(Target, Vec<u8>)>, exposu
             aov::POSITION => position = Some(bytes),
             aov::NORMAL_DEPTH => normal = Some(bytes),
             aov::BAKED => baked = Some(bytes),
+            aov::VIEW_DEPTH => out.aovs = Some(view_depth(&bytes)),
             id::IDS => out.ids = Some(ids(&bytes)),
             shadow_aov::SHADOW => out.shadow_aovs = shadow_layers(&bytes, out.width, out.height),
             DIRECTIONAL_ATLAS => {
@@ -75,6 +76,13 @@ fn depths(bytes: &[u8]) -> Vec<f32> {
 
 /// Position, normal-and-depth and baked AOVs to world-space values, NaN (infinite depth,
 /// no irradiance) where no surface is.
+/// A depth-only request's AOVs: the view depth, infinite where no surface is (0 there in
+/// the target); position, normal and irradiance stay empty.
+fn view_depth(bytes: &[u8]) -> Aovs {
+    let depth: &[f32] = bytemuck::cast_slice(bytes);
+    Aovs { depth: depth.iter().map(|&d| if d > 0.0 { d } else { f32::INFINITY }).collect(), ..Aovs::default() }
+}
+
 fn aovs(position: &[u8], normal: &[u8], baked: Option<&[u8]>) -> Aovs {
     let position: &[[f32; 4]] = bytemuck::cast_slice(position);
     let normal: &[[f32; 4]] = bytemuck::cast_slice(normal);

@@ -151,3 +151,19 @@ fn frames_submitted_before_the_last_is_read_back_come_back_as_rendered_one_at_a_
     }
     assert_ne!(alone[0].ldr, alone[1].ldr, "the views differ, so a mix-up would show");
 }
+
+#[test]
+fn a_depth_only_frame_gives_the_depth_of_a_full_aov_frame() {
+    let mut renderer = renderer();
+    let scene = demo_scene(4);
+    let prepared = renderer.prepare(&scene).unwrap();
+    let view = View::from_camera(&scene, 0, SIZE, SIZE);
+    let settings = Settings::default();
+    let full = FrameOptions { readback: true, aovs: true, ..Default::default() };
+    let all = renderer.render(&scene, &prepared, &view, &settings, full).unwrap();
+    let only = renderer.render(&scene, &prepared, &view, &settings, FrameOptions { depth_only: true, ..full }).unwrap();
+    let (all, only) = (all.aovs.unwrap(), only.aovs.unwrap());
+    assert_eq!(all.depth, only.depth);
+    assert!(all.depth.iter().any(|d| d.is_infinite()) && all.depth.iter().any(|d| d.is_finite()));
+    assert!(only.position_ws.is_empty() && only.normal_ws.is_empty() && only.baked_irradiance.is_empty());
+}

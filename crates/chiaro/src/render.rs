@@ -165,6 +165,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let wants = |aov: Aov| args.aov.contains(&aov);
     let options = FrameOptions {
         aovs: wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Depth) || wants(Aov::Lightmap),
+        depth_only: !(wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Lightmap)),
         shadow_aovs: wants(Aov::Shadow),
         ids: wants(Aov::Instance) || wants(Aov::Label),
         readback: true,

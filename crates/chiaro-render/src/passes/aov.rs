@@ -15,6 +15,10 @@ pub const POSITION: Target = Target("aov position");
 pub const NORMAL_DEPTH: Target = Target("aov normal depth");
 /// Baked irradiance (RGB) and whether a bake lights the pixel (A).
 pub const BAKED: Target = Target("aov baked");
+/// Linear view depth alone, 0 where no surface is (a depth-only request).
+pub const VIEW_DEPTH: Target = Target("aov view depth");
+/// The depth-only target's format.
+pub const VIEW_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 /// Draws the AOV targets over the forward pass's depth: one mesh pass for position, normal
 /// and depth, one for baked irradiance when a bake is applied.
@@ -22,6 +26,8 @@ pub struct AovPass {
     pipelines: MeshPipelines,
     /// The baked irradiance, in a pass of its own.
     baked: MeshPipelines,
+    /// The view depth alone, for depth-only requests.
+    depth_only: MeshPipelines,
 }
 
 impl PassType for AovPass {
@@ -34,6 +40,10 @@ impl PassType for AovPass {
             return;
         }
         pass.modify(DEPTH);
+        if plan.request.depth_only {
+            pass.create(VIEW_DEPTH, TargetDesc::view_sized(VIEW_DEPTH_FORMAT, ATTACHMENT_COPY)).export(VIEW_DEPTH);
+            return;
+        }
         for target in [POSITION, NORMAL_DEPTH] {
             pass.create(target, TargetDesc::view_sized(AOV_FORMAT, ATTACHMENT_COPY)).export(target);
         }
@@ -67,12 +77,17 @@ impl AovPass {
         AovPass {
             pipelines: MeshPipelines::new(desc("aov", "fs_aov", vec![AOV_FORMAT, AOV_FORMAT])),
             baked: MeshPipelines::new(desc("aov baked", "fs_aov_baked", vec![AOV_FORMAT])),
+            depth_only: MeshPipelines::new(desc("aov view depth", "fs_aov_view_depth", vec![VIEW_DEPTH_FORMAT])),
         }
     }
 }
 
 impl FramePass for AovPass {
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
+        if cx.plan.request.depth_only {
+            self.depth_only.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
+            return;
+        }
         self.pipelines.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
         if cx.plan.features.baked {
             self.baked.prepare(cx.device, &cx.scene.draws, &cx.plan.camera_draws, 1);
@@ -81,6 +96,19 @@ impl FramePass for AovPass {
 
     fn record(&self, cx: &mut PassContext<'_>) {
         let timestamp_writes = cx.timestamp_writes();
+        if cx.plan.request.depth_only {
+            let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("aov view depth pass"),
+                color_attachments: &[cleared(cx.targets.view(VIEW_DEPTH), wgpu::Color::TRANSPARENT)],
+                depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
+                timestamp_writes,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, cx.frame_bind_group, &[]);
+            self.depth_only.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
+            return;
+        }
         let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("aov pass"),
             color_attachments: &[

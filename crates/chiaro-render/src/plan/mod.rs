@@ -39,6 +39,8 @@ use volumes::{VolumeDraw, light_volume};
 pub struct PlanRequest {
     /// World position, normal and depth AOVs.
     pub aovs: bool,
+    /// With `aovs`, the view depth alone (one float a pixel, a lighter pass).
+    pub depth_only: bool,
     /// A debug view drawn by the frame's passes: cascades tint the forward path's image,
     /// the deferred views imply the deferred path.
     pub debug: Option<DebugView>,
