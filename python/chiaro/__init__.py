@@ -87,7 +87,8 @@ def _settings_args(settings):
 class Renderer:
     """Renders scenes on one device.
 
-    device: "auto" (a discrete GPU, else an integrated one, else the CPU), "cpu", an index
+    device: "auto" (a discrete GPU, else an integrated one, else a virtual or other
+    adapter, else the CPU), "cpu", an index
     into `devices()`, "pci:0000:01:00.0", or "cuda:N" (the CUDA device N as this process
     sees it, after CUDA_VISIBLE_DEVICES, matched by PCI bus id). The CHIARO_DEVICE
     environment variable sets the default. Raises `DeviceError` when no device fits.
@@ -130,19 +131,20 @@ class Renderer:
         instance  (H, W) uint32 glTF node index of the mesh seen, 0xFFFFFFFF on the sky
         label     (H, W) uint32 the node's extras "label" (a class id), 0 if none
         shadow    (L, H, W) float32 per light, the realtime shadow attenuation the shading
-                  used (1 lit, 0 shadowed); "shadow_lights" lists the L lights' nodes
+                  used (1 lit, 0 shadowed, NaN on the sky); "shadow_lights" lists the L
+                  lights' nodes
 
         camera: a `Camera`, a glTF camera's name or index, or None (the file's first
         camera, else one framing the scene). width and height default to the settings'.
-        Only the outputs asked for are rendered and read back; asking for depth, normal
-        or position renders the frame without MSAA, as the CLI's AOVs do.
+        Only the outputs asked for are rendered and read back; asking for anything but
+        rgb and hdr renders the frame without MSAA, as the CLI's AOVs do.
         """
         return self._core.render(scene, camera, width, height, outputs)
 
     def render_many(self, scene, cameras, width=None, height=None, outputs=("rgb",)):
         """Renders one frame per camera of `cameras` and returns a list of dicts as
         `render` does. Two frames are kept in flight: one is read back while the next
-        renders."""
+        renders. Every frame is held until the call returns: pass long lists in chunks."""
         return self._core.render_many(scene, cameras, width, height, outputs)
 
     def compare(self, scene, camera=None, width=256, height=256):

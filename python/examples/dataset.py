@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Renders a small dataset: random cameras around a model, each sample saved as an .npz
-holding rgb, depth, instance and one shadow mask per light.
+holding rgb, depth, instance, label and one shadow mask per light.
 
     python dataset.py [SCENE.gltf] --samples 16 --width 320 --height 240 --out dataset/
 
 Without a scene, the built-in demo. Each sample is written to a temporary file and renamed
-into place, and a sample that exists is skipped, so a rerun resumes; the seed fixes the
-cameras, so the same command gives the same files.
+into place as soon as its chunk of frames is rendered, and a sample that exists is
+skipped, so a rerun resumes; the seed fixes the cameras, so the same command gives the
+same files.
 """
 
 import argparse
@@ -64,13 +65,18 @@ def main(argv=None):
     cameras = random_cameras(scene, a.samples, a.seed)
     todo = [(i, c) for i, c in enumerate(cameras) if not os.path.exists(os.path.join(a.out, "%05d.npz" % i))]
     outputs = ("rgb", "depth", "instance", "label", "shadow")
-    frames = renderer.render_many(scene, cameras=[c for _, c in todo], width=a.width, height=a.height,
-                                  outputs=outputs)
-    for (i, camera), frame in zip(todo, frames):
-        save_atomically(os.path.join(a.out, "%05d.npz" % i), eye=np.array(camera.eye),
-                        world_from_view=np.array(camera.world_from_view),
-                        shadow_lights=np.array(frame["shadow_lights"]), node_names=np.array(scene.node_names),
-                        **{k: frame[k] for k in outputs})
+    # render_many returns every frame it renders: chunks bound the memory held and save
+    # each chunk before the next renders.
+    chunk = 16
+    for start in range(0, len(todo), chunk):
+        part = todo[start:start + chunk]
+        frames = renderer.render_many(scene, cameras=[c for _, c in part], width=a.width, height=a.height,
+                                      outputs=outputs)
+        for (i, camera), frame in zip(part, frames):
+            save_atomically(os.path.join(a.out, "%05d.npz" % i), eye=np.array(camera.eye),
+                            world_from_view=np.array(camera.world_from_view),
+                            shadow_lights=np.array(frame["shadow_lights"]), node_names=np.array(scene.node_names),
+                            **{k: frame[k] for k in outputs})
     print("chiaro: %d samples in %s (%d rendered, %d already there) on %s" % (
         len(cameras), a.out, len(todo), len(cameras) - len(todo), renderer.device["name"]))
 

@@ -45,7 +45,8 @@ def id_colours(ids):
 def sheet(sample, columns=4):
     depth = sample["depth"]
     finite = depth[np.isfinite(depth)]
-    tiles = [sample["rgb"], grey(depth, finite.min(), finite.max()), id_colours(sample["instance"])]
+    lo, hi = (finite.min(), finite.max()) if finite.size else (0.0, 1.0)
+    tiles = [sample["rgb"], grey(depth, lo, hi), id_colours(sample["instance"])]
     if "label" in sample and sample["label"].any():  # a scene without labels shows none
         tiles.append(id_colours(sample["label"]))
     for mask in sample["shadow"]:

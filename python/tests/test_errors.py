@@ -107,7 +107,7 @@ def test_bad_cameras_and_transforms_are_value_errors(scene):
     with pytest.raises(ValueError, match="no node 99 in the scene"):
         scene.set_transform(99, np.eye(4))
     with pytest.raises(ValueError, match="cannot be inverted"):
-        scene.set_transform(scenes.BOX_NODE, np.zeros((4, 4)))
+        scene.set_transform(scenes.BOX_NODE, np.diag([0.0, 0.0, 0.0, 1.0]))
     with pytest.raises(ValueError, match=r"expected shape \(4, 4\)"):
         scene.set_transform(scenes.BOX_NODE, np.eye(3))
 
@@ -117,3 +117,17 @@ def test_renderers_and_scenes_refuse_to_be_pickled(renderer, scene):
         pickle.dumps(renderer)
     with pytest.raises(TypeError, match="cannot be pickled"):
         pickle.dumps(scene)
+
+
+def test_a_transposed_matrix_and_too_many_shadow_layers_are_value_errors(renderer, scene):
+    moved = np.eye(4)
+    moved[:3, 3] = (1.0, 0.0, 0.0)
+    with pytest.raises(ValueError, match=r"not affine.*\(transposed\?\)"):
+        scene.set_transform(scenes.BOX_NODE, moved.T)
+    with pytest.raises(ValueError, match="node: -1 is not a node index"):
+        scene.set_transform(-1, moved)
+    with pytest.raises(ValueError, match="lights: -1 is not between 0 and 65536"):
+        chiaro.Scene.demo(lights=-1)
+    crowded = chiaro.Scene.demo(lights=65536)
+    with pytest.raises(ValueError, match="'shadow' takes one layer per light"):
+        renderer.render(crowded, width=8, height=8, outputs=("shadow",))

@@ -1,10 +1,11 @@
 //! A read-back frame as numpy arrays. The pixels are put into their final layout once,
-//! without the GIL; numpy then takes ownership of those vectors (`PyArray::from_vec`) and
-//! reshapes them in place, so no further copy is made.
+//! without the GIL; numpy then takes ownership of those vectors in their final shape
+//! (`IntoPyArray`), so no further copy is made.
 
 use crate::outputs::{Output, Outputs};
 use chiaro_render::FrameOutput;
-use numpy::{Element, PyArray1, PyArrayMethods};
+use numpy::ndarray::{self, IxDyn};
+use numpy::{Element, IntoPyArray};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -16,8 +17,9 @@ pub struct Array<T> {
 
 impl<T: Element> Array<T> {
     fn into_py<'py>(self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let flat = PyArray1::from_vec(py, self.data);
-        Ok(flat.reshape(self.shape)?.into_any())
+        let array = ndarray::ArrayD::from_shape_vec(IxDyn(&self.shape), self.data)
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("array layout: {e}")))?;
+        Ok(array.into_pyarray(py).into_any())
     }
 }
 

@@ -159,7 +159,9 @@ impl Camera {
 pub enum CameraChoice {
     /// A Camera object.
     Given(Camera),
-    /// A glTF camera by name or index, as `--camera` takes it.
+    /// A glTF camera by index into the scene's cameras.
+    Index(usize),
+    /// A glTF camera by name (its camera's or node's).
     Named(String),
     /// The scene's first camera, or one that frames its bounds.
     Default,
@@ -179,7 +181,7 @@ impl CameraChoice {
             if index < 0 {
                 return Err(PyValueError::new_err(format!("camera: index {index} is negative")));
             }
-            return Ok(CameraChoice::Named(index.to_string()));
+            return Ok(CameraChoice::Index(index as usize));
         }
         if let Ok(name) = value.extract::<String>() {
             return Ok(CameraChoice::Named(name));
@@ -195,8 +197,17 @@ impl CameraChoice {
     pub fn view(&self, scene: &Scene, settings: &Settings, width: u32, height: u32) -> Result<View, String> {
         match self {
             CameraChoice::Given(camera) => Ok(camera.view(width, height)),
-            CameraChoice::Named(key) => {
-                chiaro_io::scenes::choose_view(scene, Some(key), settings, width, height).map_err(|e| format!("{e:#}"))
+            // The CLI's lookup takes digits for an index; a name is looked up as a name first.
+            CameraChoice::Named(name) => {
+                let key = match scene.cameras.iter().position(|c| &c.name == name) {
+                    Some(index) => index.to_string(),
+                    None => name.clone(),
+                };
+                chiaro_io::scenes::choose_view(scene, Some(&key), settings, width, height).map_err(|e| format!("{e:#}"))
+            }
+            CameraChoice::Index(index) => {
+                chiaro_io::scenes::choose_view(scene, Some(&index.to_string()), settings, width, height)
+                    .map_err(|e| format!("{e:#}"))
             }
             CameraChoice::Default => {
                 chiaro_io::scenes::choose_view(scene, None, settings, width, height).map_err(|e| format!("{e:#}"))

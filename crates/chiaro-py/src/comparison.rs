@@ -30,8 +30,10 @@ impl LightVerdict {
             .map(|report| {
                 let light = &scene.lights[report.light];
                 let status = result.status[report.light];
-                let not_compared = not_compared_because(status);
                 let c = &report.comparison;
+                // A light judged on no pixel has no share to report, not a perfect one.
+                let not_compared =
+                    not_compared_because(status).or((c.compared == 0).then_some("no pixel of this view was judged"));
                 LightVerdict {
                     node: light.node,
                     light: light.name.clone(),

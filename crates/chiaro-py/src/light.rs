@@ -1,7 +1,7 @@
 //! `chiaro.Light`: a view of one light of a scene; reading or setting an attribute reads or
 //! changes the scene itself, with the checks the glTF importer makes.
 
-use crate::scene::{SharedScene, read, write};
+use crate::scene::{SharedScene, reading, writing};
 use chiaro_math::light::MAX_LIGHT_INTENSITY;
 use chiaro_scene::{LightKind, LightMode, ShadowMode};
 use glam::Vec3;
@@ -18,12 +18,12 @@ pub struct Light {
 }
 
 impl Light {
-    fn with<T>(&self, f: impl FnOnce(&chiaro_scene::Light) -> T) -> T {
-        f(&read(&self.state).scene.lights[self.index])
+    fn with<T: Send>(&self, f: impl FnOnce(&chiaro_scene::Light) -> T + Send) -> T {
+        reading(&self.state, |s| f(&s.scene.lights[self.index]))
     }
 
-    fn edit<T>(&self, f: impl FnOnce(&mut chiaro_scene::Light) -> PyResult<T>) -> PyResult<T> {
-        f(&mut write(&self.state).scene.lights[self.index])
+    fn edit<T: Send>(&self, f: impl FnOnce(&mut chiaro_scene::Light) -> PyResult<T> + Send) -> PyResult<T> {
+        writing(&self.state, |s| f(&mut s.scene.lights[self.index]))
     }
 }
 

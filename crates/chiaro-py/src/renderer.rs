@@ -7,7 +7,7 @@ use crate::camera::CameraChoice;
 use crate::comparison::LightVerdict;
 use crate::devices::device_type_name;
 use crate::errors::{SettingsError, render_error};
-use crate::outputs::Outputs;
+use crate::outputs::{Output, Outputs};
 use crate::scene::{Scene, SceneState, SharedScene, read};
 use chiaro_compare::compare_shadows;
 use chiaro_render::{GpuContext, PreparedScene, RenderError, Renderer, View};
@@ -66,6 +66,8 @@ pub struct RendererCore {
     inner: Mutex<Inner>,
     settings: Settings,
     adapter_info: chiaro_render::wgpu::AdapterInfo,
+    /// The device's texture array layers: the shadow output's most lights.
+    max_shadow_layers: u32,
 }
 
 fn size(value: Option<i64>, default: u32, name: &str) -> PyResult<u32> {
@@ -90,6 +92,14 @@ impl RendererCore {
         outputs: &Outputs,
     ) -> Result<Vec<FrameArrays>, Failure> {
         let guard = read(state);
+        let lights = guard.scene.lights.len();
+        if outputs.wants(Output::Shadow) && lights > self.max_shadow_layers as usize {
+            return Err(Failure::Value(format!(
+                "outputs: 'shadow' takes one layer per light, and this device holds at most {} (the scene has {lights} \
+                 lights)",
+                self.max_shadow_layers
+            )));
+        }
         let views: Vec<View> = cameras
             .iter()
             .map(|c| c.view(&guard.scene, &self.settings, width, height))
@@ -187,7 +197,13 @@ impl RendererCore {
         chiaro_io::device::check_msaa(&renderer.ctx, &settings, None, settings_path.as_deref())
             .map_err(|e| SettingsError::new_err(format!("{e:#}")))?;
         let adapter_info = renderer.ctx.adapter_info.clone();
-        Ok(RendererCore { inner: Mutex::new(Inner { renderer, uploaded: None }), settings, adapter_info })
+        let max_shadow_layers = renderer.ctx.device.limits().max_texture_array_layers;
+        Ok(RendererCore {
+            inner: Mutex::new(Inner { renderer, uploaded: None }),
+            settings,
+            adapter_info,
+            max_shadow_layers,
+        })
     }
 
     /// The adapter rendering: name, backend, device_type, driver, pci_bus_id.

@@ -39,6 +39,18 @@ pub fn write(state: &SharedScene) -> RwLockWriteGuard<'_, SceneState> {
     state.write().unwrap_or_else(|e| e.into_inner())
 }
 
+/// Runs `f` on the scene with the GIL released while the lock is awaited and held: a
+/// render in another thread holds the scene for a whole frame, and Python's other
+/// threads must not stop meanwhile.
+pub fn reading<T: Send>(state: &SharedScene, f: impl FnOnce(&SceneState) -> T + Send) -> T {
+    Python::attach(|py| py.detach(|| f(&read(state))))
+}
+
+/// As `reading`, for a change.
+pub fn writing<T: Send>(state: &SharedScene, f: impl FnOnce(&mut SceneState) -> T + Send) -> T {
+    Python::attach(|py| py.detach(|| f(&mut write(state))))
+}
+
 /// A glTF scene (or the built-in demo) loaded into memory: meshes, materials, lights and
 /// cameras in world space (metres). Lights are edited through `scene.lights`, nodes moved
 /// with `set_transform`; a renderer picks up every change at its next frame.
@@ -65,6 +77,11 @@ pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Scene> {
     Ok(Scene::new(scene))
 }
 
+/// A node index from Python, where a negative or huge one is a ValueError naming it.
+fn node_index(node: i64) -> PyResult<usize> {
+    usize::try_from(node).map_err(|_| PyValueError::new_err(format!("node: {node} is not a node index")))
+}
+
 /// A row-major 4x4 matrix (numpy's `M @ p` convention) as glam's column-major one.
 pub fn matrix_from_rows(rows: &[[f64; 4]; 4]) -> Mat4 {
     Mat4::from_cols_array_2d(&std::array::from_fn(|c| std::array::from_fn(|r| rows[r][c] as f32)))
@@ -83,70 +100,75 @@ impl Scene {
     /// `shadowed_points` points cast shadows.
     #[staticmethod]
     #[pyo3(signature = (lights = 8, shadowed_spots = 4, shadowed_points = 2))]
-    fn demo(lights: usize, shadowed_spots: usize, shadowed_points: usize) -> PyResult<Scene> {
-        const MAX_DEMO_LIGHTS: usize = 65536;
-        if lights > MAX_DEMO_LIGHTS {
-            return Err(PyValueError::new_err(format!("lights: {lights} is more than {MAX_DEMO_LIGHTS}")));
+    fn demo(lights: i64, shadowed_spots: i64, shadowed_points: i64) -> PyResult<Scene> {
+        const MAX_DEMO_LIGHTS: i64 = 65536;
+        for (name, value) in
+            [("lights", lights), ("shadowed_spots", shadowed_spots), ("shadowed_points", shadowed_points)]
+        {
+            if !(0..=MAX_DEMO_LIGHTS).contains(&value) {
+                return Err(PyValueError::new_err(format!("{name}: {value} is not between 0 and {MAX_DEMO_LIGHTS}")));
+            }
         }
-        Ok(Scene::new(chiaro_scene::demo::demo_scene_with_shadows(lights, shadowed_spots, shadowed_points)))
+        let scene = chiaro_scene::demo::demo_scene_with_shadows(
+            lights as usize,
+            shadowed_spots as usize,
+            shadowed_points as usize,
+        );
+        Ok(Scene::new(scene))
     }
 
     /// The file the scene was loaded from, or None for the demo.
     #[getter]
     fn path(&self) -> Option<PathBuf> {
-        read(&self.state).scene.source.clone()
+        reading(&self.state, |s| s.scene.source.clone())
     }
 
     /// The scene's punctual lights, in the file's order. Each one's attributes are live:
     /// setting `scene.lights[0].intensity` changes the scene.
     #[getter]
     fn lights(&self) -> Vec<Light> {
-        let count = read(&self.state).scene.lights.len();
+        let count = reading(&self.state, |s| s.scene.lights.len());
         (0..count).map(|index| Light { state: self.state.clone(), index }).collect()
     }
 
     /// Every node's name, indexed by glTF node index (`node N` where the file gives none).
     #[getter]
     fn node_names(&self) -> Vec<String> {
-        read(&self.state).scene.nodes.iter().map(|n| n.name.clone()).collect()
+        reading(&self.state, |s| s.scene.nodes.iter().map(|n| n.name.clone()).collect())
     }
 
     /// The scene's glTF cameras, as `Camera` objects placed where their nodes are.
     #[getter]
     fn cameras(&self) -> Vec<Camera> {
-        read(&self.state).scene.cameras.iter().map(Camera::from_scene_camera).collect()
+        reading(&self.state, |s| s.scene.cameras.iter().map(Camera::from_scene_camera).collect())
     }
 
     /// World-space bounds of every mesh, `((min_x, min_y, min_z), (max_x, max_y, max_z))`
     /// in metres.
     #[getter]
     fn bounds(&self) -> ([f32; 3], [f32; 3]) {
-        let b = read(&self.state).scene.bounds();
+        let b = reading(&self.state, |s| s.scene.bounds());
         (b.min.to_array(), b.max.to_array())
     }
 
     /// What the file had that Chiaro does not use, one line each, saying why.
     #[getter]
     fn ignored(&self) -> Vec<String> {
-        read(&self.state).scene.ignored.clone()
+        reading(&self.state, |s| s.scene.ignored.clone())
     }
 
     /// Triangles drawn.
     #[getter]
     fn triangle_count(&self) -> usize {
-        read(&self.state).scene.triangle_count()
+        reading(&self.state, |s| s.scene.triangle_count())
     }
 
     /// Places node `node` (a glTF node index) at `matrix`, a 4x4 world transform in
     /// numpy's row-major convention (`matrix @ [x, y, z, 1]`), metres. Its children and
     /// whatever the moved nodes carry (meshes, lights, cameras) follow. Raises ValueError
     /// for an unknown node or a matrix that is not finite or cannot be inverted.
-    fn set_transform(
-        &self,
-        py: Python<'_>,
-        node: usize,
-        matrix: PyArrayLike2<'_, f64, AllowTypeChange>,
-    ) -> PyResult<()> {
+    fn set_transform(&self, py: Python<'_>, node: i64, matrix: PyArrayLike2<'_, f64, AllowTypeChange>) -> PyResult<()> {
+        let node = node_index(node)?;
         let view = matrix.as_array();
         if view.shape() != [4, 4] {
             let shape = view.shape();
@@ -174,30 +196,29 @@ impl Scene {
     }
 
     /// The transform of node `node` as a row-major 4x4 float32 array.
-    fn transform<'py>(&self, py: Python<'py>, node: usize) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
-        let guard = read(&self.state);
-        let count = guard.scene.nodes.len();
-        let n = guard
-            .scene
-            .nodes
-            .get(node)
+    fn transform<'py>(&self, py: Python<'py>, node: i64) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
+        let node = node_index(node)?;
+        let (found, count) =
+            reading(&self.state, |s| (s.scene.nodes.get(node).map(|n| n.world_from_node), s.scene.nodes.len()));
+        let world_from_node = found
             .ok_or_else(|| PyValueError::new_err(format!("no node {node} in the scene (it has {count} nodes)")))?;
-        let rows = matrix_rows(n.world_from_node);
+        let rows = matrix_rows(world_from_node);
         numpy::PyArray2::from_vec2(py, &rows.iter().map(|r| r.to_vec()).collect::<Vec<_>>())
             .map_err(|e| PyValueError::new_err(e.to_string()))
     }
 
     fn __repr__(&self) -> String {
-        let guard = read(&self.state);
-        let s = &guard.scene;
-        let source = s.source.as_ref().map_or("demo".to_string(), |p| p.display().to_string());
-        format!(
-            "<chiaro.Scene {source}: {} meshes, {} triangles, {} lights, {} cameras>",
-            s.instances.len(),
-            s.triangle_count(),
-            s.lights.len(),
-            s.cameras.len()
-        )
+        reading(&self.state, |state| {
+            let s = &state.scene;
+            let source = s.source.as_ref().map_or("demo".to_string(), |p| p.display().to_string());
+            format!(
+                "<chiaro.Scene {source}: {} meshes, {} triangles, {} lights, {} cameras>",
+                s.instances.len(),
+                s.triangle_count(),
+                s.lights.len(),
+                s.cameras.len()
+            )
+        })
     }
 
     fn __reduce__(&self) -> PyResult<()> {

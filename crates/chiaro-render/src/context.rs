@@ -111,6 +111,8 @@ impl GpuContext {
             max_texture_dimension_2d: adapter_limits.max_texture_dimension_2d,
             max_buffer_size: adapter_limits.max_buffer_size,
             max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
+            // The shadow AOVs take one array layer per light.
+            max_texture_array_layers: adapter_limits.max_texture_array_layers,
             ..wgpu::Limits::default()
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {

@@ -94,6 +94,11 @@ impl Scene {
         if !world_from_node.is_finite() {
             return Err(bad("has entries that are NaN or infinite"));
         }
+        // A transposed matrix (translation in the bottom row) is the usual mistake: it
+        // would make meshes projective while lights and cameras kept only their rigid part.
+        if !world_from_node.row(3).abs_diff_eq(glam::Vec4::W, 1e-6) {
+            return Err(bad("is not affine: its bottom row must be (0, 0, 0, 1) (transposed?)"));
+        }
         if world_from_node.determinant().abs() < 1e-12 {
             return Err(bad("cannot be inverted (a zero scale?)"));
         }
@@ -102,48 +107,48 @@ impl Scene {
         }
         let change = world_from_node * target.world_from_node.inverse();
         let moved = self.subtree(node);
-        for &n in &moved {
-            self.nodes[n].world_from_node = change * self.nodes[n].world_from_node;
+        for (entry, _) in self.nodes.iter_mut().zip(&moved).filter(|(_, inside)| **inside) {
+            entry.world_from_node = change * entry.world_from_node;
         }
         // Exact for the node itself rather than through the inverse's rounding.
         self.nodes[node].world_from_node = world_from_node;
+        let follows = |n: usize| moved.get(n).copied().unwrap_or(false);
         let mut result = NodeMove::default();
-        for instance in self.instances.iter_mut().filter(|i| moved[..].contains(&i.node)) {
+        for instance in self.instances.iter_mut().filter(|i| follows(i.node)) {
             instance.world_from_local = change * instance.world_from_local;
             result.instances += 1;
         }
-        for light in self.lights.iter_mut().filter(|l| moved[..].contains(&l.node)) {
+        for light in self.lights.iter_mut().filter(|l| follows(l.node)) {
             light.world_from_light = rigid(change * light.world_from_light);
             result.lights += 1;
         }
-        for camera in self.cameras.iter_mut().filter(|c| moved[..].contains(&c.node)) {
+        for camera in self.cameras.iter_mut().filter(|c| follows(c.node)) {
             camera.world_from_view = rigid(change * camera.world_from_view);
             result.cameras += 1;
         }
         Ok(result)
     }
 
-    /// `node` and every node below it.
-    fn subtree(&self, node: usize) -> Vec<usize> {
+    /// Per node, whether it is `node` or below it.
+    fn subtree(&self, node: usize) -> Vec<bool> {
         let mut children: Vec<Vec<usize>> = vec![Vec::new(); self.nodes.len()];
         for (i, n) in self.nodes.iter().enumerate() {
             if let Some(parent) = n.parent.filter(|&p| p < self.nodes.len()) {
                 children[parent].push(i);
             }
         }
-        let mut out = vec![node];
-        let mut next = 0;
-        while next < out.len() {
-            let n = out[next];
-            next += 1;
-            // The import refuses cycles; the check keeps a hand-made table from looping.
+        let mut inside = vec![false; self.nodes.len()];
+        inside[node] = true;
+        let mut stack = vec![node];
+        while let Some(n) = stack.pop() {
+            // The import refuses cycles; the mark keeps a hand-made table from looping.
             for &c in &children[n] {
-                if !out.contains(&c) {
-                    out.push(c);
+                if !std::mem::replace(&mut inside[c], true) {
+                    stack.push(c);
                 }
             }
         }
-        out
+        inside
     }
 }
 
@@ -212,5 +217,8 @@ mod tests {
         assert_eq!(error, "the transform for node 0 (floor) cannot be inverted (a zero scale?)");
         let error = scene.set_node_transform(0, Mat4::from_cols_array(&[f32::NAN; 16])).unwrap_err().to_string();
         assert!(error.ends_with("has entries that are NaN or infinite"), "{error}");
+        let transposed = Mat4::from_translation(Vec3::new(1.0, 2.0, 3.0)).transpose();
+        let error = scene.set_node_transform(0, transposed).unwrap_err().to_string();
+        assert!(error.ends_with("bottom row must be (0, 0, 0, 1) (transposed?)"), "{error}");
     }
 }
