@@ -1,7 +1,7 @@
 //! The AOV pass: world position, shading normal, linear view depth and baked irradiance
 //! of the surface the forward pass kept in each pixel (it tests against its depth).
 
-use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
+use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, cleared};
 use crate::graph::target::ATTACHMENT_COPY;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::plan::FramePlan;
@@ -96,45 +96,15 @@ impl FramePass for AovPass {
 
     fn record(&self, cx: &mut PassContext<'_>) {
         let timestamp_writes = cx.timestamp_writes();
+        let targets = cx.targets;
+        let clear = |target| cleared(targets.view(target), wgpu::Color::TRANSPARENT);
         if cx.plan.request.depth_only {
-            let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("aov view depth pass"),
-                color_attachments: &[cleared(cx.targets.view(VIEW_DEPTH), wgpu::Color::TRANSPARENT)],
-                depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
-                timestamp_writes,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, cx.frame_bind_group, &[]);
-            self.depth_only.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
+            self.depth_only.draw_over_scene_depth(cx, "aov view depth pass", &[clear(VIEW_DEPTH)], timestamp_writes);
             return;
         }
-        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("aov pass"),
-            color_attachments: &[
-                cleared(cx.targets.view(POSITION), wgpu::Color::TRANSPARENT),
-                cleared(cx.targets.view(NORMAL_DEPTH), wgpu::Color::TRANSPARENT),
-            ],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
-            timestamp_writes,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, cx.frame_bind_group, &[]);
-        self.pipelines.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
-        drop(pass);
-        if !cx.plan.features.baked {
-            return;
+        self.pipelines.draw_over_scene_depth(cx, "aov pass", &[clear(POSITION), clear(NORMAL_DEPTH)], timestamp_writes);
+        if cx.plan.features.baked {
+            self.baked.draw_over_scene_depth(cx, "aov baked pass", &[clear(BAKED)], None);
         }
-        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("aov baked pass"),
-            color_attachments: &[cleared(cx.targets.view(BAKED), wgpu::Color::TRANSPARENT)],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, cx.frame_bind_group, &[]);
-        self.baked.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
     }
 }

@@ -2,7 +2,7 @@
 //! node's `extras.label`, for datasets. One sample a pixel, tested against the frame's
 //! depth, so every id is exact at every pixel.
 
-use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, scene_depth};
+use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc};
 use crate::graph::target::ATTACHMENT_COPY;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::plan::FramePlan;
@@ -59,15 +59,7 @@ impl FramePass for IdPass {
     fn record(&self, cx: &mut PassContext<'_>) {
         let timestamp_writes = cx.timestamp_writes();
         let sky = wgpu::Color { r: f64::from(NO_NODE), g: 0.0, b: 0.0, a: 0.0 };
-        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("id pass"),
-            color_attachments: &[super::mesh::cleared(cx.targets.view(IDS), sky)],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
-            timestamp_writes,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, cx.frame_bind_group, &[]);
-        self.pipelines.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
+        let ids = super::mesh::cleared(cx.targets.view(IDS), sky);
+        self.pipelines.draw_over_scene_depth(cx, "id pass", &[ids], timestamp_writes);
     }
 }

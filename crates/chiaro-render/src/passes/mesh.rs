@@ -3,7 +3,7 @@
 //! the loop that binds materials and issues the draws in the plan's order.
 
 use crate::gpu::GpuVertex;
-use crate::graph::{Target, TargetDesc};
+use crate::graph::{PassContext, Target, TargetDesc};
 use crate::overrides::Override;
 use crate::plan::FramePlan;
 use crate::plan::draws::Draw;
@@ -215,6 +215,28 @@ impl MeshPipelines {
             multiview_mask: None,
             cache: None,
         })
+    }
+
+    /// Draws the camera's draws into `colors` in a pass of its own, tested against the
+    /// scene depth the frame left (loaded, not cleared), with the frame's bind group: the
+    /// passes that read out what the image shows (AOVs, ids).
+    pub fn draw_over_scene_depth(
+        &self,
+        cx: &mut PassContext<'_>,
+        label: &str,
+        colors: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: colors,
+            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), true)),
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, cx.frame_bind_group, &[]);
+        self.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
     }
 
     /// Issues the draws in `order` (pipelines `prepare`d), binding each material once
