@@ -119,10 +119,7 @@ impl Light {
     /// lights.
     #[getter]
     fn inner_cone_deg(&self) -> Option<f32> {
-        self.with(|l| match l.kind {
-            LightKind::Spot { inner_cone_rad, .. } => Some(inner_cone_rad.to_degrees()),
-            _ => None,
-        })
+        self.cone_deg().map(|[inner, _]| inner)
     }
 
     #[setter]
@@ -133,10 +130,7 @@ impl Light {
     /// A spot's outer cone half-angle in degrees (no light beyond); None for other lights.
     #[getter]
     fn outer_cone_deg(&self) -> Option<f32> {
-        self.with(|l| match l.kind {
-            LightKind::Spot { outer_cone_rad, .. } => Some(outer_cone_rad.to_degrees()),
-            _ => None,
-        })
+        self.cone_deg().map(|[_, outer]| outer)
     }
 
     #[setter]
@@ -250,6 +244,16 @@ impl Light {
 }
 
 impl Light {
+    /// A spot's inner and outer cone half-angles in degrees; None for other lights.
+    fn cone_deg(&self) -> Option<[f32; 2]> {
+        self.with(|l| match l.kind {
+            LightKind::Spot { inner_cone_rad, outer_cone_rad } => {
+                Some([inner_cone_rad.to_degrees(), outer_cone_rad.to_degrees()])
+            }
+            _ => None,
+        })
+    }
+
     /// Sets a spot's cone angles (either or both), keeping 0 <= inner < outer <= 90 degrees.
     fn set_cone(&self, inner_deg: Option<f32>, outer_deg: Option<f32>) -> PyResult<()> {
         self.edit(|l| {
