@@ -15,7 +15,6 @@ usage: pyrender_compare.py PYRENDER_PYTHON PEER_BENCH_PY [--width 640 --height 4
 """
 
 import argparse
-import base64
 import json
 import os
 import re
@@ -29,63 +28,23 @@ import numpy as np
 
 import chiaro
 
-
-def quat_from_to(a, b):
-    a, b = np.asarray(a, float) / np.linalg.norm(a), np.asarray(b, float) / np.linalg.norm(b)
-    q = np.array([*np.cross(a, b), 1.0 + float(np.dot(a, b))])
-    return (q / np.linalg.norm(q)).tolist()
-
-
-def box(lo, hi):
-    positions, normals, indices = [], [], []
-    for axis in range(3):
-        u, v = [a for a in range(3) if a != axis]
-        for sign in (-1.0, 1.0):
-            n = np.zeros(3)
-            n[axis] = sign
-            base = len(positions)
-            for cu, cv in ((0, 0), (1, 0), (1, 1), (0, 1)):
-                p = np.zeros(3)
-                p[axis] = hi[axis] if sign > 0 else lo[axis]
-                p[u], p[v] = (lo[u], hi[u])[cu], (lo[v], hi[v])[cv]
-                positions.append(p)
-                normals.append(n)
-            ccw = np.dot(np.cross(np.eye(3)[u], np.eye(3)[v]), n) > 0
-            indices += [base, base + 1, base + 2, base, base + 2, base + 3] if ccw else \
-                [base, base + 2, base + 1, base, base + 3, base + 2]
-    return np.array(positions, np.float32), np.array(normals, np.float32), np.array(indices, np.uint16)
+# The glTF writing helpers the tests use (box geometry, embedded buffers, rotations).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+from scenes import box_geometry, embed_meshes, look_at_quat, quat_from_to  # noqa: E402
 
 
 def write_scene(path, seed=3):
     rng = np.random.default_rng(seed)
-    blob, views, accessors = bytearray(), [], []
-
-    def add(array, target, kind):
-        while len(blob) % 4:
-            blob.append(0)
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes, "target": target})
-        blob.extend(array.tobytes())
-        acc = {"bufferView": len(views) - 1, "count": int(array.shape[0]), "type": kind,
-               "componentType": 5126 if array.dtype == np.float32 else 5123}
-        if kind == "VEC3":
-            acc["min"], acc["max"] = array.min(axis=0).tolist(), array.max(axis=0).tolist()
-        accessors.append(acc)
-        return len(accessors) - 1
-
-    meshes = []
-    for name, (p, n, i), material in (("floor", box(np.array([-10, -0.1, -10]), np.array([10, 0, 10])), 0),
-                                      ("box", box(np.array([-0.5, 0, -0.5]), np.array([0.5, 1, 0.5])), 1)):
-        meshes.append({"name": name, "primitives": [{"attributes": {"POSITION": add(p, 34962, "VEC3"),
-                                                                    "NORMAL": add(n, 34962, "VEC3")},
-                                                     "indices": add(i, 34963, "SCALAR"), "material": material}]})
+    mesh_data = embed_meshes([("floor", box_geometry(np.array([-10, -0.1, -10]), np.array([10, 0, 10])), 0),
+                              ("box", box_geometry(np.array([-0.5, 0, -0.5]), np.array([0.5, 1, 0.5])), 1)])
     nodes = [{"name": "floor", "mesh": 0}]
     for k in range(30):
         x, z = rng.uniform(-8, 8, 2)
         s = rng.uniform(0.4, 1.4, 3)
         nodes.append({"name": "box %d" % k, "mesh": 1, "translation": [float(x), 0.0, float(z)],
-                      "rotation": quat_from_to([1, 0, 0], [np.cos(k), 0, np.sin(k)]), "scale": s.tolist()})
+                      "rotation": quat_from_to([1, 0, 0], [np.cos(k), 0, np.sin(k)]).tolist(), "scale": s.tolist()})
     lights = [{"name": "sun", "type": "directional", "intensity": 4.0}]
-    nodes.append({"name": "sun", "rotation": quat_from_to([0, 0, -1], [0.5, -1.0, 0.3]),
+    nodes.append({"name": "sun", "rotation": quat_from_to([0, 0, -1], [0.5, -1.0, 0.3]).tolist(),
                   "extensions": {"KHR_lights_punctual": {"light": 0}}})
     for k in range(4):
         a = k * np.pi / 2 + 0.4
@@ -93,16 +52,10 @@ def write_scene(path, seed=3):
         lights.append({"name": "spot %d" % k, "type": "spot", "intensity": 60.0, "range": 25.0,
                        "color": [1.0, 0.85, 0.7], "spot": {"innerConeAngle": 0.35, "outerConeAngle": 0.6}})
         nodes.append({"name": "spot %d" % k, "translation": pos.tolist(),
-                      "rotation": quat_from_to([0, 0, -1], -pos),
+                      "rotation": quat_from_to([0, 0, -1], -pos).tolist(),
                       "extensions": {"KHR_lights_punctual": {"light": k + 1}}})
-    eye, target = np.array([12.0, 9.0, 12.0]), np.zeros(3)
-    f = (target - eye) / np.linalg.norm(target - eye)
-    r = np.cross(f, [0, 1, 0]); r /= np.linalg.norm(r)
-    u = np.cross(r, f)
-    m = np.stack([r, u, -f], axis=1)
-    w = np.sqrt(1.0 + np.trace(m)) / 2
-    rot = [(m[2, 1] - m[1, 2]) / (4 * w), (m[0, 2] - m[2, 0]) / (4 * w), (m[1, 0] - m[0, 1]) / (4 * w), w]
-    nodes.append({"name": "camera", "camera": 0, "translation": eye.tolist(), "rotation": rot})
+    eye = np.array([12.0, 9.0, 12.0])
+    nodes.append({"name": "camera", "camera": 0, "translation": eye.tolist(), "rotation": look_at_quat(eye, np.zeros(3))})
     doc = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"],
            "extensions": {"KHR_lights_punctual": {"lights": lights}},
            "scene": 0, "scenes": [{"nodes": list(range(len(nodes)))}], "nodes": nodes,
@@ -111,9 +64,7 @@ def write_scene(path, seed=3):
                                                                     "metallicFactor": 0, "roughnessFactor": 0.9}},
                          {"name": "clay", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.35, 0.2, 1],
                                                                    "metallicFactor": 0, "roughnessFactor": 0.6}}],
-           "meshes": meshes, "accessors": accessors, "bufferViews": views,
-           "buffers": [{"byteLength": len(blob),
-                        "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()}]}
+           **mesh_data}
     with open(path, "w") as fh:
         json.dump(doc, fh)
 

@@ -20,8 +20,8 @@ CAMERA_YFOV_DEG = 50.0
 
 
 def quat_from_to(a, b):
-    """The unit quaternion (x, y, z, w) turning unit vector a onto unit vector b."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
+    """The unit quaternion (x, y, z, w) turning direction a onto direction b."""
+    a, b = np.asarray(a, float) / np.linalg.norm(a), np.asarray(b, float) / np.linalg.norm(b)
     axis = np.cross(a, b)
     w = 1.0 + float(np.dot(a, b))
     q = np.array([axis[0], axis[1], axis[2], w])
@@ -41,7 +41,7 @@ def look_at_quat(eye, target):
     return [x, y, z, w]
 
 
-def _box_geometry(lo, hi):
+def box_geometry(lo, hi):
     """An axis-aligned box from lo to hi: 24 vertices with face normals, 36 indices wound
     counter-clockwise seen from outside."""
     positions, normals, indices = [], [], []
@@ -73,8 +73,9 @@ def _floor_geometry():
     return positions, normals, indices
 
 
-def write_scene(path, box_label=BOX_LABEL, sun_lux=5.0):
-    """Writes the floor-box-sun-camera scene as one self-contained .gltf at `path`."""
+def embed_meshes(parts):
+    """glTF meshes for (name, (positions, normals, indices), material) parts, with their
+    accessors, buffer views and one data-URI buffer, as a dict to merge into a document."""
     blob = bytearray()
     views, accessors, meshes = [], [], []
 
@@ -90,10 +91,18 @@ def write_scene(path, box_label=BOX_LABEL, sun_lux=5.0):
         accessors.append(acc)
         return len(accessors) - 1
 
-    for name, (p, n, i) in (("floor", _floor_geometry()), ("box", _box_geometry(BOX_MIN, BOX_MAX))):
+    for name, (p, n, i), material in parts:
         attributes = {"POSITION": add(p, 34962, "VEC3"), "NORMAL": add(n, 34962, "VEC3")}
         meshes.append({"name": name, "primitives": [{"attributes": attributes, "indices": add(i, 34963, "SCALAR"),
-                                                     "material": 0}]})
+                                                     "material": material}]})
+    uri = "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()
+    return {"meshes": meshes, "accessors": accessors, "bufferViews": views,
+            "buffers": [{"byteLength": len(blob), "uri": uri}]}
+
+
+def write_scene(path, box_label=BOX_LABEL, sun_lux=5.0):
+    """Writes the floor-box-sun-camera scene as one self-contained .gltf at `path`."""
+    mesh_data = embed_meshes([("floor", _floor_geometry(), 0), ("box", box_geometry(BOX_MIN, BOX_MAX), 0)])
     box_node = {"name": "box", "mesh": 1}
     if box_label is not None:
         box_node["extras"] = {"label": box_label}
@@ -116,11 +125,7 @@ def write_scene(path, box_label=BOX_LABEL, sun_lux=5.0):
                      "perspective": {"yfov": float(np.radians(CAMERA_YFOV_DEG)), "znear": 0.05, "zfar": 100.0}}],
         "materials": [{"name": "white", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1],
                                                                  "metallicFactor": 0.0, "roughnessFactor": 1.0}}],
-        "meshes": meshes,
-        "accessors": accessors,
-        "bufferViews": views,
-        "buffers": [{"byteLength": len(blob),
-                     "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()}],
+        **mesh_data,
     }
     with open(path, "w") as f:
         json.dump(doc, f)
