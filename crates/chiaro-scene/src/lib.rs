@@ -5,6 +5,7 @@
 
 #![warn(missing_docs)]
 
+pub mod animation;
 pub mod baked;
 pub mod demo;
 pub mod error;
@@ -17,6 +18,7 @@ pub mod test_scenes;
 pub mod types;
 pub mod vertex_gen;
 
+pub use animation::{AnimationError, SceneAnimation};
 pub use error::SceneError;
 pub use gltf_import::{load_gltf, load_gltf_bytes};
 pub use nodes::{NodeError, NodeMove, SceneNode};

@@ -527,6 +527,9 @@ pub struct Scene {
     /// Every node at its glTF index (objects' `node` fields index it); empty for scenes
     /// made in code until `ensure_nodes`.
     pub nodes: Vec<crate::nodes::SceneNode>,
+    /// glTF animations, skins and morph targets, for `Scene::pose`; `None` when the file
+    /// has none (and for scenes made in code).
+    pub animation: Option<Box<crate::animation::SceneAnimation>>,
 }
 
 impl Scene {

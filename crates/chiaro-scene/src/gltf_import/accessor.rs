@@ -90,7 +90,7 @@ impl<'a> Loader<'a> {
     /// applied. Every offset is checked against its buffer view before any byte is read.
     fn read_packed(&self, index: usize, dims: usize, what: &str) -> Result<Packed, SceneError> {
         use json::accessor::Type;
-        debug_assert!((1..=4).contains(&dims));
+        debug_assert!((1..=4).contains(&dims) || dims == 16);
         let accessor = &self.root.accessors[index];
         let label = format!("accessors[{index}] ({what})");
         let sparse_label = format!("accessors[{index}].sparse.indices ({what})");
@@ -98,7 +98,9 @@ impl<'a> Loader<'a> {
             return Err(self.invalid(format!("{label} has an invalid type")));
         };
         let component = component.0;
-        let expected = [Type::Scalar, Type::Vec2, Type::Vec3, Type::Vec4][dims - 1];
+        // 16 components are a MAT4 (inverse bind matrices); its float columns need no padding.
+        let expected =
+            if dims == 16 { Type::Mat4 } else { [Type::Scalar, Type::Vec2, Type::Vec3, Type::Vec4][dims - 1] };
         if ty != expected {
             return Err(self.invalid(format!("{label} is {}, expected {}", type_name(ty), type_name(expected))));
         }

@@ -103,11 +103,7 @@ impl Loader<'_> {
             }
             None => None,
         };
-        // A zero scale collapses the node's axes; the light keeps its position and what is
-        // left of its direction.
-        let world = placement.world_from_local;
-        let world_from_light = rigid_part(world)
-            .unwrap_or_else(|| looking_along(world.w_axis.truncate(), world.transform_vector3(Vec3::NEG_Z)));
+        let world_from_light = light_frame(placement.world_from_local);
         Ok(Some(Light {
             name: light.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("light {light_index}")),
             node: placement.node,
@@ -173,6 +169,12 @@ impl Loader<'_> {
             world_from_view,
         }))
     }
+}
+
+/// A light's frame on a node placed at `world`: its rigid part. A zero scale collapses the
+/// node's axes; the light then keeps its position and what is left of its direction.
+pub(crate) fn light_frame(world: glam::Mat4) -> glam::Mat4 {
+    rigid_part(world).unwrap_or_else(|| looking_along(world.w_axis.truncate(), world.transform_vector3(Vec3::NEG_Z)))
 }
 
 /// Validated spot cone half-angles: `0 <= inner < outer <= pi/2`. `inner == outer` (a

@@ -5,6 +5,7 @@
 //! counted in the loader's tally.
 
 use super::Loader;
+use crate::animation::deform::Deformation;
 use crate::error::SceneError;
 use crate::types::{Material, Mesh, Primitive};
 use crate::vertex_gen;
@@ -18,11 +19,16 @@ impl Loader<'_> {
         let mesh = &self.root.meshes[index];
         let name = mesh.name.as_deref().map(|n| format!(" ({n})")).unwrap_or_default();
         let mut primitives = Vec::new();
+        let mut deformations = Vec::new();
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let label = format!("meshes[{index}].primitives[{p}]{name}");
-            if let Some(primitive) = self.primitive(primitive, &label, materials)? {
+            if let Some((primitive, deformation)) = self.primitive(primitive, &label, materials)? {
                 primitives.push(primitive);
+                deformations.push(deformation);
             }
+        }
+        if deformations.iter().any(Option::is_some) {
+            self.deformations.insert(index, deformations);
         }
         Ok(Mesh { name: self.mesh_name(index), primitives })
     }
@@ -36,7 +42,7 @@ impl Loader<'_> {
         primitive: &json::mesh::Primitive,
         label: &str,
         materials: &[Material],
-    ) -> Result<Option<Primitive>, SceneError> {
+    ) -> Result<Option<(Primitive, Option<Deformation>)>, SceneError> {
         use json::mesh::{Mode, Semantic};
 
         let mode = match primitive.mode {
@@ -74,6 +80,8 @@ impl Loader<'_> {
             let uvs = self.vertex_attribute::<2>(accessor, &format!("TEXCOORD_{set}"), label, vertex_count)?;
             Ok(uvs.into_iter().map(Vec2::from_array).map(|uv| if uv.is_finite() { uv } else { Vec2::ZERO }).collect())
         };
+        let mut skin = self.skin_weights(primitive, label, vertex_count)?;
+        let mut targets = self.morph_targets(primitive, label, vertex_count)?;
         let mut uv0 = read_uv(0)?;
         let mut uv1 = read_uv(1)?;
         let mut normals: Option<Vec<Vec3>> = match attribute(Semantic::Normals) {
@@ -93,13 +101,21 @@ impl Loader<'_> {
             _ => None,
         };
 
+        let mut flat_normals = false;
         let normals = match normals.take() {
             Some(normals) => normals,
             None => {
                 positions = vertex_gen::unweld(&positions, &indices);
                 uv0 = vertex_gen::unweld(&uv0, &indices);
                 uv1 = vertex_gen::unweld(&uv1, &indices);
+                if let Some(skin) = &mut skin {
+                    skin.unweld(&indices);
+                }
+                for target in &mut targets {
+                    target.unweld(&indices);
+                }
                 indices = (0..positions.len() as u32).collect();
+                flat_normals = true;
                 vertex_gen::flat_normals(&positions)
             }
         };
@@ -113,23 +129,22 @@ impl Loader<'_> {
         });
 
         let bounds = Aabb::from_points(positions.iter().copied());
-        Ok(Some(Primitive {
-            positions,
-            normals,
-            tangents,
-            uv0,
-            uv1,
-            indices,
-            material,
-            bounds,
-            lightmap_uv: Vec::new(),
-        }))
+        let deformation = (skin.is_some() || !targets.is_empty()).then(|| Deformation {
+            positions: positions.clone(),
+            normals: normals.clone(),
+            tangents: tangents.clone(),
+            targets,
+            skin,
+            flat_normals,
+        });
+        let primitive =
+            Primitive { positions, normals, tangents, uv0, uv1, indices, material, bounds, lightmap_uv: Vec::new() };
+        Ok(Some((primitive, deformation)))
     }
 }
 
 impl Loader<'_> {
-    /// Counts the attributes Chiaro reads past: vertex colours, UV sets past the second,
-    /// morph targets.
+    /// Counts the attributes Chiaro reads past: vertex colours, UV sets past the second.
     fn count_ignored_attributes(&mut self, primitive: &json::mesh::Primitive) {
         use json::mesh::Semantic;
         let has = |wanted: fn(&Semantic) -> bool| {
@@ -140,14 +155,11 @@ impl Loader<'_> {
         };
         self.tally.vertex_colors += usize::from(has(|s| matches!(s, Semantic::Colors(_))));
         self.tally.extra_uv_sets += usize::from(has(|s| matches!(s, Semantic::TexCoords(2..))));
-        if primitive.targets.as_ref().is_some_and(|t| !t.is_empty()) {
-            self.tally.morph_targets += 1;
-        }
     }
 
     /// Vertex attribute `name` of the primitive `label` from `accessor`: exactly one value
     /// per vertex.
-    fn vertex_attribute<const N: usize>(
+    pub(super) fn vertex_attribute<const N: usize>(
         &self,
         accessor: usize,
         name: &str,

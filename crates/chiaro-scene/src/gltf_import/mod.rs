@@ -19,6 +19,7 @@
 //! `nodes` and the `lights_cameras` placed at them.
 
 mod accessor;
+mod animation;
 mod document;
 mod extras;
 pub mod glb;
@@ -36,14 +37,17 @@ mod validate;
 #[cfg(test)]
 mod tests;
 
+use crate::animation::deform::Deformation;
 use crate::error::SceneError;
 use crate::types::{Material, Mesh, MeshInstance, Scene};
 use document::Document;
 use gltf::json;
+pub(crate) use lights_cameras::light_frame;
 use nodes::Placement;
 use serde_json::Value;
 use std::borrow::Cow;
 use std::cell::{OnceCell, RefCell};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
@@ -83,6 +87,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
         ignored: document.notes.clone(),
         tally: Tally::default(),
         inputs: RefCell::new(vec![path.to_path_buf()]),
+        deformations: HashMap::new(),
     };
     let mut scene = loader.load()?;
     scene.source = Some(path.to_path_buf());
@@ -106,7 +111,6 @@ struct Tally {
     points_or_lines: usize,
     without_positions: usize,
     vertex_colors: usize,
-    morph_targets: usize,
     extra_uv_sets: usize,
 }
 
@@ -128,6 +132,8 @@ struct Loader<'a> {
     tally: Tally,
     /// Files read: the document and its external buffers and images.
     inputs: RefCell<Vec<PathBuf>>,
+    /// Per converted mesh with skin weights or morph targets, what moves each primitive.
+    deformations: HashMap<usize, Vec<Option<Deformation>>>,
 }
 
 impl<'a> Loader<'a> {
@@ -141,7 +147,7 @@ impl<'a> Loader<'a> {
         let moving = self.animated_nodes();
         let mut materials =
             (0..self.root.materials.len()).map(|index| self.material(index)).collect::<Result<Vec<_>, _>>()?;
-        let meshes = self.drawn_meshes(&placements, &materials)?;
+        let mut meshes = self.drawn_meshes(&placements, &materials)?;
 
         let mut instances = Vec::new();
         let mut lights = Vec::new();
@@ -161,10 +167,11 @@ impl<'a> Loader<'a> {
             }
         }
 
+        let animation = self.animation(&placements, &mut instances, &mut meshes)?;
         let image_uses = images::image_uses(&materials, &meshes);
         let images = self.decode_images(&image_uses, &mut materials, &mut lights)?;
         self.note_tally();
-        Ok(Scene {
+        let mut scene = Scene {
             source: None,
             meshes,
             instances,
@@ -176,7 +183,12 @@ impl<'a> Loader<'a> {
             inputs: Vec::new(),
             baked: None,
             nodes: self.node_table(&placements),
-        })
+            animation: animation.map(Box::new),
+        };
+        // Skinned and morphed meshes at rest: joints at their rest transforms, the rest
+        // weights applied. The rest time is always a valid pose.
+        scene.pose(None).expect("the rest pose needs no time");
+        Ok(scene)
     }
 
     /// Every mesh a visible node of the scene places, converted; the others stay empty
@@ -239,12 +251,8 @@ impl<'a> Loader<'a> {
     }
 
     fn note_tally(&mut self) {
-        let root = self.root;
         let t = &self.tally;
         let notes = [
-            (root.animations.len(), "animation", "not played; the nodes it moves are dynamic (lit by light probes)"),
-            (root.skins.len(), "skin", "not supported, skinned meshes drawn in their bind pose"),
-            (t.morph_targets, "primitive with morph targets", "not supported, drawn with base positions"),
             (t.vertex_colors, "primitive with vertex colours", "not supported, ignored"),
             (t.points_or_lines, "primitive of points or lines", "not supported, ignored"),
             (t.without_positions, "primitive without POSITION", "nothing to draw, ignored"),

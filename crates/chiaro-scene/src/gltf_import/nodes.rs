@@ -93,8 +93,9 @@ impl Loader<'_> {
         visible.and_then(serde_json::Value::as_bool).unwrap_or(true)
     }
 
-    /// Per node, whether a glTF animation moves it or one of its ancestors: those nodes are
-    /// dynamic, so the baker gives them light probes rather than lightmaps.
+    /// Per node, whether a glTF animation moves it or one of its ancestors, or the joints of
+    /// its skin: those nodes are dynamic, so the baker gives them light probes rather than
+    /// lightmaps.
     pub(super) fn animated_nodes(&self) -> Vec<bool> {
         let nodes = &self.root.nodes;
         let mut moving = vec![false; nodes.len()];
@@ -113,6 +114,14 @@ impl Loader<'_> {
                 continue;
             }
             stack.extend(nodes[n].children.iter().flatten().map(|c| c.value()).filter(|&c| c < nodes.len()));
+        }
+        // A skinned mesh moves with its joints wherever its own node is.
+        let skin_moves: Vec<bool> =
+            self.root.skins.iter().map(|s| s.joints.iter().any(|j| moving.get(j.value()) == Some(&true))).collect();
+        for (n, node) in nodes.iter().enumerate() {
+            if node.skin.is_some_and(|s| skin_moves.get(s.value()) == Some(&true)) {
+                moving[n] = true;
+            }
         }
         moving
     }

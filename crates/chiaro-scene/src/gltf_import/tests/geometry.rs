@@ -178,7 +178,6 @@ fn ignored_features_are_counted_once_per_kind() {
     assert_eq!(
         scene.ignored,
         vec![
-            "3 animations: not played; the nodes it moves are dynamic (lit by light probes)".to_owned(),
             "1 primitive with vertex colours: not supported, ignored".to_owned(),
             "2 primitives of points or lines: not supported, ignored".to_owned(),
             "1 primitive without POSITION: nothing to draw, ignored".to_owned(),
@@ -216,13 +215,19 @@ fn animated_nodes_and_their_children_are_dynamic_and_extras_override() {
         { "mesh": 0, "name": "declared", "extras": { "static": false } },
         { "mesh": 0, "name": "pinned", "extras": { "static": true } },
     ]);
-    // The channels' samplers reuse the position accessor; only the targets matter here.
+    // One time and one translation; only the channels' targets matter here.
+    let extra = f32_bytes(&[0.0, 0.0, 0.0, 0.0]);
+    doc["buffers"].as_array_mut().unwrap().push(json!({ "byteLength": 16, "uri": data_uri(&extra) }));
+    doc["bufferViews"].as_array_mut().unwrap().push(json!({ "buffer": 1, "byteLength": 16 }));
+    let accessors = doc["accessors"].as_array_mut().unwrap();
+    accessors.push(json!({ "bufferView": 1, "componentType": 5126, "count": 1, "type": "SCALAR" }));
+    accessors.push(json!({ "bufferView": 1, "byteOffset": 4, "componentType": 5126, "count": 1, "type": "VEC3" }));
     doc["animations"] = json!([{
         "channels": [
             { "sampler": 0, "target": { "node": 1, "path": "translation" } },
             { "sampler": 0, "target": { "node": 4, "path": "translation" } }
         ],
-        "samplers": [{ "input": 0, "output": 0 }]
+        "samplers": [{ "input": 1, "output": 2 }]
     }]);
     let scene = load_doc(&dir, &doc).unwrap();
     let flags: Vec<(&str, bool)> = scene.instances.iter().map(|i| (i.name.as_str(), i.is_static)).collect();

@@ -3,6 +3,7 @@
 //! is checked. This module holds what the topics share: the scratch folder, a one-triangle
 //! document to edit, and readers of the result; each submodule tests one topic.
 
+mod animation;
 mod conformance;
 mod geometry;
 mod invalid_files;
