@@ -22,6 +22,10 @@ pub enum Action {
     SwitchLight { index: usize, on: bool },
     /// What "frame selected" looks at.
     Select(Option<Selection>),
+    /// Pose the scene at this time of its animations (`None`: the rest pose).
+    SetTime(Option<f32>),
+    /// Run the animations in real time (looping), or stop them where they are.
+    Play(bool),
     /// Show this debug view in place of the lit image (`None`: the lit image).
     SetDebugView(Option<DebugView>),
 

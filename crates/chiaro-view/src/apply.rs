@@ -34,6 +34,10 @@ impl Viewer {
             Action::SwitchLight { index, on } => self.switch_light(index, on),
             Action::Select(selection) => self.state.panel.lights.selected = selection,
             Action::SetDebugView(debug) => self.state.debug = debug,
+            Action::SetTime(time) => self.set_time(time),
+            Action::Play(playing) => {
+                self.state.timeline.playing = playing && self.state.scene.scene.animation_duration().is_some();
+            }
             action @ (Action::SetNavigation(_)
             | Action::SelectCamera(_)
             | Action::NextCamera
@@ -138,6 +142,24 @@ impl Viewer {
         }
     }
 
+    /// Poses the scene at `time` and uploads it again (posed meshes are new geometry; the
+    /// shadow cache redraws the tiles whose casters moved).
+    fn set_time(&mut self, time: Option<f32>) {
+        let state = &mut self.state;
+        if let Err(e) = state.scene.scene.pose(time) {
+            state.panel.error = Some(format!("time: {e}"));
+            return;
+        }
+        state.timeline.time = time;
+        state.scene.picker.reset();
+        if let Some(gpu) = self.gpu.as_mut() {
+            match gpu.renderer.prepare(&state.scene.scene) {
+                Ok(prepared) => gpu.prepared = prepared,
+                Err(e) => state.panel.error = Some(format!("time: {e}")),
+            }
+        }
+    }
+
     fn move_camera(&mut self, action: Action) {
         let (camera, scene) = (&mut self.state.camera, &self.state.scene.scene);
         match action {
@@ -167,13 +189,16 @@ impl Viewer {
 
     /// A scene read by the loader: shown if it loads, else its error in the panel.
     fn show_scene(&mut self, loaded: Loaded) {
-        let scene = match loaded.scene {
+        let mut scene = match loaded.scene {
             Ok(scene) => scene,
             Err(e) => {
                 self.state.panel.error = Some(format!("{e:#}"));
                 return;
             }
         };
+        // A new scene opens at the time shown; it runs on only if it has animations.
+        scene.pose(self.state.timeline.time).expect("the timeline holds finite times");
+        self.state.timeline.playing &= scene.animation_duration().is_some();
         let Some(gpu) = self.gpu.as_mut() else { return };
         let prepared = match gpu.renderer.prepare(&scene) {
             Ok(p) => p,

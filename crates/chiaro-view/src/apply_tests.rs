@@ -198,3 +198,34 @@ fn frames_shown_are_counted_for_the_summary() {
     viewer.apply(Action::Quit { report: false });
     assert!(viewer.quit && viewer.failure.is_none());
 }
+
+#[test]
+fn the_timeline_poses_the_scene_and_the_rest_pose_returns() {
+    // The spot scene's animations move its spot light and a cone.
+    let mut viewer = spot_viewer();
+    let duration = viewer.state.scene.scene.animation_duration().expect("the spot scene is animated");
+    let rest = viewer.state.scene.scene.lights[0].world_from_light;
+    viewer.apply(Action::SetTime(Some(duration * 0.5)));
+    assert_eq!(viewer.state.timeline.time, Some(duration * 0.5));
+    let moved = viewer.state.scene.scene.lights[0].world_from_light;
+    assert!(!moved.abs_diff_eq(rest, 1e-4), "the animated light moved");
+    let mut posed = chiaro_scene::load_gltf(&asset("ShadowsSpot/glTF/shadows-spot.gltf")).unwrap();
+    posed.pose(Some(duration * 0.5)).unwrap();
+    assert_eq!(posed.lights[0].world_from_light, moved, "as the file posed at that time");
+
+    viewer.apply(Action::Play(true));
+    assert!(viewer.state.timeline.playing);
+    viewer.apply(Action::SetTime(None));
+    assert_eq!(viewer.state.scene.scene.lights[0].world_from_light, rest);
+    viewer.apply(Action::SetTime(Some(f32::NAN)));
+    assert!(viewer.state.panel.error.as_deref().is_some_and(|e| e.starts_with("time: ")));
+    assert_eq!(viewer.state.timeline.time, None, "a refused time is not kept");
+
+    // A scene without animations does not play, and playing wraps at the duration.
+    let mut still = demo_viewer();
+    still.apply(Action::Play(true));
+    assert!(!still.state.timeline.playing);
+    let timeline = crate::state::TimelineState { time: Some(3.5), playing: true };
+    assert!((timeline.advanced(1.0, 4.0) - 0.5).abs() < 1e-6);
+    assert_eq!(timeline.advanced(1.0, 0.0), 0.0);
+}

@@ -57,6 +57,10 @@ impl Viewer {
         let seconds = self.last_frame.map_or(0.0, |t| (now - t).as_secs_f32());
         let fly = self.input.fly(self.state.camera.navigation, seconds);
         self.apply_all(fly);
+        let timeline = self.state.timeline;
+        if let Some(duration) = self.state.scene.scene.animation_duration().filter(|_| timeline.playing) {
+            self.apply(Action::SetTime(Some(timeline.advanced(seconds, duration))));
+        }
         self.render_frame()?;
         let now = Instant::now();
         let interval_ms = self.last_frame.replace(now).map(|last| (now - last).as_secs_f64() * 1e3);

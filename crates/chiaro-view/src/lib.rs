@@ -68,6 +68,8 @@ pub struct ViewerConfig {
     /// `--exit-after-frames` and what to write then.
     pub script: Option<Script>,
     pub load_scene: LoadScene,
+    /// `--time`: the moment of the glTF animations to open at (`None`: the rest pose).
+    pub time: Option<f32>,
 }
 
 impl ViewerConfig {
@@ -86,6 +88,7 @@ impl ViewerConfig {
             compare_at_start: false,
             script: None,
             load_scene: loader::plain_loader(),
+            time: None,
         }
     }
 }

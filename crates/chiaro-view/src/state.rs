@@ -78,6 +78,22 @@ pub struct PanelState {
     pub reference_lines: Vec<String>,
 }
 
+/// Where the animations are: the time shown (`None`: the rest pose) and whether it runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TimelineState {
+    pub time: Option<f32>,
+    pub playing: bool,
+}
+
+impl TimelineState {
+    /// The time after `seconds` more of playing, wrapping at `duration` (the loop of the
+    /// longest animation); a zero-length animation stays at 0.
+    pub fn advanced(&self, seconds: f32, duration: f32) -> f32 {
+        let t = self.time.unwrap_or(0.0) + seconds;
+        if duration > 0.0 { t.rem_euclid(duration) } else { 0.0 }
+    }
+}
+
 /// One frame's times, for the graph.
 #[derive(Clone, Debug, Default)]
 pub struct FrameSample {
@@ -146,11 +162,14 @@ pub struct ViewerState {
     pub panel: PanelState,
     pub stats: FrameStats,
     pub jobs: Jobs,
+    pub timeline: TimelineState,
 }
 
 impl ViewerState {
     pub fn new(config: ViewerConfig) -> ViewerState {
-        let ViewerConfig { scene, scene_path, settings, settings_file, msaa_flag, camera_key, start_view, .. } = config;
+        let ViewerConfig {
+            scene, scene_path, settings, settings_file, msaa_flag, camera_key, start_view, time, ..
+        } = config;
         let mut loader = Loader::new(config.load_scene);
         loader.watch(&scene);
         ViewerState {
@@ -161,6 +180,7 @@ impl ViewerState {
             panel: PanelState::default(),
             stats: FrameStats::default(),
             jobs: Jobs { loader, reference: ReferenceJob::default(), disagreement: None },
+            timeline: TimelineState { time, playing: false },
         }
     }
 

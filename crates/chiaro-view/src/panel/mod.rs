@@ -8,6 +8,7 @@ pub mod lights;
 pub mod settings;
 #[cfg(test)]
 mod tests;
+pub mod timeline;
 pub mod timings;
 
 use crate::action::Action;
@@ -72,6 +73,10 @@ pub fn side_panel(ui: &mut egui::Ui, state: &ViewerState) -> Vec<Action> {
     let camera_names: Vec<String> = scene.cameras.iter().map(|c| c.name.clone()).collect();
     actions.extend(controls::cameras_panel(ui, &camera_names, state.camera.navigation));
     ui.label(selected_line(state));
+    if let Some(duration) = scene.animation_duration() {
+        ui.heading("Animation");
+        actions.extend(timeline::timeline_panel(ui, &state.timeline, duration));
+    }
     ui.heading("View");
     actions.extend(controls::debug_panel(ui, state));
     if state.comparison_stale() && state.debug == Some(DebugView::Reference) {
