@@ -1,4 +1,5 @@
-//! Camera projections and automatic framing of a scene's bounds.
+//! Camera projections, cameras placed by eye and target, and automatic framing of a
+//! scene's bounds.
 //!
 //! Chiaro renders with reverse-Z (near at depth 1, far at 0), which spreads float depth
 //! precision evenly; with no far plane the projection is infinite.
@@ -12,6 +13,84 @@ pub fn perspective_reverse_z(yfov_rad: f32, aspect: f32, znear: f32, zfar: Optio
         // Swapping near and far in a standard [0, 1] projection gives reverse-Z.
         Some(far) => Mat4::perspective_rh(yfov_rad, aspect, far, znear),
         None => Mat4::perspective_infinite_reverse_rh(yfov_rad, aspect, znear),
+    }
+}
+
+/// A perspective camera placed at `eye` looking at `target` (metres, world space), `up`
+/// giving the image's up direction, with a vertical field of view and clip planes. The
+/// Python package's `Camera.look_at` and the job lists of `chiaro batch` both make views
+/// this way, with the same checks and messages.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LookAt {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub yfov_deg: f32,
+    pub znear: f32,
+    /// `None` for an infinite projection.
+    pub zfar: Option<f32>,
+}
+
+/// Why a `LookAt` places no camera; the message names the value at fault.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LookAtError {
+    /// `eye`, `target` or `up` (named) has a NaN or infinite component.
+    NotFinite(&'static str, Vec3),
+    /// The eye is on the target: there is no viewing direction.
+    SamePoint,
+    /// `up` is zero or along the viewing direction: the image's roll is undefined.
+    UpParallel,
+    /// The field of view is not inside (0, 180) degrees.
+    BadFov(f32),
+    /// The near plane is not a positive distance.
+    BadNear(f32),
+    /// The far plane is not beyond the near plane.
+    BadFar { far: f32, near: f32 },
+}
+
+impl std::fmt::Display for LookAtError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LookAtError::NotFinite(name, v) => write!(f, "{name}: {v} is not finite"),
+            LookAtError::SamePoint => write!(f, "look_at: eye and target are the same point"),
+            LookAtError::UpParallel => write!(f, "look_at: up is zero or parallel to the viewing direction"),
+            LookAtError::BadFov(deg) => write!(f, "yfov_deg: {deg} is not between 0 and 180 degrees"),
+            LookAtError::BadNear(near) => write!(f, "znear: {near} is not positive"),
+            LookAtError::BadFar { far, near } => write!(f, "zfar: {far} is not beyond znear ({near})"),
+        }
+    }
+}
+
+impl std::error::Error for LookAtError {}
+
+impl LookAt {
+    /// The camera's pose, view space (-Z forward, +Y up) to world space, once every value
+    /// is checked.
+    pub fn world_from_view(&self) -> Result<Mat4, LookAtError> {
+        for (name, v) in [("eye", self.eye), ("target", self.target), ("up", self.up)] {
+            if !v.is_finite() {
+                return Err(LookAtError::NotFinite(name, v));
+            }
+        }
+        let forward = self.target - self.eye;
+        if forward.length() < 1e-9 {
+            return Err(LookAtError::SamePoint);
+        }
+        if self.up.length() < 1e-9 || forward.normalize().cross(self.up.normalize()).length() < 1e-6 {
+            return Err(LookAtError::UpParallel);
+        }
+        if !(self.yfov_deg > 0.0 && self.yfov_deg < 180.0) {
+            return Err(LookAtError::BadFov(self.yfov_deg));
+        }
+        if !(self.znear.is_finite() && self.znear > 0.0) {
+            return Err(LookAtError::BadNear(self.znear));
+        }
+        if let Some(far) = self.zfar
+            && !(far.is_finite() && far > self.znear)
+        {
+            return Err(LookAtError::BadFar { far, near: self.znear });
+        }
+        Ok(Mat4::look_at_rh(self.eye, self.target, self.up).inverse())
     }
 }
 
@@ -65,6 +144,33 @@ mod tests {
         let inf = perspective_reverse_z(1.0, 1.5, 0.5, None);
         assert!((inf.project_point3(Vec3::new(0.0, 0.0, -0.5)).z - 1.0).abs() < 1e-5);
         assert!(inf.project_point3(Vec3::new(0.0, 0.0, -1e6)).z < 1e-5);
+    }
+
+    #[test]
+    fn a_look_at_camera_sees_its_target_ahead_and_refuses_what_places_none() {
+        let camera = LookAt {
+            eye: Vec3::new(3.0, 5.0, 6.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            yfov_deg: 50.0,
+            znear: 0.05,
+            zfar: None,
+        };
+        let world_from_view = camera.world_from_view().unwrap();
+        let target_vs = world_from_view.inverse().transform_point3(Vec3::ZERO);
+        let distance = Vec3::new(3.0, 5.0, 6.0).length();
+        assert!(target_vs.truncate().length() < 1e-4 && (target_vs.z + distance).abs() < 1e-4, "{target_vs}");
+        let fails = |change: &dyn Fn(&mut LookAt)| {
+            let mut c = camera;
+            change(&mut c);
+            c.world_from_view().unwrap_err().to_string()
+        };
+        assert_eq!(fails(&|c| c.target = c.eye), "look_at: eye and target are the same point");
+        assert_eq!(fails(&|c| c.up = c.target - c.eye), "look_at: up is zero or parallel to the viewing direction");
+        assert_eq!(fails(&|c| c.eye.x = f32::NAN), "eye: [NaN, 5, 6] is not finite");
+        assert_eq!(fails(&|c| c.yfov_deg = 180.0), "yfov_deg: 180 is not between 0 and 180 degrees");
+        assert_eq!(fails(&|c| c.znear = 0.0), "znear: 0 is not positive");
+        assert_eq!(fails(&|c| c.zfar = Some(0.01)), "zfar: 0.01 is not beyond znear (0.05)");
     }
 
     #[test]

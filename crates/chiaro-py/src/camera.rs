@@ -2,7 +2,7 @@
 //! argument (a Camera, a glTF camera's name or index, or None) becomes the frame's view.
 
 use crate::scene::matrix_rows;
-use chiaro_math::camera::perspective_reverse_z;
+use chiaro_math::camera::LookAt;
 use chiaro_render::View;
 use chiaro_scene::{Scene, Settings};
 use glam::{Mat4, Vec3};
@@ -35,25 +35,12 @@ impl Camera {
 
     /// The view of this camera for a `width` x `height` image.
     pub fn view(&self, width: u32, height: u32) -> View {
-        let aspect = width as f32 / height as f32;
-        View {
-            width,
-            height,
-            world_from_view: self.world_from_view,
-            clip_from_view: perspective_reverse_z(self.yfov_rad, aspect, self.znear, self.zfar),
-            yfov_rad: self.yfov_rad,
-            znear: self.znear,
-            zfar: self.zfar,
-        }
+        View::perspective(self.world_from_view, self.yfov_rad, self.znear, self.zfar, width, height)
     }
 }
 
-fn finite3(name: &str, v: [f64; 3]) -> PyResult<Vec3> {
-    let v = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
-    if !v.is_finite() {
-        return Err(PyValueError::new_err(format!("{name}: {v} is not finite")));
-    }
-    Ok(v)
+fn vec3(v: [f64; 3]) -> Vec3 {
+    Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32)
 }
 
 #[pymethods]
@@ -71,32 +58,9 @@ impl Camera {
         znear: f32,
         zfar: Option<f32>,
     ) -> PyResult<Camera> {
-        let (eye, target, up) = (finite3("eye", eye)?, finite3("target", target)?, finite3("up", up)?);
-        let forward = target - eye;
-        if forward.length() < 1e-9 {
-            return Err(PyValueError::new_err("look_at: eye and target are the same point"));
-        }
-        if up.length() < 1e-9 || forward.normalize().cross(up.normalize()).length() < 1e-6 {
-            return Err(PyValueError::new_err("look_at: up is zero or parallel to the viewing direction"));
-        }
-        if !(yfov_deg > 0.0 && yfov_deg < 180.0) {
-            return Err(PyValueError::new_err(format!("yfov_deg: {yfov_deg} is not between 0 and 180 degrees")));
-        }
-        if !(znear.is_finite() && znear > 0.0) {
-            return Err(PyValueError::new_err(format!("znear: {znear} is not positive")));
-        }
-        if let Some(far) = zfar
-            && !(far.is_finite() && far > znear)
-        {
-            return Err(PyValueError::new_err(format!("zfar: {far} is not beyond znear ({znear})")));
-        }
-        Ok(Camera {
-            world_from_view: Mat4::look_at_rh(eye, target, up).inverse(),
-            yfov_rad: yfov_deg.to_radians(),
-            znear,
-            zfar,
-            name: None,
-        })
+        let placed = LookAt { eye: vec3(eye), target: vec3(target), up: vec3(up), yfov_deg, znear, zfar };
+        let world_from_view = placed.world_from_view().map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(Camera { world_from_view, yfov_rad: yfov_deg.to_radians(), znear, zfar, name: None })
     }
 
     /// The camera's position, metres.

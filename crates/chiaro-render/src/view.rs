@@ -44,19 +44,32 @@ impl View {
         self.world_from_view.w_axis.truncate()
     }
 
-    /// The view of `scene.cameras[index]` at the given output size.
-    pub fn from_camera(scene: &Scene, index: usize, width: u32, height: u32) -> View {
-        let c = &scene.cameras[index];
+    /// A perspective camera with pose `world_from_view`, for a `width` x `height` image
+    /// (the aspect ratio is the image's).
+    pub fn perspective(
+        world_from_view: Mat4,
+        yfov_rad: f32,
+        znear: f32,
+        zfar: Option<f32>,
+        width: u32,
+        height: u32,
+    ) -> View {
         let aspect = width as f32 / height as f32;
         View {
             width,
             height,
-            world_from_view: c.world_from_view,
-            clip_from_view: perspective_reverse_z(c.yfov_rad, aspect, c.znear, c.zfar),
-            yfov_rad: c.yfov_rad,
-            znear: c.znear,
-            zfar: c.zfar,
+            world_from_view,
+            clip_from_view: perspective_reverse_z(yfov_rad, aspect, znear, zfar),
+            yfov_rad,
+            znear,
+            zfar,
         }
+    }
+
+    /// The view of `scene.cameras[index]` at the given output size.
+    pub fn from_camera(scene: &Scene, index: usize, width: u32, height: u32) -> View {
+        let c = &scene.cameras[index];
+        View::perspective(c.world_from_view, c.yfov_rad, c.znear, c.zfar, width, height)
     }
 
     /// A camera that frames the whole scene, for files with no camera.
