@@ -21,7 +21,9 @@ pub enum Encoded<'a> {
 }
 
 impl Encoded<'_> {
-    fn write(&self, path: &Path) -> Result<()> {
+    /// Encodes the image into `path` directly (no temporary file): for callers that make
+    /// a whole folder atomic themselves, as `chiaro batch` does.
+    pub fn write(&self, path: &Path) -> Result<()> {
         use exr::prelude::*;
         match self {
             Encoded::Png { width, height, rgba8 } => image::save_buffer_with_format(

@@ -4,6 +4,7 @@
 
 mod bake;
 mod bake_arg;
+mod batch;
 mod bench;
 mod compare;
 mod info;
@@ -36,6 +37,10 @@ enum Command {
     Compare(compare::CompareArgs),
     /// Bake lightmaps and light probes for a scene's static objects (CPU path tracing).
     Bake(bake::BakeArgs),
+    /// Render a job list (JSON Lines: an id, a scene, a camera, a time, outputs,
+    /// settings) into one folder per job; shardable across processes, resumable, exit
+    /// status the number of failed jobs (see --help).
+    Batch(batch::BatchArgs),
     /// Open a window with the live 3D view and a settings panel. Mouse: drag in the view
     /// to orbit (fly: to look around), wheel to zoom, click to select an object. Keys: V
     /// switches orbit and fly; W/A/S/D move and Q/E go down and up when flying (Shift:
@@ -79,6 +84,8 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Bake(args) => bake::run(args),
+        // Its exit status counts failed jobs, so it reports its own errors.
+        Command::Batch(args) => return batch::run(args),
         Command::View(args) => view::run(args),
     };
     match result {
