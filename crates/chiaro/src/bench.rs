@@ -33,6 +33,8 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub demo: DemoArgs,
     #[command(flatten)]
+    pub time: crate::time_arg::TimeArg,
+    #[command(flatten)]
     pub shadow: ShadowArgs,
     #[command(flatten)]
     pub path: PathArgs,
@@ -120,6 +122,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     args.path.apply(&mut settings)?;
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
+    args.time.apply(&mut scene)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let ctx = GpuContext::new()?;
     args.path.check_device(&ctx, &settings, args.settings.as_deref())?;

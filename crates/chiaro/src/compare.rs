@@ -26,6 +26,8 @@ pub struct CompareArgs {
     pub settings: Option<PathBuf>,
     #[command(flatten)]
     pub demo: DemoArgs,
+    #[command(flatten)]
+    pub time: crate::time_arg::TimeArg,
     /// Write a difference image per light, `<stem>.<node>.png` (black: not compared,
     /// grey: agree, red: false shadow, blue: missed shadow).
     #[arg(long)]
@@ -53,6 +55,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
     args.path.apply(&mut settings)?;
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
+    args.time.apply(&mut scene)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
     let diff_path = |node: usize| args.diff.as_ref().map(|diff| sibling_path(diff, &format!("{node}.png")));
     let outputs: Vec<PathBuf> = scene.lights.iter().filter_map(|l| diff_path(l.node)).collect();

@@ -12,6 +12,7 @@ mod path_arg;
 mod render;
 mod scene_source;
 mod shadow_args;
+mod time_arg;
 mod view;
 
 use chiaro_io::output;

@@ -100,6 +100,8 @@ pub struct RenderArgs {
     pub aov: Vec<Aov>,
     #[command(flatten)]
     pub demo: DemoArgs,
+    #[command(flatten)]
+    pub time: crate::time_arg::TimeArg,
     /// Debug views (repeatable).
     #[arg(long, value_parser = debug_values())]
     pub debug: Vec<DebugView>,
@@ -156,6 +158,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let height = args.height.unwrap_or(settings.render.height);
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
+    args.time.apply(&mut scene)?;
     let view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
     check_outputs(&planned_outputs(&args, &scene), &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
     let ctx = GpuContext::new()?;

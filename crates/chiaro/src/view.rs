@@ -56,6 +56,8 @@ pub struct ViewArgs {
     #[command(flatten)]
     pub demo: DemoArgs,
     #[command(flatten)]
+    pub time: crate::time_arg::TimeArg,
+    #[command(flatten)]
     pub shadow: ShadowArgs,
     #[command(flatten)]
     pub path: PathArgs,
@@ -85,6 +87,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let (width, height) = (settings.render.width, settings.render.height);
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
+    args.time.apply(&mut scene)?;
     let start_view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
     let shots: Vec<PathBuf> = args.screenshot.iter().chain(&args.screenshot_window).cloned().collect();
     check_outputs(&shots, &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
@@ -108,6 +111,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         compare_at_start: args.debug == Some(DebugArg(Some(DebugView::Reference))),
         script,
         load_scene,
+        time: args.time.time,
         ..ViewerConfig::new(scene, settings, start_view)
     })
 }
