@@ -5,6 +5,7 @@
 //! temporary folder, which the job's next run removes. A stale folder of the same id is
 //! moved aside (`DIR/.<id>.old-<pid>-<nanos>`) for the rename and deleted after it.
 
+use std::collections::HashMap;
 use std::fs::File;
 use std::io;
 use std::path::{Path, PathBuf};
@@ -49,32 +50,12 @@ impl JobFolder {
         self.dir.join(format!(".{}.{kind}-{}-{nanos}", self.id, std::process::id()))
     }
 
-    /// Whether `name` is a leftover of this id: exactly `.<id>.tmp-<digits>-<digits>` or
-    /// `.<id>.old-...`; the id `a` must not claim `.a.tmp-5.tmp-1-2`, id `a.tmp-5`'s.
-    fn is_leftover(&self, name: &str) -> bool {
-        let Some(rest) = name.strip_prefix('.').and_then(|n| n.strip_prefix(self.id.as_str())) else {
-            return false;
-        };
-        LEFTOVER_KINDS.iter().any(|kind| {
-            rest.strip_prefix('.')
-                .and_then(|r| r.strip_prefix(kind))
-                .and_then(|r| r.strip_prefix('-'))
-                .and_then(|r| r.split_once('-'))
-                .is_some_and(|(pid, nanos)| {
-                    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
-                    digits(pid) && digits(nanos)
-                })
-        })
-    }
-
-    /// Removes the temporary and set-aside folders a killed run of this job left.
+    /// Removes the temporary and set-aside folders a killed run of this job left (listing
+    /// the whole output folder: a runner lists it once for all its jobs instead, with
+    /// `leftovers`).
     pub fn remove_leftovers(&self) -> io::Result<()> {
-        for entry in std::fs::read_dir(&self.dir)? {
-            let entry = entry?;
-            let name = entry.file_name();
-            if name.to_str().is_some_and(|n| self.is_leftover(n)) {
-                remove_any(&entry.path())?;
-            }
+        for path in leftovers(&self.dir)?.remove(&self.id).unwrap_or_default() {
+            remove_any(&path)?;
         }
         Ok(())
     }
@@ -128,7 +109,35 @@ impl JobFolder {
     }
 }
 
-fn remove_any(path: &Path) -> io::Result<()> {
+/// The id whose leftover `name` is: exactly `.<id>.tmp-<digits>-<digits>` or
+/// `.<id>.old-<digits>-<digits>`, read from the right, so that the id `a` does not claim
+/// `.a.tmp-5.tmp-1-2`, the leftover of id `a.tmp-5`.
+fn leftover_id(name: &str) -> Option<&str> {
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    let (rest, nanos) = name.rsplit_once('-')?;
+    let (rest, pid) = rest.rsplit_once('-')?;
+    if !(digits(pid) && digits(nanos)) {
+        return None;
+    }
+    let id = LEFTOVER_KINDS.iter().find_map(|kind| rest.strip_suffix(kind)?.strip_suffix('.'))?;
+    id.strip_prefix('.').filter(|id| !id.is_empty())
+}
+
+/// Every leftover of a killed run in `dir`, by job id.
+pub fn leftovers(dir: &Path) -> io::Result<HashMap<String, Vec<PathBuf>>> {
+    let mut found: HashMap<String, Vec<PathBuf>> = HashMap::new();
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let name = entry.file_name();
+        if let Some(id) = name.to_str().and_then(leftover_id) {
+            found.entry(id.to_string()).or_default().push(entry.path());
+        }
+    }
+    Ok(found)
+}
+
+/// Removes a file or a folder with everything in it.
+pub fn remove_any(path: &Path) -> io::Result<()> {
     let meta = std::fs::symlink_metadata(path)?;
     if meta.is_dir() { std::fs::remove_dir_all(path) } else { std::fs::remove_file(path) }
 }
@@ -178,6 +187,10 @@ mod tests {
         assert_eq!(names(dir.path()), [".a.tmp-5.tmp-1-2", ".a.tmp-x-2", ".ab.tmp-1-2", "a"]);
         JobFolder::new(dir.path(), "a.tmp-5").remove_leftovers().unwrap();
         assert_eq!(names(dir.path()), [".a.tmp-x-2", ".ab.tmp-1-2", "a"]);
+        assert_eq!(leftover_id(".a b.old-1-2"), Some("a b"));
+        for name in [".tmp-1-2", "a.tmp-1-2", ".a.new-1-2", ".a.tmp-1-", ".a.tmp1-2"] {
+            assert_eq!(leftover_id(name), None, "{name}");
+        }
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! callback, so the CLI's bar and lines and Python's counts share one loop.
 
 use crate::error_line;
-use crate::folder::JobFolder;
+use crate::folder::{JobFolder, remove_any};
 use crate::job::Job;
 use crate::meta::{self, CHIARO_VERSION, DeviceRecord, Hashes, InputRecord, Meta};
 use crate::outputs::Output;
@@ -79,6 +79,9 @@ pub struct BatchRunner<'r> {
     uploaded: Option<Uploaded>,
     hashes: Hashes,
     loads: u64,
+    /// What killed runs left in the output folder, by job id, listed once by `run_all`
+    /// (without it, each job lists the folder).
+    leftovers: Option<HashMap<String, Vec<PathBuf>>>,
 }
 
 impl<'r> BatchRunner<'r> {
@@ -95,6 +98,7 @@ impl<'r> BatchRunner<'r> {
             uploaded: None,
             hashes: Hashes::default(),
             loads: 0,
+            leftovers: None,
         }
     }
 
@@ -103,6 +107,7 @@ impl<'r> BatchRunner<'r> {
         for path in jobs.iter().filter_map(Job::scene_path) {
             *self.uses.entry(path).or_default() += 1;
         }
+        self.leftovers = crate::folder::leftovers(dir).ok();
         let mut summary = Summary::default();
         let total = jobs.len();
         for (i, job) in jobs.iter().enumerate() {
@@ -121,6 +126,7 @@ impl<'r> BatchRunner<'r> {
         self.uploaded = None;
         self.scenes.clear();
         self.uses.clear();
+        self.leftovers = None;
         summary
     }
 
@@ -173,11 +179,15 @@ impl<'r> BatchRunner<'r> {
     fn attempt(&mut self, job: &Job, folder: &JobFolder, start: Instant) -> Result<bool, String> {
         let spec = job.spec(&self.base)?;
         let settings_toml = spec.settings.to_toml();
+        let removed = match self.leftovers.as_mut() {
+            Some(all) => all.remove(&job.id).unwrap_or_default().iter().try_for_each(|p| remove_any(p)),
+            None => folder.remove_leftovers(),
+        };
+        removed.map_err(|e| format!("cannot remove what a killed run of the job left: {e}"))?;
         if meta::is_current(&folder.meta_path(), &job.object, &settings_toml, &mut self.hashes) {
             folder.clear_error().map_err(|e| format!("{}: cannot remove it: {e}", folder.error_path().display()))?;
             return Ok(false);
         }
-        folder.remove_leftovers().map_err(|e| format!("cannot remove what a killed run of the job left: {e}"))?;
         if spec.settings.render.path == RenderPath::Forward {
             let msaa = spec.settings.render.msaa;
             self.renderer.ctx.check_msaa(msaa).map_err(|e| format!("settings: render.msaa = {msaa}: {e}"))?;
