@@ -54,7 +54,7 @@ __version__ = _chiaro.__version__
 
 __all__ = [
     "OUTPUTS", "Camera", "ChiaroError", "DeviceError", "Light", "RenderError", "Renderer", "Scene",
-    "SceneError", "SettingsError", "compare", "devices", "doctor", "load", "__version__",
+    "SceneError", "SettingsError", "compare", "devices", "doctor", "load", "render_jobs", "__version__",
 ]
 
 
@@ -170,3 +170,68 @@ def compare(scene, camera=None, width=256, height=256, renderer=None, device="au
     elif settings is not None:
         raise ValueError("compare: give settings to the renderer, not beside it")
     return renderer.compare(scene, camera, width, height)
+
+
+def _job_lines(jobs):
+    """The job list as JSON text per job, and its name for messages."""
+    if isinstance(jobs, (str, bytes, _os.PathLike)):
+        path = _os.fsdecode(jobs)
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        # Split as `chiaro batch` does: on newlines only, a trailing carriage return dropped.
+        return [line[:-1] if line.endswith("\r") else line for line in text.split("\n")], path
+    if isinstance(jobs, dict):
+        raise TypeError("jobs: expected a .jsonl file's path or an iterable of job dicts, not one dict")
+    lines = []
+    for i, job in enumerate(jobs):
+        if isinstance(job, str):
+            lines.append(job)
+        elif isinstance(job, dict):
+            try:
+                lines.append(_json.dumps(job, allow_nan=False))
+            except (TypeError, ValueError) as e:
+                raise ValueError("jobs[%d]: %s" % (i, e)) from None
+        else:
+            raise TypeError("jobs[%d]: expected a dict or a JSON string, not %s" % (i, type(job).__name__))
+    return lines, "<jobs>"
+
+
+def render_jobs(jobs, output, *, shard=None, renderer=None, device="auto", settings=None):
+    """Renders a job list into one folder per job under `output`, as `chiaro batch` does,
+    and returns {"done": n, "skipped": n, "failed": n, "errors": {id: message}}.
+
+    jobs: the path of a JSON Lines file (one job object per line, blank lines ignored) or
+    an iterable of job dicts (or their JSON text). A job is
+        {"id": "a", "scene": "scene.glb", "camera": "Cam" | 0 | {"eye": [x, y, z],
+         "target": [x, y, z], "up": [0, 1, 0], "yfov_deg": 45}, "time": 1.5,
+         "width": 640, "height": 480, "outputs": ["rgb", "depth"],
+         "settings": {"render": {"msaa": 1}}, "seed": 7}
+    with every key but id and scene optional: camera defaults to the scene's first camera
+    (else one framing the scene); time is seconds into the glTF animations (None: the rest
+    pose); width and height are pixels (default the settings'); outputs are names of
+    `OUTPUTS` (default ["rgb"]); settings are sections merged over the renderer's settings;
+    seed is recorded in meta.json and changes no pixel (the renderer draws nothing at
+    random). Eye, target and positions are metres; yfov_deg degrees. A relative scene path
+    is relative to the current directory.
+
+    Each job writes output/<id>/ (rgb.png, hdr.exr, depth.exr, normal.exr, position.exr,
+    instance.exr, label.exr, shadow.<node>.exr as asked, and meta.json) whole or not at
+    all. A job whose folder is current (same job, settings, Chiaro version and input file
+    hashes) is skipped, so calling again resumes. A failed job writes
+    output/<id>.error.json and the others go on; its message is in "errors".
+
+    shard: None (every job), an (index, count) pair or an "I/N" string: the jobs whose
+    position among the non-blank lines modulo count is index. renderer: a `Renderer` to
+    render on (its settings are the base; the scene it last rendered is uploaded again on
+    its next frame); else one is opened with `device` and `settings`, as `Renderer` takes
+    them. The GIL is released while the jobs run.
+
+    Raises ValueError for a list that is not jobs (a line that is not a JSON object with a
+    safe, unique string "id"; the message names the line) or a bad shard, and OSError when
+    `output` cannot be written."""
+    lines, source = _job_lines(jobs)
+    if renderer is None:
+        renderer = Renderer(device=device, settings=settings)
+    elif settings is not None:
+        raise ValueError("render_jobs: give settings to the renderer, not beside it")
+    return _chiaro.render_jobs(lines, _os.fspath(output), source, shard, renderer._core)

@@ -5,17 +5,8 @@ use chiaro_render::GpuContext;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// wgpu's device type as a lower-case name.
-pub fn device_type_name(t: chiaro_render::wgpu::DeviceType) -> &'static str {
-    use chiaro_render::wgpu::DeviceType;
-    match t {
-        DeviceType::DiscreteGpu => "discrete_gpu",
-        DeviceType::IntegratedGpu => "integrated_gpu",
-        DeviceType::VirtualGpu => "virtual_gpu",
-        DeviceType::Cpu => "cpu",
-        DeviceType::Other => "other",
-    }
-}
+/// wgpu's device type as a lower-case name (as job records name it).
+pub use chiaro_batch::meta::device_type_name;
 
 /// One dict per adapter, in wgpu's order (the `index` a Renderer takes): index, name,
 /// backend, device_type, driver, driver_info, vendor_id, device_id, pci_bus_id.

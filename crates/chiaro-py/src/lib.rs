@@ -1,13 +1,15 @@
 //! `chiaro._chiaro`, the extension module under the `chiaro` Python package: scenes,
-//! lights and cameras as Python objects, a renderer that returns numpy arrays, the device
-//! list, and Chiaro's errors as Python exceptions. `python/chiaro/__init__.py` adds the
-//! parts that are plain Python (device choice by name, `doctor`, docstrings).
+//! lights and cameras as Python objects, a renderer that returns numpy arrays, job lists
+//! rendered into folders, the device list, and Chiaro's errors as Python exceptions.
+//! `python/chiaro/__init__.py` adds the parts that are plain Python (device choice by
+//! name, `doctor`, docstrings).
 
 mod arrays;
 mod camera;
 mod comparison;
 mod devices;
 mod errors;
+mod jobs;
 mod light;
 mod outputs;
 mod renderer;
@@ -30,6 +32,7 @@ fn _chiaro(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<renderer::RendererCore>()?;
     m.add_function(wrap_pyfunction!(scene::load, m)?)?;
     m.add_function(wrap_pyfunction!(devices::adapters, m)?)?;
+    m.add_function(wrap_pyfunction!(jobs::render_jobs, m)?)?;
     m.add("OUTPUTS", outputs::Output::NAMES.to_vec())?;
     Ok(())
 }

@@ -7,7 +7,7 @@ use crate::camera::CameraChoice;
 use crate::comparison::LightVerdict;
 use crate::devices::device_type_name;
 use crate::errors::{SettingsError, render_error};
-use crate::outputs::{Output, Outputs};
+use crate::outputs::{Output, Outputs, extract_outputs};
 use crate::scene::{Scene, SceneState, SharedScene, read};
 use chiaro_compare::compare_shadows;
 use chiaro_render::{GpuContext, PreparedScene, RenderError, Renderer, View};
@@ -129,6 +129,17 @@ impl RendererCore {
     }
 }
 
+impl RendererCore {
+    /// Lends the renderer and its settings to `work` (a job list, which uploads its own
+    /// scenes) under the lock. The scene this renderer uploaded is forgotten first, so the
+    /// next frame here uploads again and draws every shadow tile (`first_frame_settings`).
+    pub(crate) fn lend<R>(&self, work: impl FnOnce(&mut Renderer, &Settings) -> R) -> R {
+        let mut inner = self.lock();
+        inner.uploaded = None;
+        work(&mut inner.renderer, &self.settings)
+    }
+}
+
 /// Uploads the scene unless the renderer holds this version of it; true when it uploaded.
 fn upload(inner: &mut Inner, state: &SceneState) -> Result<bool, RenderError> {
     let current =
@@ -237,7 +248,7 @@ impl RendererCore {
         outputs: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let cameras = [CameraChoice::extract(camera)?];
-        let outputs = Outputs::extract(outputs)?;
+        let outputs = extract_outputs(outputs)?;
         let size =
             (size(width, self.settings.render.width, "width")?, size(height, self.settings.render.height, "height")?);
         let state = scene.get().state.clone();
@@ -266,7 +277,7 @@ impl RendererCore {
                 return Err(PyValueError::new_err(format!("cameras: more than {MAX_VIEWS} in one call")));
             }
         }
-        let outputs = Outputs::extract(outputs)?;
+        let outputs = extract_outputs(outputs)?;
         let size =
             (size(width, self.settings.render.width, "width")?, size(height, self.settings.render.height, "height")?);
         let state = scene.get().state.clone();
