@@ -203,10 +203,11 @@ impl<'r> BatchRunner<'r> {
             })
             .as_mut()
             .map_err(|e| e.clone())?;
-        let time = spec.time.map(f32::to_bits);
+        // A scene without animation poses the same at every time: one upload serves all.
+        let time = spec.time.filter(|_| loaded.scene.animation.is_some()).map(f32::to_bits);
         if loaded.posed_at != Some(time) {
             loaded.posed_at = None;
-            loaded.scene.pose(spec.time).map_err(|e| format!("time: {e}"))?;
+            loaded.scene.pose(time.map(f32::from_bits)).map_err(|e| format!("time: {e}"))?;
             loaded.posed_at = Some(time);
         }
         let scene = &loaded.scene;

@@ -386,21 +386,24 @@ fn a_batch_image_equals_chiaro_render_pixel_for_pixel() {
         &[
             json!({"id": "first", "scene": SCENE, "width": 96, "height": 64, "outputs": ["depth"]}),
             json!({"id": "second", "scene": SCENE, "camera": "Camera", "width": 96, "height": 64}),
+            json!({"id": "posed", "scene": SCENE, "camera": "Camera", "width": 96, "height": 64, "time": 1.25}),
         ],
     );
     let run = batch(&["jobs.jsonl", "-o", "out"], &[], dir.path());
     assert_eq!(run.code, 0, "{}", run.stderr);
-    let run = chiaro(
-        &["render", SCENE, "--camera", "Camera", "--width", "96", "--height", "64", "-o", "r.png"],
-        &[],
-        dir.path(),
-    );
-    assert_eq!(run.code, 0, "{}", run.stderr);
-    let batch_png = image::open(dir.path().join("out/second/rgb.png")).unwrap().to_rgba8();
-    let render_png = image::open(dir.path().join("r.png")).unwrap().to_rgba8();
-    assert_eq!(batch_png.dimensions(), (96, 64));
-    let differing = batch_png.pixels().zip(render_png.pixels()).filter(|(a, b)| a != b).count();
-    assert_eq!(differing, 0, "pixels that differ from chiaro render's");
+    let rgba = |path: &str| image::open(dir.path().join(path)).unwrap().to_rgba8();
+    for (id, time) in [("second", None), ("posed", Some("1.25"))] {
+        let mut args = vec!["render", SCENE, "--camera", "Camera", "--width", "96", "--height", "64", "-o", "r.png"];
+        args.extend(time.map(|t| ["--time", t]).into_iter().flatten());
+        let run = chiaro(&args, &[], dir.path());
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        let (batch_png, render_png) = (rgba(&format!("out/{id}/rgb.png")), rgba("r.png"));
+        assert_eq!(batch_png.dimensions(), (96, 64));
+        let differing = batch_png.pixels().zip(render_png.pixels()).filter(|(a, b)| a != b).count();
+        assert_eq!(differing, 0, "{id}: pixels that differ from chiaro render's");
+    }
+    // The animation moves something the camera sees.
+    assert_ne!(rgba("out/second/rgb.png"), rgba("out/posed/rgb.png"), "the time poses the scene");
 }
 
 #[test]
