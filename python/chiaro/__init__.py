@@ -211,8 +211,8 @@ def render_jobs(jobs, output, *, shard=None, renderer=None, device="auto", setti
     pose); width and height are pixels (default the settings'); outputs are names of
     `OUTPUTS` (default ["rgb"]); settings are sections merged over the renderer's settings;
     seed is recorded in meta.json and changes no pixel (the renderer draws nothing at
-    random). Eye, target and positions are metres; yfov_deg degrees. A relative scene path
-    is relative to the current directory.
+    random). eye and target are world-space metres, yfov_deg degrees. A relative scene
+    path is relative to the current directory.
 
     Each job writes output/<id>/ (rgb.png, hdr.exr, depth.exr, normal.exr, position.exr,
     instance.exr, label.exr, shadow.<node>.exr as asked, and meta.json) whole or not at
