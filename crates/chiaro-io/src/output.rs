@@ -40,26 +40,33 @@ impl Encoded<'_> {
                     let c = rgb[p.1 * w + p.0];
                     (c[0], c[1], c[2])
                 });
-                Image::from_channels((w, *height as usize), pixels).write().to_file(path)?
+                Image::from_encoded_channels((w, *height as usize), ORDERED_EXR, pixels).write().to_file(path)?
             }
             Encoded::ExrSingle { width, height, values } => {
                 let w = *width as usize;
                 let pixels = SpecificChannels::build()
                     .with_channel("Y")
                     .with_pixel_fn(|p: Vec2<usize>| (values[p.1 * w + p.0],));
-                Image::from_channels((w, *height as usize), pixels).write().to_file(path)?
+                Image::from_encoded_channels((w, *height as usize), ORDERED_EXR, pixels).write().to_file(path)?
             }
             Encoded::ExrU32 { width, height, values } => {
                 let w = *width as usize;
                 let pixels = SpecificChannels::build()
                     .with_channel("Y")
                     .with_pixel_fn(|p: Vec2<usize>| (values[p.1 * w + p.0],));
-                Image::from_channels((w, *height as usize), pixels).write().to_file(path)?
+                Image::from_encoded_channels((w, *height as usize), ORDERED_EXR, pixels).write().to_file(path)?
             }
         }
         Ok(())
     }
 }
+
+/// exr's default encoding (RLE in 64x64 tiles) with its blocks written in increasing
+/// order: with the default unspecified order, blocks compressed in parallel land in the
+/// file as they finish, so the same pixels gave different bytes from run to run, and a
+/// rerun of a job could not be told equal to the first by its bytes.
+const ORDERED_EXR: exr::prelude::Encoding =
+    exr::prelude::Encoding { line_order: exr::prelude::LineOrder::Increasing, ..exr::prelude::Encoding::FAST_LOSSLESS };
 
 /// The folder a path's file goes in.
 fn folder_of(path: &Path) -> &Path {
@@ -240,6 +247,22 @@ pub fn atlas_grey(depths: &[f32]) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_same_pixels_give_the_same_exr_bytes_every_time() {
+        // Sixteen 64x64 tiles, compressed in parallel, each different.
+        let (width, height) = (256u32, 256u32);
+        let values: Vec<f32> = (0..width * height).map(|i| ((i * 7919) % 1013) as f32 * 0.37).collect();
+        let dir = tempfile::tempdir().unwrap();
+        let bytes: Vec<Vec<u8>> = (0..6)
+            .map(|i| {
+                let path = dir.path().join(format!("{i}.exr"));
+                Encoded::ExrSingle { width, height, values: &values }.write(&path).unwrap();
+                std::fs::read(path).unwrap()
+            })
+            .collect();
+        assert!(bytes.iter().all(|b| *b == bytes[0]), "a rerun of a job must be able to compare files by their bytes");
+    }
 
     #[test]
     fn a_failing_file_leaves_the_whole_group_unwritten() {
