@@ -15,6 +15,7 @@ import atexit as _atexit
 import json as _json
 import os as _os
 import shutil as _shutil
+import struct as _struct
 import sys as _sys
 import tempfile as _tempfile
 
@@ -65,10 +66,11 @@ def devices():
     return _chiaro.adapters()
 
 
-def load(path):
-    """Loads a .gltf or .glb file into a `Scene`. Raises `SceneError` with the file and the
-    problem (as `chiaro render` prints it)."""
-    return _chiaro.load(_os.fspath(path))
+def load(path, time=None):
+    """Loads a .gltf or .glb file into a `Scene`, posed at `time` seconds of its glTF
+    animations (None: the rest pose; see `Scene.pose`). Raises `SceneError` with the file
+    and the problem (as `chiaro render` prints it)."""
+    return _chiaro.load(_os.fspath(path), time)
 
 
 def _settings_args(settings):
@@ -120,7 +122,7 @@ class Renderer:
         """The settings in use, as settings.toml text."""
         return self._core.settings_toml
 
-    def render(self, scene, camera=None, width=None, height=None, outputs=("rgb",)):
+    def render(self, scene, camera=None, width=None, height=None, outputs=("rgb",), time=None):
         """Renders one frame of `scene` and returns a dict of numpy arrays, by name:
 
         rgb       (H, W, 3) uint8, tone-mapped sRGB, as `chiaro render` writes PNG
@@ -138,17 +140,23 @@ class Renderer:
         camera, else one framing the scene). width and height default to the settings'.
         Only the outputs asked for are rendered and read back; asking for anything but
         rgb and hdr renders the frame without MSAA, as the CLI's AOVs do.
+        time: seconds into the scene's glTF animations; the scene is posed there first
+        (`scene.pose(time)`, which it keeps). None renders the scene as it is posed.
         """
+        _pose(scene, time)
         return self._core.render(scene, camera, width, height, outputs)
 
-    def render_many(self, scene, cameras, width=None, height=None, outputs=("rgb",)):
+    def render_many(self, scene, cameras, width=None, height=None, outputs=("rgb",), time=None):
         """Renders one frame per camera of `cameras` and returns a list of dicts as
         `render` does. Two frames are kept in flight: one is read back while the next
-        renders. Every frame is held until the call returns: pass long lists in chunks."""
+        renders. Every frame is held until the call returns: pass long lists in chunks.
+        time: as for `render`, one time for every view."""
+        _pose(scene, time)
         return self._core.render_many(scene, cameras, width, height, outputs)
 
-    def compare(self, scene, camera=None, width=256, height=256):
+    def compare(self, scene, camera=None, width=256, height=256, time=None):
         """See `chiaro.compare`."""
+        _pose(scene, time)
         return self._core.compare(scene, camera, width, height)
 
     def __reduce__(self):
@@ -159,17 +167,25 @@ class Renderer:
         return "<chiaro.Renderer on %s (%s, %s)>" % (d["name"], d["device_type"], d["backend"])
 
 
-def compare(scene, camera=None, width=256, height=256, renderer=None, device="auto", settings=None):
+def _pose(scene, time):
+    """Poses `scene` at `time` unless time is None or the scene is already there."""
+    # The scene keeps its time as a float32: compare in that precision.
+    if time is not None and scene.time != _struct.unpack("f", _struct.pack("f", time))[0]:
+        scene.pose(time)
+
+
+def compare(scene, camera=None, width=256, height=256, renderer=None, device="auto", settings=None, time=None):
     """Realtime shadows against a ray-traced reference of the same view, per light, as
     `chiaro compare` prints them: a list of dicts with node, light (its name), kind,
     compared (pixels judged), disagree_percent, false_percent (shadow where the reference
     has light: acne), missed_percent (light where it has shadow: peter-panning, leaks),
-    not_compared (why a light was not judged, else None) and shadow_mask_only."""
+    not_compared (why a light was not judged, else None) and shadow_mask_only.
+    time: seconds into the scene's animations to pose it at first (None: as it is)."""
     if renderer is None:
         renderer = Renderer(device=device, settings=settings)
     elif settings is not None:
         raise ValueError("compare: give settings to the renderer, not beside it")
-    return renderer.compare(scene, camera, width, height)
+    return renderer.compare(scene, camera, width, height, time)
 
 
 def _job_lines(jobs):

@@ -24,6 +24,8 @@ pub struct SceneState {
     pub id: u64,
     /// Bumped when mesh instances move: the renderer's uploaded objects are then stale.
     pub geometry_version: u64,
+    /// The animation time the scene is posed at (`None`: the rest pose).
+    pub time: Option<f32>,
 }
 
 /// Shared between a `Scene` and its `Light`s.
@@ -63,18 +65,34 @@ impl Scene {
     fn new(mut scene: chiaro_scene::Scene) -> Scene {
         scene.ensure_nodes();
         let id = NEXT_SCENE_ID.fetch_add(1, Ordering::Relaxed);
-        Scene { state: Arc::new(RwLock::new(SceneState { scene, id, geometry_version: 0 })) }
+        Scene { state: Arc::new(RwLock::new(SceneState { scene, id, geometry_version: 0, time: None })) }
     }
 }
 
-/// Loads a .gltf or .glb file. Raises `SceneError` naming the file and the problem (the
-/// message `chiaro render` prints).
+/// Loads a .gltf or .glb file, posed at `time` seconds of its animations (None: the rest
+/// pose). Raises `SceneError` naming the file and the problem (the message `chiaro render`
+/// prints), ValueError for a time that is not finite.
 #[pyfunction]
-pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Scene> {
+#[pyo3(signature = (path, time = None))]
+pub fn load(py: Python<'_>, path: PathBuf, time: Option<f64>) -> PyResult<Scene> {
+    let time = seconds(time)?;
     let loaded = py.detach(|| chiaro_scene::load_gltf(&path));
     let mut scene = loaded.map_err(|e| SceneError::new_err(e.to_string()))?;
     scene.source = Some(path);
-    Ok(Scene::new(scene))
+    scene.pose(time).map_err(|e| PyValueError::new_err(format!("time: {e}")))?;
+    let scene = Scene::new(scene);
+    write(&scene.state).time = time;
+    Ok(scene)
+}
+
+/// A time from Python: finite seconds, or None.
+fn seconds(time: Option<f64>) -> PyResult<Option<f32>> {
+    match time {
+        Some(t) if !t.is_finite() || t.abs() > f64::from(f32::MAX) => {
+            Err(PyValueError::new_err(format!("time: {t} is not a finite number of seconds")))
+        }
+        t => Ok(t.map(|t| t as f32)),
+    }
 }
 
 /// A node index from Python, where a negative or huge one is a ValueError naming it.
@@ -193,6 +211,36 @@ impl Scene {
             }
         })
         .map_err(PyValueError::new_err)
+    }
+
+    /// Poses the scene at `time` seconds into its glTF animations, all at once (each holds
+    /// its first key before it starts and its last after it ends), or at rest for None:
+    /// nodes, meshes, lights and cameras move; skinned and morphed meshes deform. Posing
+    /// starts from the file's rest state each time, replacing `set_transform` moves.
+    /// Raises ValueError for a time that is not finite.
+    #[pyo3(signature = (time = None))]
+    fn pose(&self, time: Option<f64>) -> PyResult<()> {
+        let time = seconds(time)?;
+        writing(&self.state, |s| -> Result<(), String> {
+            s.scene.pose(time).map_err(|e| format!("time: {e}"))?;
+            s.time = time;
+            s.geometry_version += 1;
+            Ok(())
+        })
+        .map_err(PyValueError::new_err)
+    }
+
+    /// The animation time the scene is posed at, seconds; None at rest.
+    #[getter]
+    fn time(&self) -> Option<f32> {
+        reading(&self.state, |s| s.time)
+    }
+
+    /// How long the scene's animations run, seconds (the latest key of any); None when the
+    /// file has no animations.
+    #[getter]
+    fn duration(&self) -> Option<f32> {
+        reading(&self.state, |s| s.scene.animation_duration())
     }
 
     /// The transform of node `node` as a row-major 4x4 float32 array.
