@@ -16,8 +16,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-/// The exit status of a batch that could not run at all.
-const FATAL: u8 = 101;
+/// The exit status of a batch that could not run at all (its usage errors too).
+pub const FATAL: u8 = 101;
 /// Failed jobs beyond this many still exit with it.
 const MOST_FAILED: usize = 100;
 
@@ -34,9 +34,9 @@ and the others go on. See docs/batch.md.
 Exit status:
   0        every job done or skipped
   1-100    that many jobs failed (100: 100 or more); see OUTPUT/<id>.error.json
-  101      the batch could not run: a bad job list, shard or settings file, an output
-           folder that cannot be written, no GPU
-  2        a usage error (an unknown flag, a missing value), before anything ran";
+  101      the batch could not run: a usage error (an unknown flag, a missing value),
+           a bad job list, shard or settings file, an output folder that cannot be
+           written, no GPU";
 
 #[derive(Args)]
 #[command(after_help = AFTER_HELP)]

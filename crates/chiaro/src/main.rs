@@ -78,7 +78,10 @@ fn main() -> ExitCode {
         .with_writer(std::io::stderr)
         .with_target(false)
         .init();
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
     let result = match cli.command {
         Command::Render(args) => render::run(args),
         Command::Info(args) => info::run(args),
@@ -95,6 +98,18 @@ fn main() -> ExitCode {
             eprintln!("chiaro: error: {}", one_line(&e));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Prints clap's message (or the help asked for) and exits as clap would, except that a
+/// usage error of `chiaro batch` exits with the batch's "could not run" status: its other
+/// statuses count failed jobs, and clap's 2 would read as two.
+fn usage_error(error: clap::Error) -> ExitCode {
+    let _ = error.print();
+    let batch = std::env::args_os().nth(1).is_some_and(|a| a == "batch");
+    match error.use_stderr() {
+        true if batch => ExitCode::from(batch::FATAL),
+        _ => ExitCode::from(error.exit_code().clamp(0, 255) as u8),
     }
 }
 

@@ -415,3 +415,16 @@ fn help_names_the_exit_statuses() {
         assert!(run.stdout.contains(needle), "--help lacks {needle}: {}", run.stdout);
     }
 }
+
+#[test]
+fn a_usage_error_of_batch_is_not_read_as_two_failed_jobs() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [&["batch", "jobs.jsonl", "--output", "out", "--bogus"][..], &["batch", "jobs.jsonl"][..]] {
+        let run = chiaro(args, &[], dir.path());
+        assert_eq!(run.code, 101, "{args:?}: {}", run.stderr);
+        assert!(run.stderr.contains("error:"), "{args:?}: clap's message is printed: {}", run.stderr);
+    }
+    // Other commands keep clap's usage status.
+    assert_eq!(chiaro(&["render", "--bogus"], &[], dir.path()).code, 2);
+    assert_eq!(chiaro(&["--version"], &[], dir.path()).code, 0);
+}
