@@ -10,6 +10,12 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 "$venv/bin/python" -m pip install -q --upgrade pip
 "$venv/bin/python" -m pip install -q numpy pytest
+# chiaro.ray's extra, for test_ray.py (a local Ray; about 40 s and 370 MB the first time).
+"$venv/bin/python" -m pip install -q "ray>=2.9"
 # The package itself is rebuilt (cargo keeps what has not changed) and reinstalled.
 "$venv/bin/python" -m pip install -q --force-reinstall --no-deps ./python
+# test_ray.py compares chiaro.ray's files with those of the CLI's `chiaro batch`.
+cargo build --release -p chiaro -q
+CHIARO_BIN="$(realpath "${CARGO_TARGET_DIR:-target}")/release/chiaro"
+export CHIARO_BIN
 "$venv/bin/python" -m pytest python/tests -q "$@"

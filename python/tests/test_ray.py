@@ -1,0 +1,175 @@
+"""chiaro.ray on a local Ray (two CPUs, started here, never a remote cluster): a job list
+rendered by two workers, one of which dies on its first task, ends up rendered once per
+job, file for file what `chiaro batch` (the binary CHIARO_BIN names) writes for the same
+list; and the Ray Data stage reports each job's status."""
+
+import json
+import math
+import os
+import re
+import struct
+import subprocess
+
+import numpy as np
+import pytest
+
+import scenes
+
+try:
+    import ray
+except ImportError:
+    pytest.fail('ray is not installed: pip install "chiaro[ray]" (scripts/test-python.sh installs it)',
+                pytrace=False)
+
+import chiaro.ray  # noqa: E402
+
+DEVICE = os.environ.get("CHIARO_TEST_DEVICE", "auto")
+OUTPUTS = ["rgb", "depth"]
+FILES = ["depth.exr", "meta.json", "rgb.png"]
+
+
+def chiaro_bin():
+    """The CLI to compare with; its absence is a failure, never a skip."""
+    path = os.environ.get("CHIARO_BIN")
+    if not path or not os.access(path, os.X_OK):
+        pytest.fail("CHIARO_BIN must name the chiaro binary (scripts/test-python.sh builds target/release/chiaro "
+                    "and sets it), not %r" % (path,), pytrace=False)
+    return path
+
+
+def write_jobs(tmp_path):
+    """16 small jobs over two scenes, sorted by scene, with every camera form: the file's
+    camera by name and by index, and cameras placed around the box. Returns the .jsonl
+    path and the jobs."""
+    scene_a = scenes.write_scene(str(tmp_path / "a.gltf"))
+    scene_b = scenes.write_scene(str(tmp_path / "b.gltf"), box_label=3, sun_lux=8.0)
+    jobs = []
+    for i in range(16):
+        scene = scene_a if i < 8 else scene_b
+        if i % 8 == 0:
+            camera = "overview"
+        elif i % 8 == 1:
+            camera = 0
+        else:
+            angle = 2 * math.pi * i / 16
+            camera = {"eye": [round(4 * math.cos(angle), 3), 2.5, round(4 * math.sin(angle), 3)],
+                      "target": [0, 0.5, 0], "up": [0, 1, 0], "yfov_deg": 50}
+        size = 128 if i % 8 == 3 else 96
+        jobs.append({"id": "view-%02d" % i, "scene": scene, "camera": camera, "width": size, "height": size,
+                     "outputs": OUTPUTS, "seed": i})
+    path = tmp_path / "jobs.jsonl"
+    path.write_text("".join(json.dumps(job) + "\n" for job in jobs))
+    return str(path), jobs
+
+
+def png_size(path):
+    """A PNG's (width, height), from its IHDR chunk."""
+    with open(path, "rb") as f:
+        head = f.read(24)
+    assert head[:8] == b"\x89PNG\r\n\x1a\n", path
+    return struct.unpack(">II", head[16:24])
+
+
+@pytest.fixture()
+def local_ray():
+    """A Ray of two CPUs in this process's machine, shut down after the test."""
+    assert not ray.is_initialized(), "a Ray from an earlier test is still running"
+    ray.init(address="local", num_cpus=2, num_gpus=0, include_dashboard=False,
+             object_store_memory=100 * 1024 * 1024)
+    try:
+        yield
+    finally:
+        ray.shutdown()
+
+
+def test_a_dead_worker_loses_no_job_and_the_files_equal_chiaro_batch(tmp_path, monkeypatch, local_ray):
+    cli = chiaro_bin()
+    jobs_path, jobs = write_jobs(tmp_path)
+    ids = [job["id"] for job in jobs]
+    marker = tmp_path / "a-worker-died"
+    monkeypatch.setenv(chiaro.ray.DIE_ONCE_ENV, str(marker))
+
+    ray_out = tmp_path / "ray"
+    summary = chiaro.ray.render_dataset(jobs_path, str(ray_out), num_workers=2, gpus_per_worker=0,
+                                        jobs_per_task=2, device=DEVICE)
+
+    assert marker.exists(), "no worker died: the test hook did not run"
+    assert summary["errors"] == {}
+    assert (summary["done"], summary["skipped"], summary["failed"], summary["workers"]) == (16, 0, 0, 2), summary
+    # The one death was recovered once: on the restarted worker, or by another one.
+    assert summary["restarts"] + summary["retried"] == 1, summary
+    # Every job's folder once, and nothing else: no error report, no temporary folder.
+    assert sorted(os.listdir(ray_out)) == ids
+
+    cli_out = tmp_path / "cli"
+    run = subprocess.run([cli, "batch", jobs_path, "--output", str(cli_out)], capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert sorted(os.listdir(cli_out)) == ids
+
+    for job in jobs:
+        ours, theirs = ray_out / job["id"], cli_out / job["id"]
+        assert sorted(os.listdir(ours)) == FILES and sorted(os.listdir(theirs)) == FILES, job["id"]
+        meta = json.loads((ours / "meta.json").read_text())
+        cli_meta = json.loads((theirs / "meta.json").read_text())
+        assert meta["job"] == job
+        assert meta["device"] == cli_meta["device"], (
+            "the workers and chiaro batch rendered on different devices; choose one with CHIARO_TEST_DEVICE "
+            "and WGPU_ADAPTER_NAME")
+        # Everything but the wall time is the same record.
+        meta.pop("seconds")
+        cli_meta.pop("seconds")
+        assert meta == cli_meta, job["id"]
+        assert png_size(ours / "rgb.png") == (job["width"], job["height"])
+        for name in ("rgb.png", "depth.exr"):
+            assert (ours / name).read_bytes() == (theirs / name).read_bytes(), "%s/%s" % (job["id"], name)
+
+    # A rerun renders nothing: every folder is current.
+    again = chiaro.ray.render_dataset(jobs_path, str(ray_out), num_workers=2, gpus_per_worker=0, device=DEVICE)
+    assert (again["done"], again["skipped"], again["failed"]) == (0, 16, 0), again
+
+
+@pytest.mark.parametrize("jobs, message", [
+    ([{"id": "a", "scene": "s.gltf"}, {"id": "a", "scene": "t.gltf"}], "jobs[1]: id 'a' is already the id of jobs[0]"),
+    ([{"id": 7, "scene": "s.gltf"}], "jobs[0]: \"id\" must be a string"),
+    ([{"scene": "s.gltf"}], "jobs[0]: no \"id\""),
+    ([{"id": "../up", "scene": "s.gltf"}], "holds a slash"),
+    ([{"id": ".hidden", "scene": "s.gltf"}], "starts with '.'"),
+    ([{"id": "x.error.json", "scene": "s.gltf"}], "ends with '.error.json'"),
+])
+def test_ids_are_checked_before_ray_starts(tmp_path, jobs, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        chiaro.ray.render_dataset(jobs, str(tmp_path / "out"), gpus_per_worker=0)
+    assert not ray.is_initialized()
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_duplicate_id_in_a_job_file_names_both_lines(tmp_path):
+    path = tmp_path / "jobs.jsonl"
+    path.write_text('{"id": "a", "scene": "s.gltf"}\n\n{"id": "a", "scene": "t.gltf"}\n')
+    with pytest.raises(ValueError, match=r"jobs\.jsonl:3: id 'a' is already the id of .*jobs\.jsonl:1"):
+        chiaro.ray.render_dataset(str(path), str(tmp_path / "out"), gpus_per_worker=0)
+
+
+def test_the_ray_data_stage_reports_done_skipped_and_failed(tmp_path):
+    # The stage is called as Ray Data's map_batches calls it, with a numpy batch.
+    scene = scenes.write_scene(str(tmp_path / "a.gltf"))
+    jobs = [{"id": "near", "scene": scene, "camera": {"eye": [2, 1.5, 2], "target": [0, 0.5, 0]},
+             "width": 64, "height": 64, "outputs": OUTPUTS},
+            {"id": "file-camera", "scene": scene, "camera": "overview", "width": 64, "height": 64},
+            {"id": "missing", "scene": str(tmp_path / "nowhere.gltf"), "width": 64, "height": 64}]
+    batch = {"job": np.array([json.dumps(job) for job in jobs], dtype=object)}
+    out = tmp_path / "out"
+    stage = chiaro.ray.ChiaroRenderStage(output=str(out), device=DEVICE)
+
+    first = stage(batch)
+    assert list(first["id"]) == ["near", "file-camera", "missing"]
+    assert list(first["status"]) == ["done", "done", "failed"]
+    assert first["error"][0] == first["error"][1] == ""
+    assert "nowhere.gltf" in first["error"][2]
+    assert sorted(os.listdir(out / "near")) == FILES
+    assert sorted(os.listdir(out / "file-camera")) == ["meta.json", "rgb.png"]
+    assert json.loads((out / "missing.error.json").read_text())["id"] == "missing"
+
+    second = stage(batch)
+    assert list(second["status"]) == ["skipped", "skipped", "failed"]
