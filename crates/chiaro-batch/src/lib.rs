@@ -57,8 +57,8 @@ pub fn prepare_output(dir: &Path) -> Result<(), BatchError> {
 }
 
 /// An error and its causes on one line, leaving out causes whose text the line already
-/// holds (chiaro-io's errors often quote their source), as the CLI prints errors.
-pub(crate) fn error_line(error: &anyhow::Error) -> String {
+/// holds (chiaro-io's errors often quote their source): how the CLI prints every error.
+pub fn error_line(error: &anyhow::Error) -> String {
     let mut line = String::new();
     for cause in error.chain() {
         let text = cause.to_string();

@@ -113,19 +113,7 @@ fn usage_error(error: clap::Error) -> ExitCode {
     }
 }
 
-/// The error and its causes on one line, leaving out causes whose text the line already
-/// holds (library errors often quote their source).
+/// The error and its causes on one line, as chiaro-batch reports a failed job.
 fn one_line(error: &anyhow::Error) -> String {
-    let mut line = String::new();
-    for cause in error.chain() {
-        let text = cause.to_string();
-        if line.contains(&text) {
-            continue;
-        }
-        if !line.is_empty() {
-            line.push_str(": ");
-        }
-        line.push_str(&text);
-    }
-    line.replace('\n', " ")
+    chiaro_batch::error_line(error)
 }
