@@ -4,4 +4,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --release --workspace
-scripts/test-python.sh "$@"
+# The CLI that cargo test built, for the Python tests that compare with `chiaro batch`.
+CHIARO_BIN="$(realpath "${CARGO_TARGET_DIR:-target}")/release/chiaro" scripts/test-python.sh "$@"
