@@ -3,7 +3,12 @@
 //! along cosine-weighted paths: the sky (the ambient setting), emissive surfaces, and the
 //! light of baked and mixed lights reflected diffusely by up to `bounces` surfaces. The
 //! falloff is the runtime's: inverse square times the range window, times the spot cone.
+//! At every vertex a path also aims at one point of an emissive surface; that and a bounce
+//! that hits one are weighed by multiple importance sampling (the power heuristic). Past
+//! `ROULETTE_AFTER` reflections a path goes on with the probability of its throughput.
 
+use crate::emitters::{Emitters, power_heuristic};
+use crate::rng::Rng;
 use crate::surface::Surfaces;
 use chiaro_math::light::{distance_attenuation, spot_angle_params, spot_attenuation};
 use chiaro_scene::{Light, LightKind, LightMode, Scene};
@@ -33,6 +38,22 @@ pub struct Tracer<'a> {
     lights: Vec<BakeLight>,
     sky: Vec3,
     bounces: u32,
+    emitters: Emitters,
+}
+
+/// Reflections after which Russian roulette may end a path: the first ones carry most of
+/// the light, and are always traced.
+pub const ROULETTE_AFTER: u32 = 3;
+
+/// How the direction of a path's last segment was chosen, which decides how much of an
+/// emitter it hits counts (the rest was counted when the emitter was aimed at).
+#[derive(Clone, Copy, Debug)]
+pub enum Came {
+    /// By a strategy the emitter table does not compete with (a probe's uniform sphere):
+    /// an emitter hit counts in full.
+    Unweighted,
+    /// Cosine-weighted about this normal, at a vertex that also aimed at an emitter.
+    Cosine(Vec3),
 }
 
 /// Rays traced, counted per work item and summed.
@@ -98,7 +119,9 @@ impl<'a> Tracer<'a> {
                 indirect: mode.bakes_indirect(),
             })
             .collect();
-        Tracer { bvh, surfaces: Surfaces::new(scene), lights, sky: ambient, bounces }
+        // The same instances as the BVH's: an emitter the rays cannot hit is not aimed at.
+        let emitters = Emitters::new(scene, |i| bvh_includes(scene, i));
+        Tracer { bvh, surfaces: Surfaces::new(scene), lights, sky: ambient, bounces, emitters }
     }
 
     pub fn bounces(&self) -> u32 {
@@ -192,26 +215,73 @@ impl<'a> Tracer<'a> {
         out
     }
 
-    /// Radiance arriving at `origin` from `direction` (unit): sky where the path escapes,
-    /// emission, and light reflected by up to `reflections` surfaces along a cosine path.
+    /// Irradiance at `p` (normal `n`, on the side of `side`) from one point aimed at on
+    /// an emissive surface, weighed against the cosine-weighted bounce that could have hit
+    /// it instead.
+    fn emitter_irradiance(&self, p: Vec3, n: Vec3, side: Vec3, rng: &mut Rng, rays: &mut RayCount) -> Vec3 {
+        let Some(s) = self.emitters.sample(rng.next_f32(), rng.next_f32(), rng.next_f32()) else {
+            return Vec3::ZERO;
+        };
+        let to_emitter = s.position - p;
+        let d2 = to_emitter.length_squared();
+        let Some(dir) = to_emitter.try_normalize() else { return Vec3::ZERO };
+        let cos = n.dot(dir);
+        let facing = -s.normal.dot(dir);
+        if cos <= 0.0 || side.dot(dir) <= 0.0 || (facing <= 0.0 && !s.double_sided) || facing.abs() < 1e-6 {
+            return Vec3::ZERO;
+        }
+        let emitted = self.surfaces.at(s.instance, s.primitive, s.triangle, s.barycentrics).emissive;
+        if emitted.max_element() <= 0.0 {
+            return Vec3::ZERO;
+        }
+        *rays += 1;
+        let visible = self.bvh.transmittance(p, dir, d2.sqrt() * (1.0 - EMITTER_END_MARGIN));
+        if visible <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let pdf = s.pdf_area * d2 / facing.abs();
+        emitted * (cos / pdf * power_heuristic(pdf, cos / PI) * visible)
+    }
+
+    /// How much of the emission of the surface `hit` counts, for a path that `came` to it.
+    fn emission_weight(&self, came: Came, direction: Vec3, hit: &chiaro_trace::Hit) -> f32 {
+        match came {
+            Came::Unweighted => 1.0,
+            Came::Cosine(n) => {
+                let pdf_bounce = n.dot(direction).max(0.0) / PI;
+                let facing = hit.geometric_normal.dot(direction).abs().max(1e-6);
+                let pdf_aimed =
+                    self.emitters.pdf_area(hit.instance, hit.primitive, hit.triangle) * hit.t * hit.t / facing;
+                power_heuristic(pdf_bounce, pdf_aimed)
+            }
+        }
+    }
+
+    /// Radiance arriving at `origin` from `direction` (unit, chosen as `came` says): sky
+    /// where the path escapes, emission, and light reflected by up to `reflections`
+    /// surfaces along a cosine path; and the distance to the first surface the path met
+    /// (`None` where it escaped at once).
     pub fn incoming(
         &self,
         origin: Vec3,
         direction: Vec3,
+        came: Came,
         reflections: u32,
-        rng: &mut crate::rng::Rng,
+        rng: &mut Rng,
         rays: &mut RayCount,
-    ) -> Vec3 {
-        let (mut origin, mut direction) = (origin, direction);
+    ) -> (Vec3, Option<f32>) {
+        let (mut origin, mut direction, mut came) = (origin, direction, came);
         let mut radiance = Vec3::ZERO;
         let mut throughput = Vec3::ONE;
-        let mut left = reflections;
+        let mut reflected = 0;
+        let mut first_hit = None;
         loop {
             *rays += 1;
             let Some(hit) = self.bvh.closest_hit(origin, direction, f32::INFINITY) else {
                 radiance += throughput * self.sky;
                 break;
             };
+            first_hit = first_hit.or(Some(hit.t));
             let surface = self.surfaces.at(hit.instance, hit.primitive, hit.triangle, hit.barycentrics);
             let front = hit.geometric_normal.dot(direction) < 0.0;
             if !front && !surface.double_sided {
@@ -223,43 +293,80 @@ impl<'a> Tracer<'a> {
             if n.dot(side) <= 0.0 {
                 n = side;
             }
-            radiance += throughput * surface.emissive;
-            if left == 0 || surface.albedo.max_element() <= 0.0 {
+            if surface.emissive.max_element() > 0.0 {
+                radiance += throughput * surface.emissive * self.emission_weight(came, direction, &hit);
+            }
+            if reflected == reflections || surface.albedo.max_element() <= 0.0 {
                 break;
             }
             let p = hit.position + side * offset_of(hit.position);
-            let e = self.light_irradiance(p, n, side, |l| l.indirect, rays);
+            let e = self.light_irradiance(p, n, side, |l| l.indirect, rays)
+                + self.emitter_irradiance(p, n, side, rng, rays);
             radiance += throughput * surface.albedo / PI * e;
             throughput *= surface.albedo;
-            left -= 1;
+            reflected += 1;
+            if reflected >= ROULETTE_AFTER && reflected < reflections {
+                let survive = throughput.max_element().min(0.95);
+                if rng.next_f32() >= survive {
+                    break;
+                }
+                throughput /= survive;
+            }
             origin = p;
             direction = cosine_direction(n, rng.next_f32(), rng.next_f32());
+            came = Came::Cosine(n);
             if direction.dot(side) <= 0.0 {
                 break;
             }
         }
-        radiance
+        (radiance, first_hit)
     }
 
-    /// One sample of the irradiance at a texel's surface point: direct light from baked
-    /// lights, plus pi times the radiance along a cosine-weighted direction from `(u, v)`.
+    /// One sample of the irradiance at a texel's surface point, in two parts: direct light
+    /// from baked lights (exact but for the point's place in the texel), and what the
+    /// path brings (emitters aimed at, plus pi times the radiance along a
+    /// cosine-weighted direction from `(u, v)`), which is the noisy part.
     pub fn texel_sample(
         &self,
         p: Vec3,
         n: Vec3,
         side: Vec3,
         (u, v): (f32, f32),
-        rng: &mut crate::rng::Rng,
+        rng: &mut Rng,
         rays: &mut RayCount,
-    ) -> Vec3 {
+    ) -> TexelSample {
         let origin = p + side * offset_of(p);
-        let mut e = self.direct(origin, n, side, rays);
+        let direct = self.direct(origin, n, side, rays);
+        let mut path = self.emitter_irradiance(origin, n, side, rng, rays);
         let direction = cosine_direction(n, u, v);
+        let mut first_hit = None;
         if direction.dot(side) > 0.0 {
-            e += PI * self.incoming(origin, direction, self.bounces, rng, rays);
+            let (radiance, hit) = self.incoming(origin, direction, Came::Cosine(n), self.bounces, rng, rays);
+            path += PI * radiance;
+            first_hit = hit;
         }
-        e
+        TexelSample { direct, path, first_hit }
     }
+}
+
+/// One sample of a texel's irradiance (see `Tracer::texel_sample`).
+pub struct TexelSample {
+    /// From baked lights, exact but for the point's place in the texel.
+    pub direct: Vec3,
+    /// Brought by the path (emitters, sky, bounced light): the noisy part.
+    pub path: Vec3,
+    /// How far the path's first segment went before meeting a surface; `None` where it
+    /// escaped. How near the surroundings are says how fast bounced light can change.
+    pub first_hit: Option<f32>,
+}
+
+/// Fraction of the distance to an aimed-at emitter point left out of its shadow ray, so
+/// the emitter itself does not block it.
+const EMITTER_END_MARGIN: f32 = 1e-3;
+
+/// Whether the baker's BVH holds instance `i`: static ones alone (see `bake`).
+pub fn bvh_includes(scene: &Scene, i: usize) -> bool {
+    scene.instances[i].is_static
 }
 
 #[cfg(test)]

@@ -53,10 +53,12 @@ fn baked_point(position: Vec3, intensity: f32) -> chiaro_scene::Light {
 fn settings(samples: u32, bounces: u32, texels_per_metre: f32) -> Settings {
     let mut s = Settings::default();
     s.render.ambient = [0.0; 3];
-    s.bake.samples = samples;
+    s.bake.samples = Some(samples);
     s.bake.bounces = bounces;
     s.bake.texels_per_metre = texels_per_metre;
-    s.bake.probe_samples = 64;
+    s.bake.probe_samples = Some(64);
+    // The tracer's energy alone: the denoiser is measured on its own below.
+    s.bake.denoise = false;
     s
 }
 
@@ -99,16 +101,101 @@ fn a_closed_room_absorbs_every_watt_wherever_the_light_is() {
 #[test]
 fn glowing_walls_light_a_closed_room_by_pi_radiance_per_bounce() {
     // Every direction from a wall sees another wall of radiance L: E = pi L, and each
-    // bounce adds rho times the last, so E = pi L (1 - rho^(B + 1)) / (1 - rho).
+    // bounce adds rho times the last, so E = pi L (1 - rho^(B + 1)) / (1 - rho). Aiming
+    // at the glowing walls (weighed against the bounces by MIS) adds noise where bounces
+    // alone had none, so 64 samples.
     for (rho, bounces) in [(0.0, 0), (0.5, 1), (0.5, 20)] {
         let mut scene = room(2.0, rho);
         scene.materials[0].emissive = Vec3::ONE;
-        let result = bake(&scene, &settings(16, bounces, 8.0), &Silent, &AtomicBool::new(false)).unwrap();
+        let result = bake(&scene, &settings(64, bounces, 8.0), &Silent, &AtomicBool::new(false)).unwrap();
         let (mean, _) = mean_irradiance(&result, 8.0);
         let expected = PI * (1.0 - rho.powi(bounces as i32 + 1)) / (1.0 - rho);
         println!("rho {rho}, {bounces} bounces: {mean:.5}, expected {expected:.5}");
         assert!((mean - expected).abs() / expected < 0.002, "{mean} vs {expected}");
     }
+}
+
+#[test]
+fn denoising_keeps_a_glowing_rooms_energy() {
+    // The filter's weights depend on the light (it keeps bright texels apart), which can
+    // shift the mean; by no more than a fraction of the noise it removes.
+    let mut scene = room(2.0, 0.5);
+    scene.materials[0].emissive = Vec3::ONE;
+    let mut s = settings(64, 20, 8.0);
+    let traced = bake(&scene, &s, &Silent, &AtomicBool::new(false)).unwrap();
+    s.bake.denoise = true;
+    let denoised = bake(&scene, &s, &Silent, &AtomicBool::new(false)).unwrap();
+    let ((before, _), (after, _)) = (mean_irradiance(&traced, 8.0), mean_irradiance(&denoised, 8.0));
+    println!(
+        "mean irradiance {before:.5} traced, {after:.5} denoised; noise {:.2}% -> {:.2}%",
+        100.0 * denoised.stats.noise_traced,
+        100.0 * denoised.stats.noise
+    );
+    assert!((after - before).abs() / before < 0.003, "{before} -> {after}");
+    assert!(denoised.stats.noise < denoised.stats.noise_traced / 2.0);
+}
+
+#[test]
+fn a_small_glowing_square_lights_the_floor_as_the_formula_says_texel_by_texel() {
+    // A 0.2 m square of radiance 100 facing down 1 m above the floor: E = L A h^2 / r^4
+    // under it (the square is small beside r). Bounces alone would hit it with 1 path in
+    // 80 and leave most texels black at 64 samples; aiming at it, weighed by MIS, gets
+    // every texel right.
+    let (side, height, radiance) = (0.2f32, 1.0f32, 100.0f32);
+    let mut scene = floor_scene(4.0, Vec3::new(0.0, 4.0, 3.0), vec![]);
+    let mut square = shapes::plane(side, 1);
+    square.material = Some(1);
+    scene.materials.push(Material {
+        name: "glow".into(),
+        base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
+        emissive: Vec3::splat(radiance),
+        ..Material::default()
+    });
+    scene.meshes.push(Mesh { name: "square".into(), primitives: vec![square] });
+    scene.instances.push(MeshInstance {
+        mesh: 1,
+        node: 1,
+        name: "square".into(),
+        // Turned over so that its front faces the floor.
+        world_from_local: Mat4::from_translation(Vec3::Y * height) * Mat4::from_rotation_x(PI),
+        cast_shadows: CastShadows::Off,
+        receive_shadows: false,
+        is_static: true,
+        lightmap: None,
+        label: 0,
+    });
+    let result = bake(&scene, &settings(64, 1, 16.0), &Silent, &AtomicBool::new(false)).unwrap();
+    let layout = result.layout.instances.iter().find(|l| l.instance == 0).unwrap();
+    let size = result.layout.size;
+    let map = &result.lighting.lightmaps[layout.layer as usize];
+    let mut errors = Vec::new();
+    for t in &layout.triangles {
+        // Texel centres inside this triangle, in world space through the barycentrics.
+        let p = &scene.meshes[0].primitives[t.primitive as usize];
+        let corners = [0, 1, 2].map(|k| p.positions[p.indices[3 * t.triangle as usize + k] as usize]);
+        for y in 0..size {
+            for x in 0..size {
+                let q = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                let Some(w) = chiaro_bake::raster::barycentric(&t.corners, q).filter(chiaro_bake::raster::inside)
+                else {
+                    continue;
+                };
+                let texel = map.texels[(y * size + x) as usize];
+                let world = corners[0] * w[0] + corners[1] * w[1] + corners[2] * w[2];
+                let r2 = world.x * world.x + world.z * world.z + height * height;
+                if texel[3] < 0.999 || r2.sqrt() > 1.25 {
+                    continue;
+                }
+                let expected = radiance * side * side * height * height / (r2 * r2);
+                errors.push((texel[0] - expected).abs() / expected);
+            }
+        }
+    }
+    errors.sort_by(f32::total_cmp);
+    let (median, p90) = (errors[errors.len() / 2], errors[errors.len() * 9 / 10]);
+    println!("{} texels: median error {:.2}%, p90 {:.2}%", errors.len(), 100.0 * median, 100.0 * p90);
+    assert!(errors.len() > 100);
+    assert!(median < 0.03 && p90 < 0.08, "median {median}, p90 {p90}");
 }
 
 fn small_scene() -> Scene {

@@ -27,10 +27,10 @@ fn settings(path: RenderPath) -> Settings {
     let mut s = Settings::default();
     s.render.ambient = [0.0; 3];
     s.render.path = path;
-    s.bake.samples = 64;
+    s.bake.samples = Some(64);
     s.bake.bounces = 0;
     s.bake.texels_per_metre = 16.0;
-    s.bake.probe_samples = 64;
+    s.bake.probe_samples = Some(64);
     s
 }
 
@@ -171,7 +171,7 @@ fn dynamic_objects_take_baked_light_from_the_probes() {
     let mut gpu = renderer();
     let mut s = settings(RenderPath::Deferred);
     s.bake.probe_spacing = 0.5;
-    s.bake.probe_samples = 128;
+    s.bake.probe_samples = Some(128);
     let mut scene = floor_scene(8.0, Vec3::new(0.0, 5.0, 4.0), vec![spot(LightMode::Baked, ShadowMode::None)]);
     add_box(&mut scene, Vec3::new(0.2, 0.5, -0.1), Vec3::splat(1.0), 0.0, CastShadows::Off);
     scene.instances[1].is_static = false;

@@ -25,10 +25,10 @@ fn baked_scene(scene: &Scene, s: &Settings) -> Scene {
 fn mask_settings() -> Settings {
     let mut s = Settings::default();
     s.render.ambient = [0.0; 3];
-    s.bake.samples = 16;
+    s.bake.samples = Some(16);
     s.bake.bounces = 0;
     s.bake.texels_per_metre = 40.0;
-    s.bake.probe_samples = 16;
+    s.bake.probe_samples = Some(16);
     s.bake.probe_spacing = 4.0;
     s.lighting.mixed_mode = MixedMode::DistanceShadowmask;
     // Every shadow from the mask.
@@ -221,10 +221,10 @@ fn lights_without_atlas_tiles_keep_their_mask_shadows_in_the_lamp() {
     // The 16 tiles of Catlike Coding's Custom SRP tutorial "Point and Spot Shadows": two
     // of the five points fit (the default 64 holds all).
     s.shadows.other.max_tiles = 16;
-    s.bake.samples = 16;
+    s.bake.samples = Some(16);
     s.bake.bounces = 1;
     s.bake.texels_per_metre = 128.0;
-    s.bake.probe_samples = 16;
+    s.bake.probe_samples = Some(16);
     let scene = baked_scene(&scene, &s);
     let mut gpu = renderer();
     let view = View::framing(&scene, s.camera.auto_yfov_deg.to_radians(), 256, 256);

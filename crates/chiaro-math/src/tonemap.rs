@@ -8,6 +8,12 @@
 
 use glam::Vec3;
 
+/// Relative luminance of linear Rec. 709 RGB: how bright a colour looks, for measuring
+/// light (noise, errors, emitter power) in one number.
+pub fn luminance(linear_rgb: Vec3) -> f32 {
+    linear_rgb.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
 /// Linear scale applied to scene radiance for a camera exposure of `ev100`.
 pub fn exposure_scale(ev100: f32) -> f32 {
     1.0 / (1.2 * 2f32.powf(ev100))

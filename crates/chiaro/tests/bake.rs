@@ -39,6 +39,11 @@ fn a_bake_lands_beside_the_scene_and_lights_the_render() {
     // Not a terminal: plain progress lines, and a summary.
     assert!(run.stderr.contains("chiaro: bake: lightmap rows"), "{}", run.stderr);
     assert!(run.stderr.contains("M rays/s"), "{}", run.stderr);
+    // The summary adds the estimated error; progress lines give whole rays per second.
+    assert!(run.stderr.contains("estimated error") && run.stderr.contains("before denoising"), "{}", run.stderr);
+    let rate = run.stderr.lines().find(|l| l.contains("lightmap rows") && l.ends_with(" rays/s")).unwrap();
+    let figure = rate.rsplit(", ").next().unwrap().trim_end_matches(" rays/s");
+    assert!(figure.parse::<u64>().is_ok(), "{rate}");
     assert_eq!(names(dir.path()), vec!["shadows-spot.bake", "shadows-spot.bin", "shadows-spot.gltf"]);
     let bake = dir.path().join("shadows-spot.bake");
     assert_eq!(names(&bake), vec!["lightmap-0.exr", "lightmap-uvs.bin", "manifest.json", "probes.bin"]);
@@ -47,6 +52,9 @@ fn a_bake_lands_beside_the_scene_and_lights_the_render() {
     assert_eq!(manifest["format_version"], 1);
     assert_eq!(manifest["settings"]["samples"], 4);
     assert_eq!(manifest["settings"]["texels_per_metre"], 4.0);
+    assert_eq!(manifest["settings"]["denoise"], true);
+    assert_eq!(manifest["settings"]["quality"], "default");
+    assert_eq!(manifest["settings"]["probe_samples"], 4096, "the default quality's count, written out");
     assert!(manifest["scene_hash"].as_str().unwrap().starts_with("blake3:"));
 
     let render = |extra: &[&str]| {
@@ -90,6 +98,47 @@ fn a_bake_lands_beside_the_scene_and_lights_the_render() {
     let line = error_lines(&run)[0];
     assert!(line.contains("bake.probe_spacing") && line.contains("probes"), "{line}");
     assert!(!dir.path().join("fine.bake").exists());
+}
+
+#[test]
+fn quality_picks_the_sample_counts_not_given_and_denoising_can_be_turned_off() {
+    let dir = tempfile::tempdir().unwrap();
+    baked_spot_scene(dir.path());
+    let manifest_of = |bake: &str| -> serde_json::Value {
+        let text = std::fs::read_to_string(dir.path().join(bake).join("manifest.json")).unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    let quick = ["--bounces", "1", "--texels-per-metre", "4", "--probe-spacing", "4"];
+    let mut args = vec!["bake", "shadows-spot.gltf", "-o", "draft.bake", "--quality", "draft", "--no-denoise"];
+    args.extend(quick);
+    let run = chiaro(&args, &[], dir.path());
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stderr.contains("(not denoised)"), "{}", run.stderr);
+    let m = manifest_of("draft.bake");
+    assert_eq!((m["settings"]["samples"].as_u64(), m["settings"]["probe_samples"].as_u64()), (Some(16), Some(1024)));
+    assert_eq!(m["settings"]["denoise"], false);
+    assert_eq!(m["settings"]["quality"], "draft");
+
+    // An explicit count wins over the quality's; the quality still picks the other.
+    let settings = "[bake]\nquality = \"high\"\nsamples = 8\n";
+    std::fs::write(dir.path().join("high.toml"), settings).unwrap();
+    let mut args = vec!["bake", "shadows-spot.gltf", "-o", "high.bake", "--settings", "high.toml"];
+    args.extend(quick);
+    let run = chiaro(&args, &[], dir.path());
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let m = manifest_of("high.bake");
+    assert_eq!((m["settings"]["samples"].as_u64(), m["settings"]["probe_samples"].as_u64()), (Some(8), Some(16384)));
+    assert_eq!(m["settings"]["denoise"], true);
+
+    // Bad qualities are named, on the command line and in settings.
+    let run = chiaro(&["bake", "shadows-spot.gltf", "--quality", "superb"], &[], dir.path());
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("superb") && run.stderr.contains("draft"), "{}", run.stderr);
+    std::fs::write(dir.path().join("bad.toml"), "[bake]\nquality = \"superb\"\n").unwrap();
+    let run = chiaro(&["bake", "shadows-spot.gltf", "--settings", "bad.toml"], &[], dir.path());
+    assert_ne!(run.code, 0);
+    let line = error_lines(&run)[0];
+    assert!(line.contains("bad.toml") && line.contains("superb"), "{line}");
 }
 
 #[test]

@@ -12,6 +12,7 @@ mod texels;
 pub use probes::probe_layout;
 
 use crate::channels::ChannelAssignment;
+use crate::denoise::{NoiseEstimate, Strength, strength_for};
 use crate::layout::{AtlasLayout, layout_scene};
 use crate::rng::Rng;
 use crate::tracer::Tracer;
@@ -34,8 +35,8 @@ const DOMAIN_PROBE: u64 = 2;
 pub trait Progress: Sync {
     /// A stage of `total` work units begins.
     fn stage(&self, name: &str, total: u64);
-    /// `units` more of the current stage's work units are done.
-    fn advance(&self, units: u64);
+    /// `units` more of the current stage's work units are done, having traced `rays` rays.
+    fn advance(&self, units: u64, rays: u64);
 }
 
 /// Reports nothing.
@@ -43,7 +44,7 @@ pub struct Silent;
 
 impl Progress for Silent {
     fn stage(&self, _: &str, _: u64) {}
-    fn advance(&self, _: u64) {}
+    fn advance(&self, _: u64, _: u64) {}
 }
 
 /// Why a bake produced nothing.
@@ -66,6 +67,14 @@ pub struct BakeStats {
     /// Texels some surface covers (before dilation), over all atlases.
     pub texels: u64,
     pub probes: u64,
+    /// The lightmaps' estimated noise as traced: the median relative standard error of
+    /// the lit texels (from each texel's two independent half estimates). It measures
+    /// noise, not bias: after denoising it leaves out what the filter blurred.
+    #[serde(default)]
+    pub noise_traced: f32,
+    /// The same after denoising (equal to `noise_traced` when not denoised).
+    #[serde(default)]
+    pub noise: f32,
 }
 
 /// A finished bake: the lightmap layout it was traced for, the baked lighting, its cost.
@@ -86,6 +95,11 @@ struct Job<'a, 't> {
     progress: &'a dyn Progress,
     cancel: &'a AtomicBool,
     rays: AtomicU64,
+    /// Paths per texel and directions per probe, as the quality or the keys give them.
+    texel_samples: u32,
+    probe_samples: u32,
+    /// How the texels' noisy light is filtered; `None` leaves it as traced.
+    denoise: Option<Strength>,
 }
 
 impl Job<'_, '_> {
@@ -131,6 +145,9 @@ pub fn bake(
         progress,
         cancel,
         rays: AtomicU64::new(0),
+        texel_samples: settings.bake.texel_samples(),
+        probe_samples: settings.bake.probe_samples(),
+        denoise: settings.bake.denoise.then(|| strength_for(settings.bake.quality)),
     };
     let atlases = texels::bake_texels(&job, &layout)?;
     let probes = match probe_grid {
@@ -168,6 +185,9 @@ struct BakedAtlases {
     lightmaps: Vec<Lightmap>,
     shadow_masks: Vec<ShadowMask>,
     covered_texels: u64,
+    /// The texels' estimated error as traced, and after denoising.
+    noise_traced: NoiseEstimate,
+    noise: NoiseEstimate,
 }
 
 /// The assemble stage: the baked lighting with each light's mask channel, and the
@@ -188,6 +208,8 @@ fn assemble(
         rays_per_second: rays as f64 / seconds.max(1e-9),
         texels: atlases.covered_texels,
         probes: probes.as_ref().map_or(0, |p| p.probes.len() as u64),
+        noise_traced: atlases.noise_traced.median_relative(),
+        noise: atlases.noise.median_relative(),
     };
     let mut light_channels = vec![None; scene.lights.len()];
     for &(light, channel) in &assignment.channels {

@@ -5,10 +5,9 @@
 
 use super::{BakeError, DOMAIN_PROBE, Job, MAX_PROBES, stratum};
 use crate::rng::Rng;
-use crate::tracer::{RayCount, Tracer, sphere_direction};
+use crate::tracer::{Came, RayCount, Tracer, sphere_direction};
 use chiaro_math::sh::ShRgb;
 use chiaro_scene::baked::ProbeGrid;
-use chiaro_scene::settings::BakeSettings;
 use chiaro_scene::{LightKind, Scene};
 use glam::{UVec3, Vec3};
 use rayon::prelude::*;
@@ -53,10 +52,10 @@ pub(super) fn bake_probes(job: &Job, origin: Vec3, counts: UVec3) -> Result<Prob
             let (x, y, z) = (index % counts.x, (index / counts.x) % counts.y, index / (counts.x * counts.y));
             let p = origin + spacing * Vec3::new(x as f32, y as f32, z as f32);
             let mut probe_rays: RayCount = 0;
-            let sh = trace_probe(job.tracer, p, job.settings, index as u64, &mut probe_rays);
+            let sh = trace_probe(job.tracer, p, job.settings.seed, job.probe_samples, index as u64, &mut probe_rays);
             let occlusion = probe_occlusion(job, p, &mut probe_rays);
             job.rays.fetch_add(probe_rays, Ordering::Relaxed);
-            job.progress.advance(1);
+            job.progress.advance(1, probe_rays);
             (sh, occlusion)
         })
         .collect();
@@ -82,14 +81,14 @@ fn probe_occlusion(job: &Job, p: Vec3, rays: &mut RayCount) -> [f32; 4] {
     occlusion
 }
 
-fn trace_probe(tracer: &Tracer, p: Vec3, b: &BakeSettings, index: u64, rays: &mut RayCount) -> ShRgb {
-    let mut rng = Rng::new(b.seed, DOMAIN_PROBE, index);
+fn trace_probe(tracer: &Tracer, p: Vec3, seed: u64, samples: u32, index: u64, rays: &mut RayCount) -> ShRgb {
+    let mut rng = Rng::new(seed, DOMAIN_PROBE, index);
     let mut sh = ShRgb::default();
-    let weight = 4.0 * PI / b.probe_samples as f32;
-    for k in 0..b.probe_samples {
-        let (u, v) = stratum(k, b.probe_samples, 0, &mut rng);
+    let weight = 4.0 * PI / samples as f32;
+    for k in 0..samples {
+        let (u, v) = stratum(k, samples, 0, &mut rng);
         let d = sphere_direction(u, v);
-        let radiance = tracer.incoming(p, d, tracer.bounces(), &mut rng, rays);
+        let (radiance, _) = tracer.incoming(p, d, Came::Unweighted, tracer.bounces(), &mut rng, rays);
         sh.add_sample(d, radiance, weight);
     }
     for (d, e) in tracer.probe_deltas(p, rays) {

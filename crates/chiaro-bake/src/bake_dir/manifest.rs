@@ -107,7 +107,12 @@ pub(super) fn manifest_of(scene: &Scene, settings: &Settings, result: &BakeResul
         format_version: FORMAT_VERSION,
         scene: source.and_then(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
         scene_hash: scene_hash(scene)?,
-        settings: settings.bake.clone(),
+        // The counts the quality picked, written out: the manifest says what was traced.
+        settings: BakeSettings {
+            samples: Some(settings.bake.texel_samples()),
+            probe_samples: Some(settings.bake.probe_samples()),
+            ..settings.bake.clone()
+        },
         ambient: settings.render.ambient,
         range_threshold_lux: settings.lights.range_threshold_lux,
         lightmap_size: result.layout.size,

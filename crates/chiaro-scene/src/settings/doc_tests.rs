@@ -86,6 +86,8 @@ fn every_key_in_code_is_documented_and_every_documented_key_exists() {
     // The optional keys, so that they serialise too.
     all.lights.max_other_lights = Some(1);
     all.shadows.directional.cascade_ratios = Some(DEFAULT_CASCADE_RATIOS.to_vec());
+    all.bake.samples = Some(1);
+    all.bake.probe_samples = Some(1);
     let mut in_code = BTreeSet::new();
     leaf_keys(&toml::Table::try_from(&all).unwrap(), "", &mut in_code);
     let doc = settings_doc();
@@ -122,8 +124,14 @@ fn documented_values_are_the_defaults() {
     let ratios = read.shadows.directional.cascade_ratios.take();
     assert_eq!(ratios.as_deref(), Some(&DEFAULT_CASCADE_RATIOS[..]));
     assert_eq!(read, Settings::default());
-    // The one commented-out key documents a value inside its range.
-    let example = &documented_keys(toml)["lights.max_other_lights"].assignment;
-    let value: f32 = example.split('=').nth(1).unwrap().trim().parse().unwrap();
-    assert!(lights::MAX_OTHER_LIGHTS_CULLED.contains(value), "{example}");
+    // The commented-out keys document a value inside their range; the sample counts the
+    // one the default quality picks.
+    let documented = documented_keys(toml);
+    let value_of = |key: &str| -> f32 {
+        let example = &documented[key].assignment;
+        example.split('=').nth(1).unwrap().trim().parse().unwrap()
+    };
+    assert!(lights::MAX_OTHER_LIGHTS_CULLED.contains(value_of("lights.max_other_lights")));
+    assert_eq!(value_of("bake.samples"), Settings::default().bake.texel_samples() as f32);
+    assert_eq!(value_of("bake.probe_samples"), Settings::default().bake.probe_samples() as f32);
 }

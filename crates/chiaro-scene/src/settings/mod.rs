@@ -23,7 +23,7 @@ mod doc_tests;
 #[cfg(test)]
 mod tests;
 
-pub use bake::BakeSettings;
+pub use bake::{BakeQuality, BakeSettings};
 pub use bound::Bound;
 pub use camera::CameraSettings;
 pub use lighting::{LightingSettings, MixedMode};

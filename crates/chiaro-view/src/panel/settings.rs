@@ -4,6 +4,7 @@
 //! headless.
 
 use crate::action::Action;
+use chiaro_scene::settings::BakeQuality;
 use chiaro_scene::{CascadeBlend, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
 use egui::{ComboBox, DragValue, Slider, Ui};
 
@@ -190,11 +191,26 @@ fn lighting_and_bake_section(ui: &mut Ui, s: &mut Settings) {
     );
     egui::CollapsingHeader::new("[bake] (chiaro bake reads these)").default_open(true).show(ui, |ui| {
         let b = &mut s.bake;
-        drag_row(ui, "bake.samples", &mut b.samples, 1..=65536);
+        combo(
+            ui,
+            "bake.quality",
+            &mut b.quality,
+            &[(BakeQuality::Draft, "draft"), (BakeQuality::Default, "default"), (BakeQuality::High, "high")],
+        );
+        ui.checkbox(&mut b.denoise, "bake.denoise");
+        let mut samples = b.texel_samples();
+        drag_row(ui, "bake.samples", &mut samples, 1..=65536);
+        if samples != b.texel_samples() {
+            b.samples = Some(samples);
+        }
         drag_row(ui, "bake.bounces", &mut b.bounces, 0..=64);
         drag_row(ui, "bake.texels_per_metre", &mut b.texels_per_metre, 0.01..=1000.0);
         drag_row(ui, "bake.seed", &mut b.seed, 0..=u64::MAX);
         drag_row(ui, "bake.probe_spacing", &mut b.probe_spacing, 0.05..=1000.0);
-        drag_row(ui, "bake.probe_samples", &mut b.probe_samples, 1..=65536);
+        let mut probe_samples = b.probe_samples();
+        drag_row(ui, "bake.probe_samples", &mut probe_samples, 1..=65536);
+        if probe_samples != b.probe_samples() {
+            b.probe_samples = Some(probe_samples);
+        }
     });
 }
