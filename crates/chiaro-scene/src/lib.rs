@@ -11,6 +11,7 @@ pub mod demo;
 pub mod error;
 pub mod files;
 pub mod gltf_import;
+pub mod names;
 pub mod nodes;
 pub mod settings;
 pub mod shapes;

@@ -40,9 +40,13 @@ pub(super) fn bake_modes(scene: &Scene, assignment: &ChannelAssignment) -> Vec<L
     let mut modes: Vec<LightMode> = scene.lights.iter().map(|l| l.mode).collect();
     for &light in &assignment.demoted {
         modes[light] = LightMode::Baked;
+    }
+    if !assignment.demoted.is_empty() {
+        let names: Vec<&str> = assignment.demoted.iter().map(|&l| scene.lights[l].name.as_str()).collect();
         tracing::warn!(
-            "light '{}': a fifth mixed light overlapping four others, no shadow mask channel left: baked instead",
-            scene.lights[light].name
+            "{} mixed lights each overlap four others and find no shadow mask channel left: baked instead: {}",
+            names.len(),
+            chiaro_scene::names::few_names(&names)
         );
     }
     modes

@@ -321,17 +321,22 @@ fn plan_other(
         })
         .collect();
     if !overflow.is_empty() {
-        tracing::warn!(
-            "{} point/spot lights get no realtime shadow, the {} tiles of the other-light atlas being taken \
-             (shadows.other.max_tiles): {}",
-            overflow.len(),
-            os.max_tiles,
-            overflow.join(", ")
-        );
+        tracing::warn!("{}", overflow_warning(&overflow, os.max_tiles));
     }
     plan.gpu.other_atlas = atlas_params(os.atlas_size);
     plan.other_atlas_size = os.atlas_size;
     slots
+}
+
+/// The warning for the point and spot lights that found no atlas tiles: how many, and
+/// the first few by name.
+fn overflow_warning(names: &[String], max_tiles: u32) -> String {
+    format!(
+        "{} point/spot lights get no realtime shadow, the {max_tiles} tiles of the other-light atlas being taken \
+         (shadows.other.max_tiles): {}",
+        names.len(),
+        chiaro_scene::names::few_names(names)
+    )
 }
 
 /// The tile requests of the shadow-casting `other` lights, in their order: each light's
@@ -470,4 +475,18 @@ fn tile_casters(draws: &[Draw], tile: &CasterTile) -> Vec<u32> {
         None => caster_in_tile(&tile.clip_from_world, &d.bounds_ws, true),
     };
     (0..draws.len() as u32).filter(|&i| draws[i as usize].casts_shadows() && reaches(&draws[i as usize])).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_overflow_warning_counts_every_light_and_names_a_few() {
+        let names: Vec<String> = (0..235).map(|i| format!("lamp {i}")).collect();
+        let line = overflow_warning(&names, 64);
+        assert!(line.starts_with("235 point/spot lights get no realtime shadow"), "{line}");
+        assert!(line.ends_with("'lamp 0', 'lamp 1', 'lamp 2', 'lamp 3' and 231 more"), "{line}");
+        assert!(!line.contains("lamp 4"), "{line}");
+    }
 }
