@@ -196,6 +196,34 @@ fn demo_render_writes_png_and_aovs() {
 }
 
 #[test]
+fn the_same_render_twice_is_the_same_bytes() {
+    // Outputs are content-hashed by job runners (meta.json, datasets): two renders of the
+    // same scene and settings must write identical files, image and AOVs, PNG and EXR.
+    let render = |dir: &std::path::Path, output: &str| {
+        let mut args = vec!["render", "--width", "64", "--height", "48", "-o", output];
+        for aov in ["position", "normal", "depth", "shadow", "instance", "label"] {
+            args.extend(["--aov", aov]);
+        }
+        let run = chiaro(&args, &[], dir);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+    };
+    let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    for output in ["demo.png", "demo.exr"] {
+        render(a.path(), output);
+        render(b.path(), output);
+    }
+    let mut names: Vec<String> =
+        std::fs::read_dir(a.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    assert!(names.len() >= 8 && names.iter().any(|n| n.ends_with(".png")), "{names:?}");
+    for name in &names {
+        let (first, second) =
+            (std::fs::read(a.path().join(name)).unwrap(), std::fs::read(b.path().join(name)).unwrap());
+        assert!(first == second, "{name}: {} and {} bytes differ", first.len(), second.len());
+    }
+}
+
+#[test]
 fn exr_output_is_linear_radiance() {
     let dir = tempfile::tempdir().unwrap();
     let run = chiaro(&["render", "--width", "64", "--height", "48", "-o", "demo.exr"], &[], dir.path());
