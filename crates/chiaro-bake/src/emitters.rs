@@ -5,7 +5,7 @@
 //! importance sampling, so small bright emitters no longer make fireflies.
 
 use chiaro_math::tonemap::luminance;
-use chiaro_scene::{Material, Scene};
+use chiaro_scene::{Material, MeshInstance, Scene};
 use glam::Vec3;
 use std::collections::HashMap;
 
@@ -47,11 +47,11 @@ pub struct Emitters {
 impl Emitters {
     /// The emissive triangles of the instances `include` accepts (the baker's static ones:
     /// the only ones its rays can hit).
-    pub fn new(scene: &Scene, include: impl Fn(usize) -> bool) -> Emitters {
+    pub fn new(scene: &Scene, include: impl Fn(&MeshInstance) -> bool) -> Emitters {
         let default_material = Material::default();
         let mut triangles = Vec::new();
         let mut power = Vec::new();
-        for (i, instance) in scene.instances.iter().enumerate().filter(|(i, _)| include(*i)) {
+        for (i, instance) in scene.instances.iter().enumerate().filter(|(_, instance)| include(instance)) {
             let Some(mesh) = scene.meshes.get(instance.mesh) else { continue };
             for (pi, p) in mesh.primitives.iter().enumerate() {
                 let material = p.material.and_then(|m| scene.materials.get(m)).unwrap_or(&default_material);
@@ -167,7 +167,7 @@ mod tests {
     #[test]
     fn picks_emitters_by_area_and_its_density_integrates_to_one() {
         let scene = scene_with_a_glowing_box();
-        let emitters = Emitters::new(&scene, |_| true);
+        let emitters = Emitters::new(&scene, |_: &MeshInstance| true);
         // The floor does not glow; the box's 12 triangles do.
         assert_eq!(emitters.triangles.len(), 12);
         assert_eq!(emitters.pdf_area(0, 0, 0), 0.0);
@@ -194,7 +194,7 @@ mod tests {
     #[test]
     fn no_emitters_no_samples() {
         let scene = floor_scene(4.0, Vec3::new(0.0, 4.0, 3.0), vec![]);
-        let emitters = Emitters::new(&scene, |_| true);
+        let emitters = Emitters::new(&scene, |_: &MeshInstance| true);
         assert!(emitters.is_empty());
         assert!(emitters.sample(0.5, 0.5, 0.5).is_none());
     }

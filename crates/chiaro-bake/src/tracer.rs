@@ -11,7 +11,7 @@ use crate::emitters::{Emitters, power_heuristic};
 use crate::rng::Rng;
 use crate::surface::Surfaces;
 use chiaro_math::light::{distance_attenuation, spot_angle_params, spot_attenuation};
-use chiaro_scene::{Light, LightKind, LightMode, Scene};
+use chiaro_scene::{Light, LightKind, LightMode, MeshInstance, Scene};
 use chiaro_trace::{SceneBvh, light_visibility};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -120,7 +120,7 @@ impl<'a> Tracer<'a> {
             })
             .collect();
         // The same instances as the BVH's: an emitter the rays cannot hit is not aimed at.
-        let emitters = Emitters::new(scene, |i| bvh_includes(scene, i));
+        let emitters = Emitters::new(scene, bakes_instance);
         Tracer { bvh, surfaces: Surfaces::new(scene), lights, sky: ambient, bounces, emitters }
     }
 
@@ -364,9 +364,11 @@ pub struct TexelSample {
 /// the emitter itself does not block it.
 const EMITTER_END_MARGIN: f32 = 1e-3;
 
-/// Whether the baker's BVH holds instance `i`: static ones alone (see `bake`).
-pub fn bvh_includes(scene: &Scene, i: usize) -> bool {
-    scene.instances[i].is_static
+/// Whether the bake sees an instance at all: static ones alone. Dynamic objects move, so
+/// they take their light from the probes and their shadows from the realtime maps; the
+/// BVH and the emitter table both hold what this accepts.
+pub fn bakes_instance(instance: &MeshInstance) -> bool {
+    instance.is_static
 }
 
 #[cfg(test)]

@@ -155,7 +155,7 @@ fn texel_places(scene: &Scene, result: &BakeResult) -> Vec<Vec<Place>> {
 }
 
 fn luminance(t: &[f32; 4]) -> f32 {
-    0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2]
+    chiaro_math::tonemap::luminance(Vec3::new(t[0], t[1], t[2]))
 }
 
 /// The relative errors against the reference of the texels `pick(atlas, texel)` chooses,
@@ -273,8 +273,8 @@ fn probes_are_smooth_at_the_default_samples() {
         run(&scene, &s).lighting.probes.unwrap()
     };
     let (a, b) = (grid(0), grid(1));
+    let lum = chiaro_math::tonemap::luminance;
     let sides = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
-    let lum = |v: Vec3| v.dot(Vec3::new(0.2126, 0.7152, 0.0722));
     let pairs: Vec<(f32, f32)> = a
         .probes
         .iter()

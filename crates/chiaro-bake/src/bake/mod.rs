@@ -15,7 +15,7 @@ use crate::channels::ChannelAssignment;
 use crate::denoise::{NoiseEstimate, Strength, strength_for};
 use crate::layout::{AtlasLayout, layout_scene};
 use crate::rng::Rng;
-use crate::tracer::Tracer;
+use crate::tracer::{Tracer, bakes_instance};
 use chiaro_scene::baked::{BakedLighting, Lightmap, ProbeGrid, ShadowMask};
 use chiaro_scene::settings::BakeSettings;
 use chiaro_scene::{Scene, Settings};
@@ -125,7 +125,7 @@ pub fn bake(
     let (layout, probe_grid) = lay_out(scene, settings)?;
     // Baked light and shadows come from static objects alone: dynamic ones move, and
     // take their light from the probes and their shadows from the realtime maps.
-    let bvh = SceneBvh::build_with(scene, |instance| instance.is_static);
+    let bvh = SceneBvh::build_with(scene, bakes_instance);
     let assignment = lights::shadow_mask_channels(scene, settings);
     let modes = lights::bake_modes(scene, &assignment);
     let tracer = Tracer::new(

@@ -191,12 +191,7 @@ fn lighting_and_bake_section(ui: &mut Ui, s: &mut Settings) {
     );
     egui::CollapsingHeader::new("[bake] (chiaro bake reads these)").default_open(true).show(ui, |ui| {
         let b = &mut s.bake;
-        combo(
-            ui,
-            "bake.quality",
-            &mut b.quality,
-            &[(BakeQuality::Draft, "draft"), (BakeQuality::Default, "default"), (BakeQuality::High, "high")],
-        );
+        combo(ui, "bake.quality", &mut b.quality, &BakeQuality::ALL.map(|q| (q, q.name())));
         ui.checkbox(&mut b.denoise, "bake.denoise");
         let mut samples = b.texel_samples();
         drag_row(ui, "bake.samples", &mut samples, 1..=65536);
