@@ -1,6 +1,6 @@
-//! What the baker needs to know about a point on a surface: its diffuse albedo (base
-//! colour times `1 - metallic`, textures included), its emission, whether its back face
-//! reflects, and its shading normal.
+//! What the baker needs to know about a point on a surface: its diffuse albedo as the
+//! renderer shades it (`chiaro_math::brdf::diffuse_albedo`, textures included), its
+//! emission, whether its back face reflects, and its shading normal.
 
 use chiaro_scene::{ColorSpace, Image, Material, Scene, TextureRef, WrapMode};
 use glam::{Mat3, Vec2, Vec3, Vec4};
@@ -62,7 +62,9 @@ impl<'a> Surfaces<'a> {
         let metallic = (material.metallic * texture(&material.metallic_roughness_texture).z).clamp(0.0, 1.0);
         let emissive = material.emissive * texture(&material.emissive_texture).truncate();
         SurfacePoint {
-            albedo: (base.truncate() * (1.0 - metallic)).clamp(Vec3::ZERO, Vec3::ONE),
+            // The renderer's split between diffuse and specular, so bounced light is what
+            // the lit surface shows.
+            albedo: chiaro_math::brdf::diffuse_albedo(base.truncate().clamp(Vec3::ZERO, Vec3::ONE), metallic),
             emissive,
             double_sided: material.double_sided,
             shading_normal,

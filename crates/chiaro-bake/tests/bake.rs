@@ -10,7 +10,7 @@ use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
-/// A closed box of `size`, its faces turned to face inwards, albedo `rho`.
+/// A closed box of `size`, its faces turned to face inwards, base colour `rho`.
 fn room(size: f32, rho: f32) -> Scene {
     let mut walls = shapes::cuboid(Vec3::splat(size));
     for tri in walls.indices.chunks_exact_mut(3) {
@@ -74,11 +74,17 @@ fn mean_irradiance(result: &chiaro_bake::BakeResult, texels_per_metre: f32) -> (
     ((sum / weight) as f32, (weight / (texels_per_metre as f64).powi(2)) as f32)
 }
 
+/// What a white-ish wall of base colour `rho` reflects diffusely: the renderer's share,
+/// (1 - F0) rho, which the baker uses too.
+fn reflectance(rho: f32) -> f32 {
+    chiaro_math::brdf::diffuse_albedo(Vec3::splat(rho), 0.0).x
+}
+
 #[test]
 fn a_closed_room_absorbs_every_watt_wherever_the_light_is() {
     let (size, rho, intensity) = (2.0, 0.5, 10.0);
     let area = 6.0 * size * size;
-    let expected = 4.0 * PI * intensity / (area * (1.0 - rho));
+    let expected = 4.0 * PI * intensity / (area * (1.0 - reflectance(rho)));
     for position in [Vec3::ZERO, Vec3::new(0.55, -0.4, 0.25)] {
         let mut scene = room(size, rho);
         scene.lights.push(baked_point(position, intensity));
@@ -101,7 +107,7 @@ fn a_closed_room_absorbs_every_watt_wherever_the_light_is() {
 #[test]
 fn glowing_walls_light_a_closed_room_by_pi_radiance_per_bounce() {
     // Every direction from a wall sees another wall of radiance L: E = pi L, and each
-    // bounce adds rho times the last, so E = pi L (1 - rho^(B + 1)) / (1 - rho). Aiming
+    // bounce adds r times the last (r the reflectance), so E = pi L (1 - r^(B + 1)) / (1 - r). Aiming
     // at the glowing walls (weighed against the bounces by MIS) adds noise where bounces
     // alone had none, so 64 samples.
     for (rho, bounces) in [(0.0, 0), (0.5, 1), (0.5, 20)] {
@@ -109,7 +115,8 @@ fn glowing_walls_light_a_closed_room_by_pi_radiance_per_bounce() {
         scene.materials[0].emissive = Vec3::ONE;
         let result = bake(&scene, &settings(64, bounces, 8.0), &Silent, &AtomicBool::new(false)).unwrap();
         let (mean, _) = mean_irradiance(&result, 8.0);
-        let expected = PI * (1.0 - rho.powi(bounces as i32 + 1)) / (1.0 - rho);
+        let r = reflectance(rho);
+        let expected = PI * (1.0 - r.powi(bounces as i32 + 1)) / (1.0 - r);
         println!("rho {rho}, {bounces} bounces: {mean:.5}, expected {expected:.5}");
         assert!((mean - expected).abs() / expected < 0.002, "{mean} vs {expected}");
     }

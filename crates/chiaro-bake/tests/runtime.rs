@@ -100,7 +100,7 @@ fn a_baked_light_without_bounces_renders_like_the_realtime_light() {
             worst_irradiance * 100.0
         );
         assert!(lit > 2000, "{lit}");
-        // Realtime adds a rough specular lobe and takes Fresnel off the diffuse: a few %.
+        // Realtime adds a rough specular lobe that baked light has not: a few %.
         assert!(close > 0.99, "{close}");
         assert!(irradiance_close > 0.99, "{irradiance_close}");
     }
@@ -225,4 +225,63 @@ fn mixed_lights_stay_realtime_and_bake_only_their_bounces() {
     let brighter = without.hdr.iter().zip(&frame.hdr).filter(|(a, b)| b[0] > a[0] * 1.001 + 1e-6).count();
     println!("mixed spot, two bounces: {lit} pixels read baked indirect light, {brighter} got brighter");
     assert!(lit > 1000 && brighter > 1000, "{lit} {brighter}");
+}
+
+/// Per pixel, the diffuse light realtime shading gives the floor: the frame with a white
+/// floor less the frame with a black one (a dielectric's specular lobe does not depend on
+/// its base colour, so only the diffuse term is left).
+fn realtime_diffuse(gpu: &mut Renderer, scene: &Scene, s: &Settings, size: u32) -> Vec<f32> {
+    let mut black = scene.clone();
+    black.materials[0].base_color = glam::Vec4::new(0.0, 0.0, 0.0, 1.0);
+    let (white, black) = (render(gpu, scene, s, size), render(gpu, &black, s, size));
+    white.hdr.iter().zip(&black.hdr).map(|(w, b)| w[0] - b[0]).collect()
+}
+
+#[test]
+fn baked_direct_light_equals_realtime_diffuse_light_per_light_type() {
+    // A light switched from realtime to baked (no bounces) must not change the floor: the
+    // same range window, cone and the same share of light given to the diffuse lobe.
+    let mut gpu = renderer();
+    let mut s = settings(RenderPath::Forward);
+    s.bake.texels_per_metre = 32.0;
+    s.bake.samples = Some(16);
+    let mut point = chiaro_scene::test_scenes::point_light(Vec3::new(0.3, 1.2, -0.2), 20.0, Some(3.5));
+    point.shadow.mode = ShadowMode::None;
+    let mut sun = Light::new(LightKind::Directional, Vec3::ZERO, Vec3::new(-0.3, -1.0, 0.2));
+    sun.intensity = 3.0;
+    sun.shadow.mode = ShadowMode::None;
+    let size = 128;
+    for (name, light) in [("spot", spot(LightMode::Realtime, ShadowMode::None)), ("point", point), ("sun", sun)] {
+        let realtime = floor_scene(8.0, Vec3::new(0.0, 5.0, 4.0), vec![light]);
+        let expected = realtime_diffuse(&mut gpu, &realtime, &s, size);
+        let mut to_bake = realtime.clone();
+        to_bake.lights[0].mode = LightMode::Baked;
+        let baked = render(&mut gpu, &baked_scene(&to_bake, &s), &s, size);
+        assert!(baked.plan.lights.is_empty(), "{name} is not shaded in realtime");
+        let peak = expected.iter().copied().fold(0.0, f32::max);
+        // The dim rim too: everything above 2% of the brightest pixel.
+        let mut errors: Vec<f32> = expected
+            .iter()
+            .zip(&baked.hdr)
+            .filter(|(e, _)| **e > peak * 0.005)
+            .map(|(e, b)| (b[0] - e).abs() / e)
+            .collect();
+        errors.sort_by(f32::total_cmp);
+        let at = |q: f32| errors[((errors.len() - 1) as f32 * q) as usize];
+        let signed: f32 =
+            expected.iter().zip(&baked.hdr).filter(|(e, _)| **e > peak * 0.005).map(|(e, b)| b[0] - e).sum::<f32>()
+                / expected.iter().filter(|e| **e > peak * 0.005).sum::<f32>();
+        println!(
+            "{name}: {} pixels; baked against realtime diffuse: median {:.2}%, p95 {:.2}%, worst {:.2}%, \
+             overall {:+.2}%",
+            errors.len(),
+            at(0.5) * 100.0,
+            at(0.95) * 100.0,
+            at(1.0) * 100.0,
+            signed * 100.0
+        );
+        assert!(errors.len() > 2500, "{name}: {} lit pixels", errors.len());
+        assert!(at(0.5) < 0.01, "{name}: median {}", at(0.5));
+        assert!(at(0.95) < 0.03, "{name}: p95 {}", at(0.95));
+    }
 }

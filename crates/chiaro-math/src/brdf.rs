@@ -17,6 +17,23 @@ fn v_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
     0.5 / (gv + gl).max(1e-6)
 }
 
+/// Dielectrics reflect 4% at normal incidence (glTF's fixed IOR of 1.5).
+pub const DIELECTRIC_F0: f32 = 0.04;
+
+/// Fresnel's reflectance at normal incidence: `DIELECTRIC_F0` for dielectrics, the base
+/// colour for metals.
+pub fn f0_of(base_color: Vec3, metallic: f32) -> Vec3 {
+    Vec3::splat(DIELECTRIC_F0).lerp(base_color, metallic)
+}
+
+/// The albedo of the diffuse lobe for light whose direction is not kept (baked light,
+/// bounces in the baker): the diffuse term of `brdf_cos` at normal
+/// incidence, `(1 - F0)(1 - metallic) base`. The renderer applies the same factor to the
+/// lightmaps, so a light switched from realtime to baked keeps its brightness.
+pub fn diffuse_albedo(base_color: Vec3, metallic: f32) -> Vec3 {
+    (Vec3::ONE - f0_of(base_color, metallic)) * (1.0 - metallic) * base_color
+}
+
 /// BRDF times cos(theta_l) for unit `n`, `v` (towards the eye) and `l` (towards the light).
 /// Roughness is clamped to 0.03 as the shader clamps it.
 pub fn brdf_cos(base_color: Vec3, metallic: f32, roughness: f32, n: Vec3, v: Vec3, l: Vec3) -> Vec3 {
@@ -30,7 +47,7 @@ pub fn brdf_cos(base_color: Vec3, metallic: f32, roughness: f32, n: Vec3, v: Vec
     let n_dot_h = n.dot(h).max(0.0);
     let v_dot_h = v.dot(h).max(0.0);
     let alpha = roughness * roughness;
-    let f0 = Vec3::splat(0.04).lerp(base_color, metallic);
+    let f0 = f0_of(base_color, metallic);
     let f = f0 + (Vec3::ONE - f0) * (1.0 - v_dot_h).powi(5);
     let diffuse = (Vec3::ONE - f) * (1.0 - metallic) * base_color / PI;
     let specular = f * d_ggx(n_dot_h, alpha) * v_smith_ggx_correlated(n_dot_v, n_dot_l, alpha);
@@ -49,6 +66,20 @@ mod tests {
         let f = brdf_cos(Vec3::ONE, 0.0, 1.0, n, v, l);
         let lambert = n.dot(l) / PI;
         assert!((f.x / lambert - 1.0).abs() < 0.1, "{} vs {}", f.x, lambert);
+    }
+
+    #[test]
+    fn diffuse_albedo_is_the_diffuse_term_at_normal_incidence() {
+        let base = Vec3::new(0.8, 0.5, 0.2);
+        for metallic in [0.0, 0.3, 1.0] {
+            // Roughness 1 and n = v = l: the specular part is F0 D V, found apart.
+            let whole = brdf_cos(base, metallic, 1.0, Vec3::Y, Vec3::Y, Vec3::Y);
+            let specular =
+                brdf_cos(Vec3::ZERO, 0.0, 1.0, Vec3::Y, Vec3::Y, Vec3::Y) / DIELECTRIC_F0 * f0_of(base, metallic);
+            let diffuse = (whole - specular) * PI;
+            assert!((diffuse - diffuse_albedo(base, metallic)).abs().max_element() < 1e-5, "{metallic}: {diffuse}");
+        }
+        assert_eq!(diffuse_albedo(Vec3::ONE, 0.0), Vec3::splat(0.96));
     }
 
     #[test]
