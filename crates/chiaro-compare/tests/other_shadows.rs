@@ -7,7 +7,7 @@ mod common;
 use chiaro_compare::{PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
 use chiaro_math::shadow::other::cube_face;
 use chiaro_render::ShadowStatus;
-use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene};
+use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene, ShadowMode};
 use common::*;
 use glam::Vec3;
 
@@ -199,4 +199,44 @@ fn a_caster_three_centimetres_from_a_point_light_still_casts() {
     );
     assert_agrees("caster at 3 cm", &result);
     assert!(shadowed > 1000, "the plate shadows the floor under it: {shadowed}");
+}
+
+#[test]
+fn a_point_light_close_to_a_wall_casts_no_acne_on_it() {
+    // A point light 0.4 m from a wall that meets the floor: both are lit across several
+    // cube faces, from head-on to grazing; a small cube beside the light casts the one
+    // true shadow. Close to the light a face's texels are millimetres wide and the depths
+    // the biases must clear as small: false shadow there is acne.
+    let wall_z = -2.0;
+    for (light_position, eye, mode) in [
+        (Vec3::new(0.1, 1.2, -1.6), Vec3::new(0.8, 1.6, 0.5), ShadowMode::Soft),
+        (Vec3::new(0.1, 1.2, -1.6), Vec3::new(-1.5, 0.8, 0.0), ShadowMode::Hard),
+        (Vec3::new(0.0, 0.4, -1.6), Vec3::new(0.0, 0.6, -0.4), ShadowMode::Soft),
+        (Vec3::new(0.0, 2.0, -1.6), Vec3::new(0.3, 0.5, 0.5), ShadowMode::Hard),
+    ] {
+        let mut point = point_light(light_position, 4.0, Some(6.0));
+        point.shadow = LightShadow { mode, ..LightShadow::default() };
+        let mut scene = floor_scene(10.0, Vec3::ZERO, vec![point]);
+        let mut wall = scene.instances[0].clone();
+        wall.world_from_local = glam::Mat4::from_rotation_translation(
+            glam::Quat::from_rotation_x(90f32.to_radians()),
+            Vec3::new(0.0, 5.0, wall_z),
+        );
+        scene.instances.push(wall);
+        add_box(&mut scene, light_position + Vec3::new(0.25, -0.1, -0.2), Vec3::splat(0.12), 0.4, CastShadows::On);
+        look_from(&mut scene, eye, Vec3::new(light_position.x, light_position.y * 0.5, wall_z));
+        let result = compare(&scene, &unlit_settings(), 192);
+        let c = &result.reports[0].comparison;
+        let shadowed = verdicts(&scene, &result).iter().filter(|v| **v == PixelVerdict::AgreeShadowed).count();
+        println!(
+            "{mode:?} point light at {light_position}, 0.4 m from a wall, seen from {eye}: {} compared, false \
+             shadow {:.3}%, missed {:.3}%, {shadowed} agreeing shadowed pixels",
+            c.compared,
+            100.0 * c.false_share(),
+            100.0 * c.missed_share()
+        );
+        assert_agrees(&format!("wall from {eye}"), &result);
+        assert!(c.false_share() < 0.001, "acne: {:.3}% false shadow", 100.0 * c.false_share());
+        assert!(shadowed > 50, "the cube shadows the wall: {shadowed}");
+    }
 }
