@@ -232,7 +232,8 @@ fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
 
     settings.render.path = RenderPath::Deferred;
     let deferred = plan_with(&settings, PlanRequest::default());
-    assert_eq!(passes(&deferred), vec!["shadows", "gbuffer", "deferred lights", "tonemap"]);
+    // At the defaults (4x MSAA forward) the deferred path antialiases with FXAA.
+    assert_eq!(passes(&deferred), vec!["shadows", "gbuffer", "deferred lights", "fxaa", "tonemap"]);
     let visible = deferred.shaded_other_lights();
     assert!(visible > 64, "the deferred path shades every visible light: {visible}");
     // One full-screen draw for the directional lights, then a volume per point and spot.

@@ -5,22 +5,13 @@
 mod common;
 
 use chiaro_render::{FrameOptions, FrameOutput, View};
-use chiaro_scene::{Light, LightKind, RenderPath, Settings};
+use chiaro_scene::{RenderPath, Settings};
 use common::*;
-use glam::Vec3;
 
 const SIZE: u32 = 96;
 
 fn render_msaa(msaa: u32) -> FrameOutput {
-    let sun = Light {
-        name: "sun".into(),
-        node: 2,
-        intensity: 3.0,
-        ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y)
-    };
-    // A small floor, turned so that its edges cross pixels at every angle.
-    let mut scene = floor_scene(3.0, Vec3::new(1.0, 5.0, 2.0), vec![sun]);
-    scene.instances[0].world_from_local = glam::Mat4::from_rotation_y(0.37);
+    let scene = turned_floor_scene();
     let mut settings: Settings = unlit_settings();
     settings.render.path = RenderPath::Forward;
     settings.render.msaa = msaa;

@@ -11,6 +11,7 @@ macro_rules! frame_passes {
             deferred_lights: DeferredLightsPass ["deferred_light"],
             ldr_decode: LdrDecodePass ["ldr_decode"],
             forward: ForwardPass ["forward"],
+            fxaa: FxaaPass ["fxaa"],
             aov: AovPass ["aov"],
             id: IdPass ["id"],
             shadow_aov: ShadowAovPass ["shadow_aov"],

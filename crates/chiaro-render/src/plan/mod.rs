@@ -24,7 +24,9 @@ use crate::shader_constants::{
 use crate::view::View;
 use chiaro_math::light::MAX_OTHER_LIGHTS;
 use chiaro_math::tonemap::exposure_scale;
-use chiaro_scene::{AlphaMode, LightBuffer, LightCulling, MixedMode, RenderPath, Scene, Settings};
+use chiaro_scene::{
+    AlphaMode, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Scene, Settings,
+};
 use cookies::cookie_slots;
 use culling::{CulledLights, cull_lights};
 use draws::{Draw, camera_draw_order};
@@ -127,6 +129,10 @@ pub struct FramePlan {
     /// Samples per pixel of the forward path's colour and depth (1 on the deferred path
     /// and with AOVs).
     pub msaa: u32,
+    /// Whether the deferred path smooths the lit image's edges with FXAA: where the
+    /// forward path would have MSAA (so both paths at their defaults antialias), with no
+    /// G-buffer debug view.
+    pub fxaa: bool,
     /// What the forward pass's shader needs compiled in.
     pub features: features::ShaderFeatures,
 }
@@ -217,6 +223,11 @@ impl FramePlan {
         // AOVs and ids test against single-sampled depth, and the G-buffer has one sample.
         let single = path == RenderPath::Deferred || request.aovs || request.shadow_aovs || request.ids;
         let msaa = if single { 1 } else { settings.render.msaa };
+        let forward_msaa = !(request.aovs || request.shadow_aovs || request.ids) && settings.render.msaa > 1;
+        let fxaa = path == RenderPath::Deferred
+            && forward_msaa
+            && request.debug.is_none()
+            && settings.render.deferred_antialiasing == DeferredAntialiasing::Fxaa;
         // A debug view of the G-buffer shades nothing, so it draws no shadow tiles (and
         // the cache keeps what the atlases hold for the next lit frame).
         shadows.redraw = if request.deferred_view().is_some() {
@@ -246,6 +257,7 @@ impl FramePlan {
             culling,
             culled,
             msaa,
+            fxaa,
             features,
         }
     }

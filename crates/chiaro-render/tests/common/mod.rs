@@ -24,6 +24,20 @@ pub fn render(renderer: &mut Renderer, scene: &Scene, settings: &Settings, size:
         .expect("render")
 }
 
+/// A small sunlit floor turned so that its edges cross pixels at every angle, against
+/// the black background: what the antialiasing tests look at.
+pub fn turned_floor_scene() -> Scene {
+    let sun = chiaro_scene::Light {
+        name: "sun".into(),
+        node: 2,
+        intensity: 3.0,
+        ..chiaro_scene::Light::new(chiaro_scene::LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y)
+    };
+    let mut scene = floor_scene(3.0, Vec3::new(1.0, 5.0, 2.0), vec![sun]);
+    scene.instances[0].world_from_local = glam::Mat4::from_rotation_y(0.37);
+    scene
+}
+
 /// The frame's LDR image as RGB8, alpha dropped, as FLIP compares it.
 pub fn ldr_rgb(frame: &FrameOutput) -> Vec<u8> {
     frame.ldr.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()

@@ -28,7 +28,7 @@ pub use bound::Bound;
 pub use camera::CameraSettings;
 pub use lighting::{LightingSettings, MixedMode};
 pub use lights::{LightCulling, LightSettings};
-pub use render::{LightBuffer, RenderPath, RenderSettings};
+pub use render::{DeferredAntialiasing, LightBuffer, RenderPath, RenderSettings};
 pub use shadows::{
     CascadeBlend, DEFAULT_CASCADE_RATIOS, DirectionalShadowSettings, OtherShadowSettings, ShadowSettings,
 };

@@ -24,7 +24,7 @@ pub struct RenderSettings {
     /// "forward" (a depth prepass, then each draw lit by its culled lights, with MSAA; the
     /// default, since with 4x MSAA it renders the shared benchmark scene faster than the
     /// deferred path does with none, see the README) or "deferred" (a G-buffer, then one
-    /// light volume per light; no MSAA).
+    /// light volume per light; FXAA rather than MSAA, see `deferred_antialiasing`).
     pub path: RenderPath,
     /// The deferred path's light accumulation: "hdr" (half floats, the default) or
     /// "ldr-exp2" (the legacy 8-bit buffer storing exp2(-light) of Catlike Coding's
@@ -33,6 +33,21 @@ pub struct RenderSettings {
     /// Samples per pixel of the forward path's colour and depth (1, 2, 4 or 8), resolved
     /// before tone mapping. The deferred path, and frames that report AOVs, render one.
     pub msaa: u32,
+    /// How the deferred path smooths its edges where `msaa` is above 1 (its G-buffer has
+    /// one sample): "fxaa" (the default: a post-process over the lit HDR image, before
+    /// tone mapping, as an MSAA resolve blends) or "none".
+    pub deferred_antialiasing: DeferredAntialiasing,
+}
+
+/// The deferred path's antialiasing.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq, Hash)]
+#[serde(rename_all = "lowercase")]
+pub enum DeferredAntialiasing {
+    /// Fast approximate antialiasing: edges found from luma contrast, blended along them.
+    #[default]
+    Fxaa,
+    /// None: every edge keeps its staircase.
+    None,
 }
 
 /// How a frame is shaded.
@@ -70,6 +85,7 @@ impl Default for RenderSettings {
             path: RenderPath::Forward,
             light_buffer: LightBuffer::Hdr,
             msaa: 4,
+            deferred_antialiasing: DeferredAntialiasing::Fxaa,
         }
     }
 }

@@ -5,7 +5,7 @@
 
 use crate::action::Action;
 use chiaro_scene::settings::BakeQuality;
-use chiaro_scene::{CascadeBlend, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
+use chiaro_scene::{CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
 use egui::{ComboBox, DragValue, Slider, Ui};
 
 const FILTERS: [&str; 4] = ["pcf2x2", "tent3x3", "tent5x5", "tent7x7"];
@@ -87,6 +87,12 @@ fn render_section(ui: &mut Ui, s: &mut Settings) {
         &[(LightBuffer::Hdr, "hdr"), (LightBuffer::LdrExp2, "ldr-exp2")],
     );
     combo(ui, "render.msaa", &mut r.msaa, &[(1, "1"), (2, "2"), (4, "4"), (8, "8")]);
+    combo(
+        ui,
+        "render.deferred_antialiasing",
+        &mut r.deferred_antialiasing,
+        &[(DeferredAntialiasing::Fxaa, "fxaa"), (DeferredAntialiasing::None, "none")],
+    );
 }
 
 fn lights_section(ui: &mut Ui, s: &mut Settings) {
