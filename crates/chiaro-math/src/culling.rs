@@ -11,13 +11,16 @@
 //! out of the loop over unshadowed lights.
 
 use crate::bounds::{Aabb, Sphere};
-use glam::{Mat4, Vec3, Vec4Swizzles};
+use glam::{Mat4, Vec3};
 
-/// Screen tiles across and down, and depth slices: Bevy's default grid, which keeps the
-/// record count small (3456) at any resolution.
-pub const CLUSTER_TILES_X: u32 = 16;
-pub const CLUSTER_TILES_Y: u32 = 9;
-pub const CLUSTER_SLICES: u32 = 24;
+/// Pixels a cluster tile spans across and down, at most `MAX_TILES_ACROSS` tiles each
+/// way (larger images get larger tiles). Small tiles and thin slices keep a far cluster
+/// (metres wide at a hundred metres) from listing the many small lights of its volume
+/// that reach none of its pixels.
+pub const CLUSTER_TILE_PX: u32 = 32;
+pub const MAX_TILES_ACROSS: u32 = 48;
+/// Depth slices, spread exponentially over the depths where surfaces are.
+pub const CLUSTER_SLICES: u32 = 64;
 /// Most lights one object is shaded with under per-object culling.
 pub const MAX_LIGHTS_PER_OBJECT: usize = 8;
 
@@ -69,31 +72,48 @@ impl LightLists {
 pub struct ClusterGrid {
     pub width: u32,
     pub height: u32,
+    /// Tiles across and down.
+    pub tiles_x: u32,
+    pub tiles_y: u32,
     /// Pixels per tile, across and down.
     pub tile_width: u32,
     pub tile_height: u32,
-    /// View depths (metres, positive) the slices span; depths beyond `far` fall in the
-    /// last slice, depths before `near` in the first.
+    /// View depths (metres, positive) the slices span: from the nearest surface to the
+    /// farthest one a light can reach. Depths beyond `far` fall in the last slice, depths
+    /// before `near` in the first.
     pub near: f32,
     pub far: f32,
 }
 
+/// One light's clusters in one slice: a rectangle of tiles.
+#[derive(Clone, Copy, Debug)]
+struct SliceCover {
+    light: u32,
+    slice: u32,
+    tiles_x: (u32, u32),
+    tiles_y: (u32, u32),
+}
+
 impl ClusterGrid {
-    /// The grid for a `width` x `height` image whose lights reach no further than view
-    /// depth `far`.
+    /// The grid for a `width` x `height` image whose surfaces lie between view depths
+    /// `near` and `far` (as far as any light reaches them).
     pub fn new(width: u32, height: u32, near: f32, far: f32) -> ClusterGrid {
+        let tile = |side: u32| CLUSTER_TILE_PX.max(side.div_ceil(MAX_TILES_ACROSS)).max(1);
+        let (tile_width, tile_height) = (tile(width), tile(height));
         ClusterGrid {
             width,
             height,
-            tile_width: width.div_ceil(CLUSTER_TILES_X).max(1),
-            tile_height: height.div_ceil(CLUSTER_TILES_Y).max(1),
+            tiles_x: width.div_ceil(tile_width).max(1),
+            tiles_y: height.div_ceil(tile_height).max(1),
+            tile_width,
+            tile_height,
             near,
             far: far.max(near * 1.01),
         }
     }
 
     pub fn cluster_count(&self) -> usize {
-        (CLUSTER_TILES_X * CLUSTER_TILES_Y * CLUSTER_SLICES) as usize
+        (self.tiles_x * self.tiles_y * CLUSTER_SLICES) as usize
     }
 
     /// `(scale, bias)` with `slice = floor(log2(depth) * scale + bias)`.
@@ -116,13 +136,13 @@ impl ClusterGrid {
 
     /// The cluster of pixel `(x, y)` at view depth `depth`, as the shader finds it.
     pub fn cluster_at(&self, x: f32, y: f32, depth: f32) -> usize {
-        let tx = ((x / self.tile_width as f32) as u32).min(CLUSTER_TILES_X - 1);
-        let ty = ((y / self.tile_height as f32) as u32).min(CLUSTER_TILES_Y - 1);
+        let tx = ((x / self.tile_width as f32) as u32).min(self.tiles_x - 1);
+        let ty = ((y / self.tile_height as f32) as u32).min(self.tiles_y - 1);
         self.index(tx, ty, self.slice_of(depth))
     }
 
     pub fn index(&self, tx: u32, ty: u32, slice: u32) -> usize {
-        ((slice * CLUSTER_TILES_Y + ty) * CLUSTER_TILES_X + tx) as usize
+        ((slice * self.tiles_y + ty) * self.tiles_x + tx) as usize
     }
 
     /// View-space bounds of every cluster, in `index` order. `view_from_clip` inverts a
@@ -143,18 +163,18 @@ impl ClusterGrid {
             // Where the ray meets the plane z = -depth (the camera looks along -Z).
             if dir.z.abs() < 1e-12 { origin } else { origin + dir * ((-depth - origin.z) / dir.z) }
         };
-        let mut rays = Vec::with_capacity(((CLUSTER_TILES_X + 1) * (CLUSTER_TILES_Y + 1)) as usize);
-        for ty in 0..=CLUSTER_TILES_Y {
-            for tx in 0..=CLUSTER_TILES_X {
+        let mut rays = Vec::with_capacity(((self.tiles_x + 1) * (self.tiles_y + 1)) as usize);
+        for ty in 0..=self.tiles_y {
+            for tx in 0..=self.tiles_x {
                 rays.push(corner_ray(tx, ty));
             }
         }
-        let ray = |tx: u32, ty: u32| rays[(ty * (CLUSTER_TILES_X + 1) + tx) as usize];
+        let ray = |tx: u32, ty: u32| rays[(ty * (self.tiles_x + 1) + tx) as usize];
         let mut bounds = Vec::with_capacity(self.cluster_count());
         for s in 0..CLUSTER_SLICES {
             let (z0, z1) = (self.slice_start(s), self.slice_start(s + 1));
-            for ty in 0..CLUSTER_TILES_Y {
-                for tx in 0..CLUSTER_TILES_X {
+            for ty in 0..self.tiles_y {
+                for tx in 0..self.tiles_x {
                     let corners = [ray(tx, ty), ray(tx + 1, ty), ray(tx, ty + 1), ray(tx + 1, ty + 1)];
                     bounds.push(Aabb::from_points(corners.iter().flat_map(|&r| [at_depth(r, z0), at_depth(r, z1)])));
                 }
@@ -164,63 +184,132 @@ impl ClusterGrid {
     }
 
     /// Per cluster, the lights (indices into `lights`, whose spheres are in view space)
-    /// whose range touches it.
-    pub fn assign(&self, view_from_clip: &Mat4, clip_from_view: &Mat4, lights: &[CullLight]) -> LightLists {
-        let bounds = self.cluster_bounds(view_from_clip);
-        let mut per_cluster: Vec<Vec<u32>> = vec![Vec::new(); self.cluster_count()];
-        for (i, light) in lights.iter().enumerate() {
-            let Sphere { center, radius } = light.sphere;
-            let (near_depth, far_depth) = (-center.z - radius, -center.z + radius);
-            if far_depth < self.near {
-                continue;
+    /// that may reach it: in each slice a sphere spans, the part of it within the slice's
+    /// depths (a disc of the sphere's cross-section there, swept over the slice) is
+    /// projected to the screen and covers a rectangle of tiles. Built by counting, in time
+    /// linear in the clusters plus the light-cluster pairs; shadowed lights lead each list.
+    pub fn assign(&self, clip_from_view: &Mat4, lights: &[CullLight]) -> LightLists {
+        let mut covers = Vec::new();
+        // Shadowed lights first, so that they lead every list they are in.
+        for shadowed in [true, false] {
+            for (i, light) in lights.iter().enumerate().filter(|(_, l)| l.shadowed == shadowed) {
+                self.cover(clip_from_view, i as u32, &light.sphere, &mut covers);
             }
-            let (s0, s1) = (self.slice_of(near_depth), self.slice_of(far_depth));
-            let ((tx0, ty0), (tx1, ty1)) = self.tile_range(clip_from_view, &light.sphere);
-            for s in s0..=s1 {
-                for ty in ty0..=ty1 {
-                    for tx in tx0..=tx1 {
-                        let k = self.index(tx, ty, s);
-                        if sphere_touches_aabb(center, radius, &bounds[k]) {
-                            per_cluster[k].push(i as u32);
-                        }
-                    }
+        }
+        let clusters = self.cluster_count();
+        let (mut counts, mut shadowed) = (vec![0u32; clusters], vec![0u32; clusters]);
+        let each_cluster = |c: &SliceCover, f: &mut dyn FnMut(usize)| {
+            for ty in c.tiles_y.0..=c.tiles_y.1 {
+                for tx in c.tiles_x.0..=c.tiles_x.1 {
+                    f(self.index(tx, ty, c.slice));
                 }
             }
+        };
+        for c in &covers {
+            let is_shadowed = lights[c.light as usize].shadowed as u32;
+            each_cluster(c, &mut |k| {
+                counts[k] += 1;
+                shadowed[k] += is_shadowed;
+            });
         }
-        let mut lists = LightLists::default();
-        for list in &per_cluster {
-            lists.push(list, lights);
+        let mut records = Vec::with_capacity(clusters);
+        let mut offset = 0u32;
+        for k in 0..clusters {
+            records.push(ListRecord { offset, shadowed: shadowed[k], count: counts[k] });
+            offset += counts[k];
         }
-        lists
+        let mut indices = vec![0u32; offset as usize];
+        // `counts` becomes each list's next free place.
+        for (k, r) in records.iter().enumerate() {
+            counts[k] = r.offset;
+        }
+        for c in &covers {
+            each_cluster(c, &mut |k| {
+                indices[counts[k] as usize] = c.light;
+                counts[k] += 1;
+            });
+        }
+        LightLists { records, indices }
     }
 
-    /// The tiles a view-space sphere may cover: those under the projection of its
-    /// bounding box, or every tile when the box reaches behind the near plane.
-    fn tile_range(&self, clip_from_view: &Mat4, sphere: &Sphere) -> ((u32, u32), (u32, u32)) {
-        let all = ((0, 0), (CLUSTER_TILES_X - 1, CLUSTER_TILES_Y - 1));
-        let r = Vec3::splat(sphere.radius);
-        let corners = Aabb { min: sphere.center - r, max: sphere.center + r }.corners();
-        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
-        for c in corners {
-            let clip = *clip_from_view * c.extend(1.0);
-            if clip.w <= self.near * 0.5 {
-                return all;
-            }
-            let ndc = clip.xy() / clip.w;
-            lo = lo.min(ndc);
-            hi = hi.max(ndc);
+    /// Appends the tiles light `light`'s view-space sphere covers in each slice it spans.
+    fn cover(&self, clip_from_view: &Mat4, light: u32, sphere: &Sphere, out: &mut Vec<SliceCover>) {
+        let Sphere { center, radius } = *sphere;
+        let depth = -center.z;
+        if depth + radius < self.near || depth - radius > self.far {
+            return;
         }
-        let tile = |ndc_x: f32, ndc_y: f32| {
-            let px = (ndc_x * 0.5 + 0.5) * self.width as f32;
-            let py = (0.5 - ndc_y * 0.5) * self.height as f32;
-            let tx = (px / self.tile_width as f32).floor().clamp(0.0, (CLUSTER_TILES_X - 1) as f32);
-            let ty = (py / self.tile_height as f32).floor().clamp(0.0, (CLUSTER_TILES_Y - 1) as f32);
-            (tx as u32, ty as u32)
-        };
-        // Screen y grows downwards while NDC y grows upwards.
-        let (tx0, ty0) = tile(lo.x, hi.y);
-        let (tx1, ty1) = tile(hi.x, lo.y);
-        ((tx0, ty0), (tx1, ty1))
+        let all_x = (0, self.tiles_x - 1);
+        let all_y = (0, self.tiles_y - 1);
+        let perspective = Perspective::of(clip_from_view);
+        for slice in self.slice_of(depth - radius)..=self.slice_of(depth + radius) {
+            // The slice's depths; the first and last take in what lies before and beyond.
+            let z0 = if slice == 0 { 0.0 } else { self.slice_start(slice) };
+            let z1 = if slice == CLUSTER_SLICES - 1 { f32::INFINITY } else { self.slice_start(slice + 1) };
+            let (d0, d1) = ((depth - radius).max(z0), (depth + radius).min(z1));
+            if d0 > d1 {
+                continue;
+            }
+            // The sphere's widest cross-section within the slice.
+            let gap = (z0 - depth).max(depth - z1).max(0.0);
+            let r = (radius * radius - gap * gap).max(0.0).sqrt();
+            let (tiles_x, tiles_y) = match perspective {
+                Some(p) if d0 > 1e-4 => {
+                    let (x0, x1) = p.ndc_range(p.scale_x, p.offset_x, center.x - r, center.x + r, d0, d1);
+                    let (y0, y1) = p.ndc_range(p.scale_y, p.offset_y, center.y - r, center.y + r, d0, d1);
+                    if x0 > 1.0 || x1 < -1.0 || y0 > 1.0 || y1 < -1.0 {
+                        continue;
+                    }
+                    // Screen y grows downwards while NDC y grows upwards.
+                    ((self.tile_x(x0), self.tile_x(x1)), (self.tile_y(y1), self.tile_y(y0)))
+                }
+                _ => (all_x, all_y),
+            };
+            out.push(SliceCover { light, slice, tiles_x, tiles_y });
+        }
+    }
+
+    fn tile_x(&self, ndc_x: f32) -> u32 {
+        let px = (ndc_x * 0.5 + 0.5) * self.width as f32;
+        (px / self.tile_width as f32).floor().clamp(0.0, (self.tiles_x - 1) as f32) as u32
+    }
+
+    fn tile_y(&self, ndc_y: f32) -> u32 {
+        let py = (0.5 - ndc_y * 0.5) * self.height as f32;
+        (py / self.tile_height as f32).floor().clamp(0.0, (self.tiles_y - 1) as f32) as u32
+    }
+}
+
+/// A perspective projection without skew: `ndc = scale * v / depth - offset` along x and
+/// y, for view depth `depth = -z` (what `perspective_reverse_z` and off-centre frusta
+/// give).
+#[derive(Clone, Copy, Debug)]
+struct Perspective {
+    scale_x: f32,
+    scale_y: f32,
+    offset_x: f32,
+    offset_y: f32,
+}
+
+impl Perspective {
+    /// `None` for projections of another shape (their clusters take every tile).
+    fn of(m: &Mat4) -> Option<Perspective> {
+        let skewless = m.x_axis.y == 0.0 && m.y_axis.x == 0.0 && m.x_axis.w == 0.0 && m.y_axis.w == 0.0;
+        let divides_by_depth = m.z_axis.w == -1.0 && m.w_axis.w == 0.0 && m.w_axis.x == 0.0 && m.w_axis.y == 0.0;
+        (skewless && divides_by_depth && m.x_axis.x > 0.0 && m.y_axis.y > 0.0).then_some(Perspective {
+            scale_x: m.x_axis.x,
+            scale_y: m.y_axis.y,
+            offset_x: m.z_axis.x,
+            offset_y: m.z_axis.y,
+        })
+    }
+
+    /// The NDC interval of `scale * v / d - offset` over `v` in `[v0, v1]` and `d` in
+    /// `[d0, d1]` (d0 > 0).
+    fn ndc_range(&self, scale: f32, offset: f32, v0: f32, v1: f32, d0: f32, d1: f32) -> (f32, f32) {
+        let low = if v0 >= 0.0 { v0 / d1 } else { v0 / d0 };
+        let high = if v1 >= 0.0 { v1 / d0 } else { v1 / d1 };
+        (scale * low - offset, scale * high - offset)
     }
 }
 
@@ -240,11 +329,6 @@ pub fn spot_bounding_sphere(position: Vec3, direction: Vec3, range: f32, outer_r
     // Equidistant from the apex and the rim: c^2 = (R cos - c)^2 + (R sin)^2.
     let radius = range / (2.0 * cos);
     Sphere { center: position + direction * radius, radius }
-}
-
-fn sphere_touches_aabb(center: Vec3, radius: f32, b: &Aabb) -> bool {
-    let nearest = center.clamp(b.min, b.max);
-    nearest.distance_squared(center) <= radius * radius
 }
 
 /// Per object (by its world bounds), up to `MAX_LIGHTS_PER_OBJECT` of `lights` (world
@@ -322,7 +406,7 @@ mod tests {
             light(Vec3::new(-20.0, 5.0, -30.0), 6.0, true),
             light(Vec3::new(0.0, 0.0, 2.0), 3.0, false),
         ];
-        let lists = grid.assign(&proj.inverse(), &proj, &lights);
+        let lists = grid.assign(&proj, &lights);
         let mut checked = 0;
         for y in (0..180).step_by(7) {
             for x in (0..320).step_by(7) {
@@ -346,12 +430,50 @@ mod tests {
     fn clusters_far_from_a_light_do_not_list_it() {
         let proj = projection();
         let grid = ClusterGrid::new(320, 180, 0.1, 40.0);
-        let lists = grid.assign(&proj.inverse(), &proj, &[light(Vec3::new(0.0, 0.0, -5.0), 0.5, false)]);
+        let lists = grid.assign(&proj, &[light(Vec3::new(0.0, 0.0, -5.0), 0.5, false)]);
         let listed = lists.records.iter().filter(|r| r.count > 0).count();
         assert!(listed > 0 && listed < 40, "a small light touches a few clusters, not {listed}");
         // A light behind the camera touches none.
-        let behind = grid.assign(&proj.inverse(), &proj, &[light(Vec3::new(0.0, 0.0, 5.0), 1.0, false)]);
+        let behind = grid.assign(&proj, &[light(Vec3::new(0.0, 0.0, 5.0), 1.0, false)]);
         assert!(behind.indices.is_empty());
+    }
+
+    #[test]
+    fn lists_are_no_longer_than_the_cluster_boxes_give() {
+        // Many small lights over a floor below the camera: each slice's projected
+        // cross-section lists at most the lights whose sphere touches the cluster's
+        // view-space box (the old test), and far fewer than the lights in the frame.
+        let proj = projection();
+        let grid = ClusterGrid::new(640, 360, 2.0, 120.0);
+        let view_from_world = Mat4::look_at_rh(Vec3::new(0.0, 10.0, 0.0), Vec3::new(0.0, 0.0, -40.0), Vec3::Y);
+        let mut lights = Vec::new();
+        for i in 0..64 {
+            for j in 0..64 {
+                let p = Vec3::new(-60.0 + i as f32 * 1.875, 0.5, -j as f32 * 1.875);
+                lights.push(light(view_from_world.transform_point3(p), 1.8, (i + j) % 7 == 0));
+            }
+        }
+        let lists = grid.assign(&proj, &lights);
+        let bounds = grid.cluster_bounds(&proj.inverse());
+        let boxed: usize = bounds
+            .iter()
+            .map(|b| {
+                lights
+                    .iter()
+                    .filter(|l| l.sphere.center.clamp(b.min, b.max).distance(l.sphere.center) <= l.sphere.radius)
+                    .count()
+            })
+            .sum();
+        let longest = lists.records.iter().map(|r| r.count).max().unwrap();
+        println!("{} light-cluster pairs, {boxed} by the boxes; longest list {longest}", lists.indices.len());
+        assert!(lists.indices.len() <= boxed, "{} > {boxed}", lists.indices.len());
+        assert!(longest < 64, "a cluster lists {longest} of {} lights", lights.len());
+        // Every list is in order: shadowed lights first, each list's records consistent.
+        for (k, r) in lists.records.iter().enumerate() {
+            let list = lists.list(k);
+            assert!(list[..r.shadowed as usize].iter().all(|&i| lights[i as usize].shadowed));
+            assert!(list[r.shadowed as usize..].iter().all(|&i| !lights[i as usize].shadowed));
+        }
     }
 
     #[test]
@@ -363,7 +485,7 @@ mod tests {
             light(Vec3::new(0.0, 0.0, -5.0), 3.0, true),
             light(Vec3::new(0.0, 0.0, -5.0), 3.0, false),
         ];
-        let lists = grid.assign(&proj.inverse(), &proj, &lights);
+        let lists = grid.assign(&proj, &lights);
         let k = grid.cluster_at(32.0, 32.0, 5.0);
         assert_eq!(lists.list(k), &[1, 0, 2]);
         assert_eq!(lists.records[k].shadowed, 1);

@@ -29,6 +29,9 @@ pub struct FrameData {
     all_lights: GrowingBuffer,
     list_records: GrowingBuffer,
     list_indices: GrowingBuffer,
+    /// Per frame light, its position and range (xyz, w): what the culled loops test
+    /// before they read the whole light.
+    light_spheres: GrowingBuffer,
     shadow_sampler: wgpu::Sampler,
     /// Directional cookies tile; spot cookies stop at the cone's edge.
     cookie_repeat: wgpu::Sampler,
@@ -130,6 +133,7 @@ impl FrameData {
                 entry(15, S::FRAGMENT, buffer(storage)),
                 entry(16, S::FRAGMENT, buffer(storage)),
                 entry(17, S::FRAGMENT, buffer(storage)),
+                entry(18, S::FRAGMENT, buffer(storage)),
             ],
         });
         let uniform_buffer = |label, size| {
@@ -152,6 +156,7 @@ impl FrameData {
             all_lights: GrowingBuffer::new(device, "all frame lights", size_of::<GpuLight>() as u64 * 64),
             list_records: GrowingBuffer::new(device, "light list records", size_of::<GpuListRecord>() as u64 * 64),
             list_indices: GrowingBuffer::new(device, "light list indices", 4 * 1024),
+            light_spheres: GrowingBuffer::new(device, "light spheres", 16 * 64),
             shadow_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("shadow comparison sampler"),
                 mag_filter: wgpu::FilterMode::Linear,
@@ -189,6 +194,8 @@ impl FrameData {
             if storage {
                 self.all_lights.write(device, queue, bytemuck::cast_slice(&lights));
             }
+            let spheres: Vec<[f32; 4]> = lights.iter().map(|l| l.position_ws.extend(l.range).to_array()).collect();
+            self.light_spheres.write(device, queue, bytemuck::cast_slice(&spheres));
             self.list_records.write(device, queue, bytemuck::cast_slice(&records));
             self.list_indices.write(device, queue, bytemuck::cast_slice(&culled.indices));
         }
@@ -235,6 +242,7 @@ impl FrameData {
                 wgpu::BindGroupEntry { binding: 15, resource: self.all_lights.buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 16, resource: self.list_records.buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 17, resource: self.list_indices.buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 18, resource: self.light_spheres.buffer.as_entire_binding() },
             ],
         })
     }

@@ -101,11 +101,8 @@ pub const LIGHT_CULLING_NONE: u32 = 0;
 pub const LIGHT_CULLING_CLUSTERED: u32 = 1;
 /// `light_culling`: each draw reads its object's list.
 pub const LIGHT_CULLING_PER_OBJECT: u32 = 2;
-/// The froxel grid: tiles across and down, depth slices.
-pub const CLUSTER_TILES_X: u32 = chiaro_math::culling::CLUSTER_TILES_X;
-/// Cluster tiles down the screen.
-pub const CLUSTER_TILES_Y: u32 = chiaro_math::culling::CLUSTER_TILES_Y;
-/// Depth slices of the cluster grid.
+/// Depth slices of the cluster grid (its tiles across and down follow the image size and
+/// come in the frame uniform).
 pub const CLUSTER_SLICES: u32 = chiaro_math::culling::CLUSTER_SLICES;
 
 /// `GpuAovLight::list_index` of a light the frame does not shade.
@@ -149,8 +146,6 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("LIGHT_CULLING_NONE", LIGHT_CULLING_NONE),
     ("LIGHT_CULLING_CLUSTERED", LIGHT_CULLING_CLUSTERED),
     ("LIGHT_CULLING_PER_OBJECT", LIGHT_CULLING_PER_OBJECT),
-    ("CLUSTER_TILES_X", CLUSTER_TILES_X),
-    ("CLUSTER_TILES_Y", CLUSTER_TILES_Y),
     ("CLUSTER_SLICES", CLUSTER_SLICES),
     ("NO_COOKIE", NO_COOKIE),
     ("NO_MASK_CHANNEL", NO_MASK_CHANNEL),

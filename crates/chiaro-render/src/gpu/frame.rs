@@ -46,8 +46,10 @@ pub struct GpuFrame {
     pub cluster_slice_scale: f32,
     /// See `cluster_slice_scale`.
     pub cluster_slice_bias: f32,
-    /// Pads the struct to WGSL's 16-byte alignment.
-    pub _pad: [u32; 2],
+    /// Cluster tiles across and down.
+    pub cluster_tiles_x: u32,
+    /// See `cluster_tiles_x`.
+    pub cluster_tiles_y: u32,
 }
 
 /// One object (a mesh instance) as `shaders/common/frame.wesl` reads it: its transforms

@@ -63,10 +63,11 @@ pub fn cull_lights(
                     c
                 })
                 .collect();
-            // The slices end where the farthest light's range ends.
-            let far = cull.iter().map(|c| -c.sphere.center.z + c.sphere.radius).fold(view.znear, f32::max);
-            let grid = ClusterGrid::new(view.width, view.height, view.znear, far);
-            let lists = grid.assign(&view.clip_from_view.inverse(), &view.clip_from_view, &cull);
+            // The slices span the depths of the pass's surfaces, as far as a light reaches.
+            let light_far = cull.iter().map(|c| -c.sphere.center.z + c.sphere.radius).fold(view.znear, f32::max);
+            let (near, far) = surface_depths(draws, order, &view_from_world, view.znear);
+            let grid = ClusterGrid::new(view.width, view.height, near, far.min(light_far));
+            let lists = grid.assign(&view.clip_from_view, &cull);
             CulledLights { grid: Some(grid), lists }
         }
         LightCulling::PerObject => {
@@ -85,4 +86,18 @@ pub fn cull_lights(
         *i += first_other as u32;
     }
     culled
+}
+
+/// The view depths (nearest and farthest, no nearer than `znear`) of the bounds of the
+/// draws `order` names: no pixel of the pass lies outside them.
+fn surface_depths(draws: &[Draw], order: &[u32], view_from_world: &glam::Mat4, znear: f32) -> (f32, f32) {
+    let (mut near, mut far) = (f32::INFINITY, znear);
+    for bounds in order.iter().map(|&i| &draws[i as usize].bounds_ws).filter(|b| !b.is_empty()) {
+        for corner in bounds.corners() {
+            let depth = -view_from_world.transform_point3(corner).z;
+            near = near.min(depth);
+            far = far.max(depth);
+        }
+    }
+    (near.max(znear).min(far), far)
 }

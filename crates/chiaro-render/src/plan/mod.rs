@@ -353,7 +353,8 @@ impl FramePlan {
             cluster_tile_height: self.culled.grid.map_or(1, |g| g.tile_height),
             cluster_slice_scale: self.culled.grid.map_or(0.0, |g| g.slice_params().0),
             cluster_slice_bias: self.culled.grid.map_or(0.0, |g| g.slice_params().1),
-            _pad: [0; 2],
+            cluster_tiles_x: self.culled.grid.map_or(1, |g| g.tiles_x),
+            cluster_tiles_y: self.culled.grid.map_or(1, |g| g.tiles_y),
         }
     }
 }
