@@ -30,7 +30,7 @@ pub struct FrameData {
     list_records: GrowingBuffer,
     list_indices: GrowingBuffer,
     /// Per frame light, its position and range (xyz, w): what the culled loops test
-    /// before they read the whole light.
+    /// before they read the whole light from `all_lights`.
     light_spheres: GrowingBuffer,
     shadow_sampler: wgpu::Sampler,
     /// Directional cookies tile; spot cookies stop at the cone's edge.
@@ -193,9 +193,9 @@ impl FrameData {
                 .collect();
             if storage {
                 self.all_lights.write(device, queue, bytemuck::cast_slice(&lights));
+                let spheres: Vec<[f32; 4]> = lights.iter().map(|l| l.position_ws.extend(l.range).to_array()).collect();
+                self.light_spheres.write(device, queue, bytemuck::cast_slice(&spheres));
             }
-            let spheres: Vec<[f32; 4]> = lights.iter().map(|l| l.position_ws.extend(l.range).to_array()).collect();
-            self.light_spheres.write(device, queue, bytemuck::cast_slice(&spheres));
             self.list_records.write(device, queue, bytemuck::cast_slice(&records));
             self.list_indices.write(device, queue, bytemuck::cast_slice(&culled.indices));
         }
