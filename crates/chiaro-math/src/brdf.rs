@@ -27,9 +27,9 @@ pub fn f0_of(base_color: Vec3, metallic: f32) -> Vec3 {
 }
 
 /// The albedo of the diffuse lobe for light whose direction is not kept (baked light,
-/// bounces in the baker): the diffuse term of `brdf_cos` at normal
-/// incidence, `(1 - F0)(1 - metallic) base`. The renderer applies the same factor to the
-/// lightmaps, so a light switched from realtime to baked keeps its brightness.
+/// bounces in the baker): the diffuse term of `brdf_cos` at normal incidence,
+/// `(1 - F0)(1 - metallic) base`. The renderer applies the same factor to the lightmaps,
+/// so a light switched from realtime to baked keeps its brightness.
 pub fn diffuse_albedo(base_color: Vec3, metallic: f32) -> Vec3 {
     (Vec3::ONE - f0_of(base_color, metallic)) * (1.0 - metallic) * base_color
 }

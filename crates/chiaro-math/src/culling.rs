@@ -145,44 +145,6 @@ impl ClusterGrid {
         ((slice * self.tiles_y + ty) * self.tiles_x + tx) as usize
     }
 
-    /// View-space bounds of every cluster, in `index` order. `view_from_clip` inverts a
-    /// projection with clip-space depth 1 at the near plane (reverse-Z) or 0 (standard);
-    /// either works, as only rays through pixel corners are taken from it.
-    pub fn cluster_bounds(&self, view_from_clip: &Mat4) -> Vec<Aabb> {
-        // The ray through each tile corner, as (origin, direction) in view space.
-        let corner_ray = |tx: u32, ty: u32| {
-            let px = (tx * self.tile_width).min(self.width) as f32;
-            let py = (ty * self.tile_height).min(self.height) as f32;
-            let ndc_x = px / self.width as f32 * 2.0 - 1.0;
-            let ndc_y = 1.0 - py / self.height as f32 * 2.0;
-            let a = view_from_clip.project_point3(Vec3::new(ndc_x, ndc_y, 1.0));
-            let b = view_from_clip.project_point3(Vec3::new(ndc_x, ndc_y, 0.5));
-            (a, b - a)
-        };
-        let at_depth = |(origin, dir): (Vec3, Vec3), depth: f32| {
-            // Where the ray meets the plane z = -depth (the camera looks along -Z).
-            if dir.z.abs() < 1e-12 { origin } else { origin + dir * ((-depth - origin.z) / dir.z) }
-        };
-        let mut rays = Vec::with_capacity(((self.tiles_x + 1) * (self.tiles_y + 1)) as usize);
-        for ty in 0..=self.tiles_y {
-            for tx in 0..=self.tiles_x {
-                rays.push(corner_ray(tx, ty));
-            }
-        }
-        let ray = |tx: u32, ty: u32| rays[(ty * (self.tiles_x + 1) + tx) as usize];
-        let mut bounds = Vec::with_capacity(self.cluster_count());
-        for s in 0..CLUSTER_SLICES {
-            let (z0, z1) = (self.slice_start(s), self.slice_start(s + 1));
-            for ty in 0..self.tiles_y {
-                for tx in 0..self.tiles_x {
-                    let corners = [ray(tx, ty), ray(tx + 1, ty), ray(tx, ty + 1), ray(tx + 1, ty + 1)];
-                    bounds.push(Aabb::from_points(corners.iter().flat_map(|&r| [at_depth(r, z0), at_depth(r, z1)])));
-                }
-            }
-        }
-        bounds
-    }
-
     /// Per cluster, the lights (indices into `lights`, whose spheres are in view space)
     /// that may reach it: in each slice a sphere spans, the part of it within the slice's
     /// depths (a disc of the sphere's cross-section there, swept over the slice) is
@@ -190,10 +152,11 @@ impl ClusterGrid {
     /// linear in the clusters plus the light-cluster pairs; shadowed lights lead each list.
     pub fn assign(&self, clip_from_view: &Mat4, lights: &[CullLight]) -> LightLists {
         let mut covers = Vec::new();
+        let perspective = Perspective::of(clip_from_view);
         // Shadowed lights first, so that they lead every list they are in.
         for shadowed in [true, false] {
             for (i, light) in lights.iter().enumerate().filter(|(_, l)| l.shadowed == shadowed) {
-                self.cover(clip_from_view, i as u32, &light.sphere, &mut covers);
+                self.cover(perspective, i as u32, &light.sphere, &mut covers);
             }
         }
         let clusters = self.cluster_count();
@@ -232,8 +195,9 @@ impl ClusterGrid {
         LightLists { records, indices }
     }
 
-    /// Appends the tiles light `light`'s view-space sphere covers in each slice it spans.
-    fn cover(&self, clip_from_view: &Mat4, light: u32, sphere: &Sphere, out: &mut Vec<SliceCover>) {
+    /// Appends the tiles light `light`'s view-space sphere covers in each slice it spans
+    /// (every tile where the projection is not a plain perspective).
+    fn cover(&self, perspective: Option<Perspective>, light: u32, sphere: &Sphere, out: &mut Vec<SliceCover>) {
         let Sphere { center, radius } = *sphere;
         let depth = -center.z;
         if depth + radius < self.near || depth - radius > self.far {
@@ -241,7 +205,6 @@ impl ClusterGrid {
         }
         let all_x = (0, self.tiles_x - 1);
         let all_y = (0, self.tiles_y - 1);
-        let perspective = Perspective::of(clip_from_view);
         for slice in self.slice_of(depth - radius)..=self.slice_of(depth + radius) {
             // The slice's depths; the first and last take in what lies before and beyond.
             let z0 = if slice == 0 { 0.0 } else { self.slice_start(slice) };
@@ -368,6 +331,45 @@ mod tests {
         CullLight { sphere: Sphere { center, radius }, shadowed, peak_intensity: 1.0 }
     }
 
+    /// View-space bounds of every cluster, in `index` order: the boxes culling tested
+    /// against before it projected each slice of a sphere. `view_from_clip` inverts a
+    /// projection with clip-space depth 1 at the near plane (reverse-Z) or 0 (standard);
+    /// either works, as only rays through pixel corners are taken from it.
+    fn cluster_bounds(grid: &ClusterGrid, view_from_clip: &Mat4) -> Vec<Aabb> {
+        // The ray through each tile corner, as (origin, direction) in view space.
+        let corner_ray = |tx: u32, ty: u32| {
+            let px = (tx * grid.tile_width).min(grid.width) as f32;
+            let py = (ty * grid.tile_height).min(grid.height) as f32;
+            let ndc_x = px / grid.width as f32 * 2.0 - 1.0;
+            let ndc_y = 1.0 - py / grid.height as f32 * 2.0;
+            let a = view_from_clip.project_point3(Vec3::new(ndc_x, ndc_y, 1.0));
+            let b = view_from_clip.project_point3(Vec3::new(ndc_x, ndc_y, 0.5));
+            (a, b - a)
+        };
+        let at_depth = |(origin, dir): (Vec3, Vec3), depth: f32| {
+            // Where the ray meets the plane z = -depth (the camera looks along -Z).
+            if dir.z.abs() < 1e-12 { origin } else { origin + dir * ((-depth - origin.z) / dir.z) }
+        };
+        let mut rays = Vec::with_capacity(((grid.tiles_x + 1) * (grid.tiles_y + 1)) as usize);
+        for ty in 0..=grid.tiles_y {
+            for tx in 0..=grid.tiles_x {
+                rays.push(corner_ray(tx, ty));
+            }
+        }
+        let ray = |tx: u32, ty: u32| rays[(ty * (grid.tiles_x + 1) + tx) as usize];
+        let mut bounds = Vec::with_capacity(grid.cluster_count());
+        for s in 0..CLUSTER_SLICES {
+            let (z0, z1) = (grid.slice_start(s), grid.slice_start(s + 1));
+            for ty in 0..grid.tiles_y {
+                for tx in 0..grid.tiles_x {
+                    let corners = [ray(tx, ty), ray(tx + 1, ty), ray(tx, ty + 1), ray(tx + 1, ty + 1)];
+                    bounds.push(Aabb::from_points(corners.iter().flat_map(|&r| [at_depth(r, z0), at_depth(r, z1)])));
+                }
+            }
+        }
+        bounds
+    }
+
     fn projection() -> Mat4 {
         perspective_reverse_z(1.0, 16.0 / 9.0, 0.1, None)
     }
@@ -454,7 +456,7 @@ mod tests {
             }
         }
         let lists = grid.assign(&proj, &lights);
-        let bounds = grid.cluster_bounds(&proj.inverse());
+        let bounds = cluster_bounds(&grid, &proj.inverse());
         let boxed: usize = bounds
             .iter()
             .map(|b| {

@@ -221,11 +221,12 @@ impl FramePlan {
             cull_lights(culling, scene, draws, forward_draws, view, &lights, lists.directional.len(), &shadowed)
         };
         // AOVs and ids test against single-sampled depth, and the G-buffer has one sample.
-        let single = path == RenderPath::Deferred || request.aovs || request.shadow_aovs || request.ids;
-        let msaa = if single { 1 } else { settings.render.msaa };
-        let forward_msaa = !(request.aovs || request.shadow_aovs || request.ids) && settings.render.msaa > 1;
+        let pixel_exact = request.aovs || request.shadow_aovs || request.ids;
+        let msaa = if pixel_exact || path == RenderPath::Deferred { 1 } else { settings.render.msaa };
+        // The deferred path smooths its edges where the forward path would multisample.
         let fxaa = path == RenderPath::Deferred
-            && forward_msaa
+            && !pixel_exact
+            && settings.render.msaa > 1
             && request.debug.is_none()
             && settings.render.deferred_antialiasing == DeferredAntialiasing::Fxaa;
         // A debug view of the G-buffer shades nothing, so it draws no shadow tiles (and
