@@ -59,6 +59,10 @@ fn out_of_range_values_are_named() {
     }
     let e = Settings::parse("[lights]\nculling = \"tiled\"\n").unwrap_err();
     assert!(e.starts_with("lights.culling"), "{e}");
+    let e = Settings::parse("[render]\ndeferred_antialiasing = \"smaa\"\n").unwrap_err();
+    assert!(e.starts_with("render.deferred_antialiasing") && e.contains("`fxaa` or `none`"), "{e}");
+    let none = Settings::parse("[render]\ndeferred_antialiasing = \"none\"\n").unwrap();
+    assert_eq!(none.render.deferred_antialiasing, DeferredAntialiasing::None);
     let e = Settings::parse("[render]\nwidth = 0\n").unwrap_err();
     assert!(e.starts_with("render.width"), "{e}");
     let e = Settings::parse("[lights]\nrange_threshold_lux = 0.0\n").unwrap_err();
