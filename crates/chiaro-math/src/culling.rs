@@ -42,18 +42,25 @@ pub struct LightLists {
     pub indices: Vec<u32>,
 }
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// One list, 8 bytes as the shaders read it (`vec2<u32>`: the offset, then the count in
+/// the low and the shadowed lights in the high 16 bits), so that the records are uploaded
+/// as they are: a frame has tens of thousands of clusters.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ListRecord {
+    /// Where the list starts in `LightLists::indices`.
     pub offset: u32,
-    pub shadowed: u32,
-    pub count: u32,
+    /// Its length (a list never holds more than the frame's few thousand lights).
+    pub count: u16,
+    /// How many shadowed lights lead it.
+    pub shadowed: u16,
 }
 
 impl LightLists {
     /// The light indices of list `k`.
     pub fn list(&self, k: usize) -> &[u32] {
         let r = self.records[k];
-        &self.indices[r.offset as usize..(r.offset + r.count) as usize]
+        &self.indices[r.offset as usize..r.offset as usize + r.count as usize]
     }
 
     /// Appends a list: the shadowed lights of `lights` (indices into `all`) first.
@@ -63,7 +70,7 @@ impl LightLists {
         self.indices.extend(shadowed);
         let shadowed_count = self.indices.len() as u32 - offset;
         self.indices.extend(lights.iter().filter(|&&i| !all[i as usize].shadowed));
-        self.records.push(ListRecord { offset, shadowed: shadowed_count, count: lights.len() as u32 });
+        self.records.push(ListRecord { offset, count: lights.len() as u16, shadowed: shadowed_count as u16 });
     }
 }
 
@@ -153,51 +160,69 @@ impl ClusterGrid {
     pub fn assign(&self, clip_from_view: &Mat4, lights: &[CullLight]) -> LightLists {
         let mut covers = Vec::new();
         let perspective = Perspective::of(clip_from_view);
+        let slice_starts: Vec<f32> = (0..=CLUSTER_SLICES).map(|s| self.slice_start(s)).collect();
         // Shadowed lights first, so that they lead every list they are in.
         for shadowed in [true, false] {
             for (i, light) in lights.iter().enumerate().filter(|(_, l)| l.shadowed == shadowed) {
-                self.cover(perspective, i as u32, &light.sphere, &mut covers);
+                self.cover(perspective, &slice_starts, i as u32, &light.sphere, &mut covers);
             }
         }
         let clusters = self.cluster_count();
-        let (mut counts, mut shadowed) = (vec![0u32; clusters], vec![0u32; clusters]);
-        let each_cluster = |c: &SliceCover, f: &mut dyn FnMut(usize)| {
-            for ty in c.tiles_y.0..=c.tiles_y.1 {
-                for tx in c.tiles_x.0..=c.tiles_x.1 {
-                    f(self.index(tx, ty, c.slice));
-                }
-            }
-        };
+        // Count each list's lights, then turn the counts into each list's next free place.
+        let mut next = vec![0u32; clusters];
         for c in &covers {
-            let is_shadowed = lights[c.light as usize].shadowed as u32;
-            each_cluster(c, &mut |k| {
-                counts[k] += 1;
-                shadowed[k] += is_shadowed;
-            });
+            for k in self.clusters_of(c) {
+                next[k] += 1;
+            }
         }
         let mut records = Vec::with_capacity(clusters);
         let mut offset = 0u32;
-        for k in 0..clusters {
-            records.push(ListRecord { offset, shadowed: shadowed[k], count: counts[k] });
-            offset += counts[k];
+        for place in &mut next {
+            records.push(ListRecord { offset, count: *place as u16, shadowed: 0 });
+            (*place, offset) = (offset, offset + *place);
         }
         let mut indices = vec![0u32; offset as usize];
-        // `counts` becomes each list's next free place.
-        for (k, r) in records.iter().enumerate() {
-            counts[k] = r.offset;
+        let fill = |covers: &[SliceCover], next: &mut [u32], indices: &mut [u32]| {
+            for c in covers {
+                for k in self.clusters_of(c) {
+                    indices[next[k] as usize] = c.light;
+                    next[k] += 1;
+                }
+            }
+        };
+        // The covers come shadowed first: what the shadowed ones fill is each list's lead.
+        let shadowed_covers = covers.partition_point(|c| lights[c.light as usize].shadowed);
+        fill(&covers[..shadowed_covers], &mut next, &mut indices);
+        if shadowed_covers > 0 {
+            for (r, &place) in records.iter_mut().zip(&next) {
+                r.shadowed = (place - r.offset) as u16;
+            }
         }
-        for c in &covers {
-            each_cluster(c, &mut |k| {
-                indices[counts[k] as usize] = c.light;
-                counts[k] += 1;
-            });
-        }
+        fill(&covers[shadowed_covers..], &mut next, &mut indices);
         LightLists { records, indices }
     }
 
+    /// The clusters of one cover, row by row.
+    fn clusters_of(&self, c: &SliceCover) -> impl Iterator<Item = usize> + '_ {
+        let c = *c;
+        let (x0, x1) = (c.tiles_x.0 as usize, c.tiles_x.1 as usize);
+        (c.tiles_y.0..=c.tiles_y.1).flat_map(move |ty| {
+            let row = self.index(0, ty, c.slice);
+            row + x0..=row + x1
+        })
+    }
+
     /// Appends the tiles light `light`'s view-space sphere covers in each slice it spans
-    /// (every tile where the projection is not a plain perspective).
-    fn cover(&self, perspective: Option<Perspective>, light: u32, sphere: &Sphere, out: &mut Vec<SliceCover>) {
+    /// (every tile where the projection is not a plain perspective); `slice_starts` holds
+    /// `slice_start` of every slice and of `CLUSTER_SLICES`.
+    fn cover(
+        &self,
+        perspective: Option<Perspective>,
+        slice_starts: &[f32],
+        light: u32,
+        sphere: &Sphere,
+        out: &mut Vec<SliceCover>,
+    ) {
         let Sphere { center, radius } = *sphere;
         let depth = -center.z;
         if depth + radius < self.near || depth - radius > self.far {
@@ -207,8 +232,8 @@ impl ClusterGrid {
         let all_y = (0, self.tiles_y - 1);
         for slice in self.slice_of(depth - radius)..=self.slice_of(depth + radius) {
             // The slice's depths; the first and last take in what lies before and beyond.
-            let z0 = if slice == 0 { 0.0 } else { self.slice_start(slice) };
-            let z1 = if slice == CLUSTER_SLICES - 1 { f32::INFINITY } else { self.slice_start(slice + 1) };
+            let z0 = if slice == 0 { 0.0 } else { slice_starts[slice as usize] };
+            let z1 = if slice == CLUSTER_SLICES - 1 { f32::INFINITY } else { slice_starts[slice as usize + 1] };
             let (d0, d1) = ((depth - radius).max(z0), (depth + radius).min(z1));
             if d0 > d1 {
                 continue;

@@ -2,17 +2,20 @@
 //! the objects, the shadow uniform, the two atlases with their comparison sampler, and
 //! the cookie arrays with their samplers, the lightmap array (sampled with the clamping
 //! cookie sampler: one mip, bilinear), the light probes and the shadow mask array, and
-//! the culled light lists: every light in a storage buffer, the list records and the
-//! lists' light indices.
+//! the culled light lists: every light, the list records and the lists' light indices,
+//! each in a texel table (`texel_table`).
 //! A frame plan flows in and is uploaded; a bind group over this frame's buffers and
 //! atlases flows out.
 
-use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuListRecord, GpuShadows};
+use crate::error::RenderError;
+use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuShadows};
 use crate::graph::Targets;
 use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::plan::FramePlan;
 use crate::scene::GpuScene;
 use crate::shader_constants::{MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS};
+use crate::texel_table::TexelTable;
+use chiaro_math::culling::ListRecord;
 use chiaro_scene::{Scene, Settings};
 
 /// The frame's bind group 0: its layout and the buffers and samplers behind it, written
@@ -25,13 +28,12 @@ pub struct FrameData {
     lights: wgpu::Buffer,
     light_list: wgpu::Buffer,
     shadows: wgpu::Buffer,
-    /// Every light of the frame, and the culled lists; grown when a frame needs more.
-    all_lights: GrowingBuffer,
+    /// Every light of the frame (seven records each, as `GpuLight` lays them out), where
+    /// there are too many for the uniform, and the culled lists; grown when a frame needs
+    /// more.
+    all_lights: TexelTable,
     list_records: GrowingBuffer,
     list_indices: GrowingBuffer,
-    /// Per frame light, its position and range (xyz, w): what the culled loops test
-    /// before they read the whole light from `all_lights`.
-    light_spheres: GrowingBuffer,
     shadow_sampler: wgpu::Sampler,
     /// Directional cookies tile; spot cookies stop at the cone's edge.
     cookie_repeat: wgpu::Sampler,
@@ -76,6 +78,12 @@ fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) ->
 fn buffer(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
     wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None }
 }
+
+const TEXEL_TABLE: wgpu::BindingType = wgpu::BindingType::Texture {
+    sample_type: wgpu::TextureSampleType::Uint,
+    view_dimension: wgpu::TextureViewDimension::D2,
+    multisampled: false,
+};
 
 const DEPTH_TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
     sample_type: wgpu::TextureSampleType::Depth,
@@ -130,10 +138,9 @@ impl FrameData {
                 entry(12, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
                 entry(13, S::FRAGMENT, buffer(storage)),
                 entry(14, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
-                entry(15, S::FRAGMENT, buffer(storage)),
+                entry(15, S::FRAGMENT, TEXEL_TABLE),
                 entry(16, S::FRAGMENT, buffer(storage)),
                 entry(17, S::FRAGMENT, buffer(storage)),
-                entry(18, S::FRAGMENT, buffer(storage)),
             ],
         });
         let uniform_buffer = |label, size| {
@@ -153,10 +160,9 @@ impl FrameData {
                 (size_of::<GpuLightListEntry>() * MAX_FRAME_LIGHTS as usize) as u64,
             ),
             shadows: uniform_buffer("shadows uniform", size_of::<GpuShadows>() as u64),
-            all_lights: GrowingBuffer::new(device, "all frame lights", size_of::<GpuLight>() as u64 * 64),
-            list_records: GrowingBuffer::new(device, "light list records", size_of::<GpuListRecord>() as u64 * 64),
+            all_lights: TexelTable::new(device, "frame lights"),
+            list_records: GrowingBuffer::new(device, "light list records", size_of::<ListRecord>() as u64 * 64),
             list_indices: GrowingBuffer::new(device, "light list indices", 4 * 1024),
-            light_spheres: GrowingBuffer::new(device, "light spheres", 16 * 64),
             shadow_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("shadow comparison sampler"),
                 mag_filter: wgpu::FilterMode::Linear,
@@ -170,7 +176,8 @@ impl FrameData {
     }
 
     /// Writes the plan's frame uniform, lights, light lists, culled lists and shadow uniform
-    /// to the GPU; the culled-list buffers grow when a frame needs more.
+    /// to the GPU; the culled-list tables grow when a frame needs more. Errors where the
+    /// lists outgrow the device's largest texture.
     pub fn upload(
         &mut self,
         device: &wgpu::Device,
@@ -178,25 +185,19 @@ impl FrameData {
         plan: &FramePlan,
         scene: &Scene,
         settings: &Settings,
-    ) {
+    ) -> Result<(), RenderError> {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&plan.gpu_frame(settings)));
         let culled = &plan.culled.lists;
-        // Every light only where culled lists read them from storage; else the uniform's.
-        let storage = !culled.records.is_empty() && plan.lights_in_storage();
+        // Every light only where culled lists read them from their table; else the
+        // uniform's.
+        let in_table = !culled.records.is_empty() && plan.lights_in_table();
         let mut lights =
-            plan.gpu_lights_up_to(scene, if storage { plan.lights.len() } else { MAX_UNIFORM_LIGHTS as usize });
+            plan.gpu_lights_up_to(scene, if in_table { plan.lights.len() } else { MAX_UNIFORM_LIGHTS as usize });
         if !culled.records.is_empty() {
-            let records: Vec<GpuListRecord> = culled
-                .records
-                .iter()
-                .map(|r| GpuListRecord { offset: r.offset, shadowed: r.shadowed, count: r.count, _pad: 0 })
-                .collect();
-            if storage {
-                self.all_lights.write(device, queue, bytemuck::cast_slice(&lights));
-                let spheres: Vec<[f32; 4]> = lights.iter().map(|l| l.position_ws.extend(l.range).to_array()).collect();
-                self.light_spheres.write(device, queue, bytemuck::cast_slice(&spheres));
+            if in_table {
+                self.all_lights.write(device, queue, bytemuck::cast_slice(&lights))?;
             }
-            self.list_records.write(device, queue, bytemuck::cast_slice(&records));
+            self.list_records.write(device, queue, bytemuck::cast_slice(&culled.records));
             self.list_indices.write(device, queue, bytemuck::cast_slice(&culled.indices));
         }
         lights.truncate(MAX_UNIFORM_LIGHTS as usize);
@@ -208,6 +209,7 @@ impl FrameData {
             queue.write_buffer(&self.light_list, 0, bytemuck::cast_slice(&list));
         }
         queue.write_buffer(&self.shadows, 0, bytemuck::bytes_of(&plan.shadows.gpu));
+        Ok(())
     }
 
     /// The bind group over this frame's buffers, the scene's objects, cookies and bakes, and
@@ -239,10 +241,12 @@ impl FrameData {
                     binding: 14,
                     resource: wgpu::BindingResource::TextureView(&scene.baked.shadow_masks),
                 },
-                wgpu::BindGroupEntry { binding: 15, resource: self.all_lights.buffer.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 15,
+                    resource: wgpu::BindingResource::TextureView(self.all_lights.view()),
+                },
                 wgpu::BindGroupEntry { binding: 16, resource: self.list_records.buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 17, resource: self.list_indices.buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 18, resource: self.light_spheres.buffer.as_entire_binding() },
             ],
         })
     }

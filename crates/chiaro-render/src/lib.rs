@@ -24,6 +24,8 @@ pub mod renderer;
 pub mod scene;
 pub mod shader_constants;
 pub mod shaders;
+pub mod texel_table;
+pub mod thread_clock;
 mod unpack;
 pub mod view;
 

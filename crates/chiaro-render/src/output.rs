@@ -43,8 +43,12 @@ impl FrameOptions {
 pub struct FrameTimings {
     /// The frame's number, counting from 0 for each renderer.
     pub frame: u64,
-    /// CPU time to plan the frame, upload its data and record its commands.
+    /// Time to plan the frame, upload its data and record its commands (wall clock).
     pub cpu_prepare_ms: f64,
+    /// The same, on the preparing thread's own CPU clock (`thread_clock`): its work alone,
+    /// without the time other threads (a software rasteriser's) took from it. `None`
+    /// where the platform has no thread clock.
+    pub cpu_prepare_thread_ms: Option<f64>,
     /// GPU time of each pass that ran, from timestamp queries, when the frame was waited
     /// for (see `Renderer::gpu_times` otherwise).
     pub gpu_pass_ms: Vec<(&'static str, f64)>,

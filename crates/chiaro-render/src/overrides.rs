@@ -48,8 +48,8 @@ overrides! {
     CLAMP_FAR = 6;
     /// The forward pass's light culling (`LIGHT_CULLING_*`).
     LIGHT_CULLING = 7;
-    /// Culled lists read their lights from the storage buffer, not the uniform one.
-    LIGHTS_IN_STORAGE = 8;
+    /// Culled lists read their lights from their texel table, not the uniform buffer.
+    LIGHTS_IN_TABLE = 8;
     /// Light cookies are compiled in.
     COOKIES_ENABLED = 9;
     /// Baked light (lightmaps, probes, shadow masks) is compiled in.

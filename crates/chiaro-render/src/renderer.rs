@@ -17,6 +17,7 @@ use crate::plan::shadows::{ShadowAtlas, ShadowAtlasTiles};
 use crate::plan::{FramePlan, PlanRequest};
 use crate::readback::{PendingCopy, copy_texture, finish_copies_of};
 use crate::scene::{GpuScene, material_layout};
+use crate::thread_clock::thread_cpu_ms;
 use crate::unpack::unpack_images;
 use crate::view::View;
 use chiaro_math::tonemap::exposure_scale;
@@ -219,6 +220,7 @@ impl Renderer {
     ) -> Result<PendingFrame, RenderError> {
         let _span = tracing::info_span!("frame", width = view.width, height = view.height).entered();
         let start = Instant::now();
+        let thread_start = thread_cpu_ms();
         let max = self.ctx.max_texture_size();
         if view.width == 0 || view.height == 0 || view.width > max || view.height > max {
             return Err(RenderError::OutputSize {
@@ -243,7 +245,7 @@ impl Renderer {
         let output_format = output.map_or(OUTPUT_FORMAT, |(_, format)| format);
 
         let (device, queue) = (&self.ctx.device, &self.ctx.queue);
-        self.frame_data.upload(device, queue, &plan, scene, settings);
+        self.frame_data.upload(device, queue, &plan, scene, settings)?;
         let frame_bind_group = self.frame_data.bind_group(device, &prepared.gpu, &self.targets);
         let prepare = PrepareContext { device, queue, plan: &plan, scene: &prepared.gpu, source: scene, output_format };
         for &i in &graph.order {
@@ -267,6 +269,7 @@ impl Renderer {
             })
             .collect::<Vec<_>>();
         let cpu_prepare_ms = start.elapsed().as_secs_f64() * 1e3;
+        let cpu_prepare_thread_ms = thread_start.zip(thread_cpu_ms()).map(|(a, b)| b - a);
 
         self.throttle()?;
         let submission = self.ctx.queue.submit([encoder.finish()]);
@@ -282,7 +285,7 @@ impl Renderer {
             ldr: Vec::new(),
             aovs: None,
             ids: None,
-            timings: FrameTimings { frame, cpu_prepare_ms, ..Default::default() },
+            timings: FrameTimings { frame, cpu_prepare_ms, cpu_prepare_thread_ms, ..Default::default() },
             shadow_aovs: Vec::new(),
             shadow_atlases: Vec::new(),
             shadow_tiles: stats.shadow_tiles_rendered,

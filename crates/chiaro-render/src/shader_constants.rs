@@ -105,6 +105,12 @@ pub const LIGHT_CULLING_PER_OBJECT: u32 = 2;
 /// come in the frame uniform).
 pub const CLUSTER_SLICES: u32 = chiaro_math::culling::CLUSTER_SLICES;
 
+/// Records a row of a texel table (`crate::texel_table`); a power of two, so that the
+/// shaders' `%` and `/` are a mask and a shift.
+pub const TEXEL_TABLE_WIDTH: u32 = 4096;
+/// 16-byte texel table records one `GpuLight` takes (checked where the table is built).
+pub const LIGHT_RECORDS: u32 = 7;
+
 /// `GpuAovLight::list_index` of a light the frame does not shade.
 pub const NO_LIGHT: u32 = u32::MAX;
 /// `GpuObject::node` of an object no glTF node places, and the id pass's sky.
@@ -147,6 +153,8 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("LIGHT_CULLING_CLUSTERED", LIGHT_CULLING_CLUSTERED),
     ("LIGHT_CULLING_PER_OBJECT", LIGHT_CULLING_PER_OBJECT),
     ("CLUSTER_SLICES", CLUSTER_SLICES),
+    ("TEXEL_TABLE_WIDTH", TEXEL_TABLE_WIDTH),
+    ("LIGHT_RECORDS", LIGHT_RECORDS),
     ("NO_COOKIE", NO_COOKIE),
     ("NO_MASK_CHANNEL", NO_MASK_CHANNEL),
     ("MIXED_MODE_BAKED_INDIRECT", MIXED_MODE_BAKED_INDIRECT),

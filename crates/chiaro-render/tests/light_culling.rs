@@ -146,7 +146,7 @@ fn a_thousand_clustered_lights_add_up_to_fifty_at_a_time_without_culling() {
     // Every light in view is shaded (one of the thousand lies outside it).
     assert_eq!(all.other_lights_dropped(), 0);
     assert!(all.other_lights_shaded() > 990, "{} lights shaded", all.other_lights_shaded());
-    assert!(all.plan.lights_in_storage(), "a thousand lights are read from the storage buffer");
+    assert!(all.plan.lights_in_table(), "a thousand lights are read from their texel table");
 
     // The sum of renders of groups of 50 lights, with no culling; the two shadowed spots
     // share the first group, so their shadow tiles are laid out as in the full frame.

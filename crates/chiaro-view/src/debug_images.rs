@@ -164,7 +164,7 @@ pub fn cluster_image(grid: &ClusterGrid, lists: &LightLists, depth: &[f32], most
             }
             let (x, y) = ((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
             let cluster = grid.cluster_at(x, y, d);
-            heat(lists.records.get(cluster).map_or(0, |r| r.count), most)
+            heat(lists.records.get(cluster).map_or(0, |r| r.count as u32), most)
         })
         .collect()
 }
@@ -209,7 +209,7 @@ mod tests {
         // Cluster k lists k % 5 lights.
         let mut lists = LightLists::default();
         for k in 0..clusters {
-            let count = (k % 5) as u32;
+            let count = (k % 5) as u16;
             lists.records.push(ListRecord { offset: 0, shadowed: 0, count });
         }
         let depth: Vec<f32> = (0..64 * 32).map(|i| if i == 0 { f32::INFINITY } else { 1.0 + (i % 7) as f32 }).collect();

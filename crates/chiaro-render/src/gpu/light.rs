@@ -66,21 +66,6 @@ pub struct GpuLightListEntry {
     pub _pad: [u32; 3],
 }
 
-/// One culled light list (a cluster's or an object's): where its indices into the frame's
-/// lights start, how many shadowed lights lead it, and its length.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
-pub struct GpuListRecord {
-    /// First entry of the list in the lists' index buffer.
-    pub offset: u32,
-    /// How many of its first entries are shadowed point and spot lights.
-    pub shadowed: u32,
-    /// Entries in the list.
-    pub count: u32,
-    /// Pads the record to 16 bytes.
-    pub _pad: u32,
-}
-
 /// The light the shadow AOV pass reports, at a dynamic offset.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]

@@ -10,7 +10,7 @@ mod shadow;
 mod vertex;
 
 pub use frame::{GpuFrame, GpuObject, GpuProbeGridHeader};
-pub use light::{GpuAovLight, GpuLight, GpuLightListEntry, GpuListRecord, GpuVolumeLight};
+pub use light::{GpuAovLight, GpuLight, GpuLightListEntry, GpuVolumeLight};
 pub use material::{GpuMaterial, GpuTextureTransform};
 pub use shadow::{GpuAtlas, GpuCascade, GpuCasterView, GpuShadowFade, GpuShadowTile, GpuShadows};
 pub use vertex::GpuVertex;
@@ -47,7 +47,6 @@ layouts! {
         mixed_mode, cluster_tile_width, cluster_tile_height, cluster_slice_scale, cluster_slice_bias, cluster_tiles_x,
         cluster_tiles_y,
     }
-    GpuListRecord { offset, shadowed, count }
     GpuObject { world_from_local, normal_from_local, flags, lightmap_layer, node, label }
     GpuProbeGridHeader { origin, lightmap_scale, spacing, counts }
     GpuLight {

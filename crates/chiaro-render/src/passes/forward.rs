@@ -86,7 +86,7 @@ impl ForwardPass {
             depth_test: DepthTest::AfterPrepass,
             depth_format: self.depth_format,
             marks_stencil: false,
-            constants: [overrides::LIGHT_CULLING.value(mode as f64), overrides::LIGHTS_IN_STORAGE.flag(variant.lights_in_storage)]
+            constants: [overrides::LIGHT_CULLING.value(mode as f64), overrides::LIGHTS_IN_TABLE.flag(variant.lights_in_table)]
                 .into_iter()
                 .chain(variant.features.constants())
                 .collect(),
@@ -155,13 +155,13 @@ impl FramePass for ForwardPass {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct Variant {
     culling: LightCulling,
-    lights_in_storage: bool,
+    lights_in_table: bool,
     features: ShaderFeatures,
 }
 
 impl Variant {
     fn of(plan: &FramePlan) -> Variant {
-        Variant { culling: plan.culling, lights_in_storage: plan.lights_in_storage(), features: plan.features }
+        Variant { culling: plan.culling, lights_in_table: plan.lights_in_table(), features: plan.features }
     }
 }
 

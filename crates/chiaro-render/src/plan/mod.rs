@@ -302,8 +302,8 @@ impl FramePlan {
         self.gpu_lights_up_to(scene, MAX_FRAME_LIGHTS as usize)
     }
 
-    /// Culled lists read their lights from the storage buffer: too many for the uniform.
-    pub fn lights_in_storage(&self) -> bool {
+    /// Culled lists read their lights from their texel table: too many for the uniform.
+    pub fn lights_in_table(&self) -> bool {
         self.lights.len() > MAX_UNIFORM_LIGHTS as usize
     }
 
