@@ -60,6 +60,8 @@ overrides! {
     SOFT_CASCADES = 12;
     /// The draw is alpha-tested (its fragment discards).
     ALPHA_TESTED = 13;
+    /// The draw's material has a texture; without one its fragments sample none.
+    MATERIAL_TEXTURED = 14;
 }
 
 #[cfg(test)]

@@ -268,6 +268,21 @@ impl Default for Material {
     }
 }
 
+impl Material {
+    /// Whether any of its five textures is set.
+    pub fn has_texture(&self) -> bool {
+        [
+            &self.base_color_texture,
+            &self.metallic_roughness_texture,
+            &self.normal_texture,
+            &self.occlusion_texture,
+            &self.emissive_texture,
+        ]
+        .iter()
+        .any(|t| t.is_some())
+    }
+}
+
 /// Whether an image holds colour (sRGB-encoded) or data (linear), decided by its use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ColorSpace {

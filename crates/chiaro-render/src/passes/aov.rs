@@ -73,6 +73,7 @@ impl AovPass {
             marks_stencil: false,
             constants: Vec::new(),
             alpha_test_override: None,
+            textured_override: None,
         };
         AovPass {
             pipelines: MeshPipelines::new(desc("aov", "fs_aov", vec![AOV_FORMAT, AOV_FORMAT])),

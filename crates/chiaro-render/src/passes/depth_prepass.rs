@@ -38,6 +38,7 @@ impl PassType for DepthPrepassPass {
                 marks_stencil: false,
                 constants: Vec::new(),
                 alpha_test_override: None,
+                textured_override: None,
             }),
         }
     }

@@ -91,6 +91,7 @@ impl ForwardPass {
                 .chain(variant.features.constants())
                 .collect(),
             alpha_test_override: Some(overrides::ALPHA_TESTED),
+            textured_override: Some(overrides::MATERIAL_TEXTURED),
         })
     }
 }

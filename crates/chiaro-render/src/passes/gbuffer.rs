@@ -99,6 +99,7 @@ impl GBufferPass {
             marks_stencil: true,
             constants: vec![overrides::LDR_EXP2.flag(ldr_exp2), overrides::BAKED_ENABLED.flag(baked)],
             alpha_test_override: Some(overrides::ALPHA_TESTED),
+            textured_override: Some(overrides::MATERIAL_TEXTURED),
         })
     }
 }

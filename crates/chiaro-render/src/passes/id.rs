@@ -46,6 +46,7 @@ impl PassType for IdPass {
             marks_stencil: false,
             constants: Vec::new(),
             alpha_test_override: None,
+            textured_override: None,
         });
         IdPass { pipelines }
     }

@@ -38,6 +38,9 @@ pub struct MeshPipelineKey {
     prepassed: bool,
     /// An alpha-tested draw, where the pipelines have an `alpha_test_override`.
     alpha_tested: bool,
+    /// A draw whose material has a texture, where the pipelines have a
+    /// `textured_override`.
+    textured: bool,
     samples: u32,
 }
 
@@ -71,6 +74,7 @@ pub struct MeshPipelines {
     marks_stencil: bool,
     constants: Vec<(&'static str, f64)>,
     alpha_test_override: Option<Override>,
+    textured_override: Option<Override>,
     pipelines: HashMap<MeshPipelineKey, wgpu::RenderPipeline>,
     /// Samples per pixel of the targets of the frame being drawn (set by `prepare`).
     samples: u32,
@@ -102,6 +106,9 @@ pub struct MeshPipelinesDesc {
     /// A boolean override set only for alpha-tested draws' pipelines, so that the others
     /// run a shader that never discards.
     pub alpha_test_override: Option<Override>,
+    /// A boolean override set only for textured draws' pipelines, so that the others
+    /// sample no texture: lavapipe pays for every sample, even of a 1x1 default.
+    pub textured_override: Option<Override>,
 }
 
 /// Stencil bit of pixels that hold a surface (set by the G-buffer pass).
@@ -133,6 +140,7 @@ impl MeshPipelines {
             marks_stencil: desc.marks_stencil,
             constants: desc.constants,
             alpha_test_override: desc.alpha_test_override,
+            textured_override: desc.textured_override,
             pipelines: HashMap::new(),
             samples: 1,
         }
@@ -145,6 +153,7 @@ impl MeshPipelines {
             blend: self.blends && d.alpha_mode == AlphaMode::Blend,
             prepassed: self.depth_test == DepthTest::AfterPrepass && d.alpha_mode == AlphaMode::Opaque,
             alpha_tested: self.alpha_test_override.is_some() && d.alpha_mode == AlphaMode::Mask,
+            textured: self.textured_override.is_none() || d.textured,
             samples: self.samples,
         }
     }
@@ -182,6 +191,9 @@ impl MeshPipelines {
         let mut constants = self.constants.clone();
         if let Some(alpha_tested) = self.alpha_test_override {
             constants.push(alpha_tested.flag(key.alpha_tested));
+        }
+        if let Some(textured) = self.textured_override {
+            constants.push(textured.flag(key.textured));
         }
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("{} {key:?}", self.label)),

@@ -82,6 +82,7 @@ impl ShadowAovPass {
                 marks_stencil: false,
                 constants: Vec::new(),
                 alpha_test_override: None,
+                textured_override: None,
             }),
             light_layout,
             lights: None,

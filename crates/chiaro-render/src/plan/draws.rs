@@ -67,6 +67,8 @@ pub struct Draw {
     pub material: usize,
     /// The material's alpha mode: opaque, masked or blended.
     pub alpha_mode: AlphaMode,
+    /// Whether the material has any texture (else its shading samples none).
+    pub textured: bool,
     /// Whether back faces are drawn too (glTF `doubleSided`).
     pub double_sided: bool,
     /// The instance's transform mirrors (negative determinant), which flips the winding.
@@ -151,6 +153,7 @@ pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
                 object: object as u32,
                 material,
                 alpha_mode: m.alpha_mode,
+                textured: m.has_texture(),
                 double_sided: m.double_sided,
                 mirrored: inst.world_from_local.determinant() < 0.0,
                 center_ws: inst.world_from_local.transform_point3(p.bounds.center()),
