@@ -2,8 +2,8 @@
 //! the objects, the shadow uniform, the two atlases with their comparison sampler, and
 //! the cookie arrays with their samplers, the lightmap array (sampled with the clamping
 //! cookie sampler: one mip, bilinear), the light probes and the shadow mask array, and
-//! the culled light lists: every light, the list records and the lists' light indices,
-//! each in a texel table (`texel_table`).
+//! the culled light lists: past the uniform's 512, every light in a texel table
+//! (`texel_table`), and the list records and the lists' light indices in storage buffers.
 //! A frame plan flows in and is uploaded; a bind group over this frame's buffers and
 //! atlases flows out.
 
@@ -176,8 +176,8 @@ impl FrameData {
     }
 
     /// Writes the plan's frame uniform, lights, light lists, culled lists and shadow uniform
-    /// to the GPU; the culled-list tables grow when a frame needs more. Errors where the
-    /// lists outgrow the device's largest texture.
+    /// to the GPU; the light table and the culled-list buffers grow when a frame needs more.
+    /// Errors where the lights outgrow the device's largest texture.
     pub fn upload(
         &mut self,
         device: &wgpu::Device,

@@ -11,7 +11,7 @@ use crate::gpu::GpuLight;
 use crate::shader_constants::{LIGHT_RECORDS, TEXEL_TABLE_WIDTH};
 
 /// Bytes of one record (one texel).
-pub const RECORD_BYTES: usize = 16;
+const RECORD_BYTES: usize = 16;
 const _: () = assert!(size_of::<GpuLight>() == LIGHT_RECORDS as usize * RECORD_BYTES);
 const ROW_BYTES: usize = TEXEL_TABLE_WIDTH as usize * RECORD_BYTES;
 
@@ -50,7 +50,7 @@ impl TexelTable {
     }
 
     /// Rows that `records` records take.
-    pub fn rows_for(records: usize) -> u32 {
+    fn rows_for(records: usize) -> u32 {
         records.div_ceil(TEXEL_TABLE_WIDTH as usize).max(1) as u32
     }
 
