@@ -92,6 +92,14 @@ pub struct ClusterGrid {
     pub far: f32,
 }
 
+/// A grid's slices as `assign` reads them, computed once per frame.
+struct Slices {
+    /// `ClusterGrid::slice_params`.
+    params: (f32, f32),
+    /// `slice_start` of every slice and of `CLUSTER_SLICES`.
+    starts: Vec<f32>,
+}
+
 /// One light's clusters in one slice: a rectangle of tiles.
 #[derive(Clone, Copy, Debug)]
 struct SliceCover {
@@ -131,9 +139,13 @@ impl ClusterGrid {
 
     /// The slice a view depth falls in.
     pub fn slice_of(&self, depth: f32) -> u32 {
-        let (scale, bias) = self.slice_params();
-        let s = (depth.max(self.near).log2() * scale + bias).floor();
-        (s.max(0.0) as u32).min(CLUSTER_SLICES - 1)
+        self.slice_with(self.slice_params(), depth)
+    }
+
+    /// `slice_of` with `slice_params` computed once by the caller.
+    fn slice_with(&self, (scale, bias): (f32, f32), depth: f32) -> u32 {
+        // Clamped to non-negative first, truncation floors.
+        (depth.max(self.near).log2() * scale + bias).clamp(0.0, (CLUSTER_SLICES - 1) as f32) as u32
     }
 
     /// View depth where slice `s` begins (`s = CLUSTER_SLICES` gives `far`).
@@ -160,20 +172,19 @@ impl ClusterGrid {
     pub fn assign(&self, clip_from_view: &Mat4, lights: &[CullLight]) -> LightLists {
         let mut covers = Vec::new();
         let perspective = Perspective::of(clip_from_view);
-        let slice_starts: Vec<f32> = (0..=CLUSTER_SLICES).map(|s| self.slice_start(s)).collect();
+        let slices =
+            Slices { params: self.slice_params(), starts: (0..=CLUSTER_SLICES).map(|s| self.slice_start(s)).collect() };
         // Shadowed lights first, so that they lead every list they are in.
         for shadowed in [true, false] {
             for (i, light) in lights.iter().enumerate().filter(|(_, l)| l.shadowed == shadowed) {
-                self.cover(perspective, &slice_starts, i as u32, &light.sphere, &mut covers);
+                self.cover(perspective, &slices, i as u32, &light.sphere, &mut covers);
             }
         }
         let clusters = self.cluster_count();
         // Count each list's lights, then turn the counts into each list's next free place.
         let mut next = vec![0u32; clusters];
         for c in &covers {
-            for k in self.clusters_of(c) {
-                next[k] += 1;
-            }
+            self.for_each_cluster(c, |k| next[k] += 1);
         }
         let mut records = Vec::with_capacity(clusters);
         let mut offset = 0u32;
@@ -184,10 +195,10 @@ impl ClusterGrid {
         let mut indices = vec![0u32; offset as usize];
         let fill = |covers: &[SliceCover], next: &mut [u32], indices: &mut [u32]| {
             for c in covers {
-                for k in self.clusters_of(c) {
+                self.for_each_cluster(c, |k| {
                     indices[next[k] as usize] = c.light;
                     next[k] += 1;
-                }
+                });
             }
         };
         // The covers come shadowed first: what the shadowed ones fill is each list's lead.
@@ -202,23 +213,23 @@ impl ClusterGrid {
         LightLists { records, indices }
     }
 
-    /// The clusters of one cover, row by row.
-    fn clusters_of(&self, c: &SliceCover) -> impl Iterator<Item = usize> + '_ {
-        let c = *c;
-        let (x0, x1) = (c.tiles_x.0 as usize, c.tiles_x.1 as usize);
-        (c.tiles_y.0..=c.tiles_y.1).flat_map(move |ty| {
+    /// Calls `f` with each cluster of one cover, row by row.
+    #[inline]
+    fn for_each_cluster(&self, c: &SliceCover, mut f: impl FnMut(usize)) {
+        for ty in c.tiles_y.0..=c.tiles_y.1 {
             let row = self.index(0, ty, c.slice);
-            row + x0..=row + x1
-        })
+            for k in row + c.tiles_x.0 as usize..=row + c.tiles_x.1 as usize {
+                f(k);
+            }
+        }
     }
 
     /// Appends the tiles light `light`'s view-space sphere covers in each slice it spans
-    /// (every tile where the projection is not a plain perspective); `slice_starts` holds
-    /// `slice_start` of every slice and of `CLUSTER_SLICES`.
+    /// (every tile where the projection is not a plain perspective).
     fn cover(
         &self,
         perspective: Option<Perspective>,
-        slice_starts: &[f32],
+        slices: &Slices,
         light: u32,
         sphere: &Sphere,
         out: &mut Vec<SliceCover>,
@@ -230,7 +241,8 @@ impl ClusterGrid {
         }
         let all_x = (0, self.tiles_x - 1);
         let all_y = (0, self.tiles_y - 1);
-        for slice in self.slice_of(depth - radius)..=self.slice_of(depth + radius) {
+        let slice_starts = &slices.starts;
+        for slice in self.slice_with(slices.params, depth - radius)..=self.slice_with(slices.params, depth + radius) {
             // The slice's depths; the first and last take in what lies before and beyond.
             let z0 = if slice == 0 { 0.0 } else { slice_starts[slice as usize] };
             let z1 = if slice == CLUSTER_SLICES - 1 { f32::INFINITY } else { slice_starts[slice as usize + 1] };
@@ -259,12 +271,19 @@ impl ClusterGrid {
 
     fn tile_x(&self, ndc_x: f32) -> u32 {
         let px = (ndc_x * 0.5 + 0.5) * self.width as f32;
-        (px / self.tile_width as f32).floor().clamp(0.0, (self.tiles_x - 1) as f32) as u32
+        Self::tile_of(px / self.tile_width as f32, self.tiles_x)
     }
 
     fn tile_y(&self, ndc_y: f32) -> u32 {
         let py = (0.5 - ndc_y * 0.5) * self.height as f32;
-        (py / self.tile_height as f32).floor().clamp(0.0, (self.tiles_y - 1) as f32) as u32
+        Self::tile_of(py / self.tile_height as f32, self.tiles_y)
+    }
+
+    /// The tile at `position` (in tiles) among `tiles`, clamped to the grid; truncating
+    /// after the clamp to non-negative floors without a call to `floorf`.
+    #[inline]
+    fn tile_of(position: f32, tiles: u32) -> u32 {
+        position.clamp(0.0, (tiles - 1) as f32) as u32
     }
 }
 

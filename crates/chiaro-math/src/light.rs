@@ -134,7 +134,8 @@ pub fn select_other_lights(
             culled += 1;
         }
     }
-    scored.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    // The order is total (ties broken by index), so an unstable sort gives the same one.
+    scored.sort_unstable_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
     let dropped = scored.len().saturating_sub(max_lights);
     scored.truncate(max_lights);
     LightSelection { visible: scored.into_iter().map(|(i, _)| i).collect(), dropped, culled }

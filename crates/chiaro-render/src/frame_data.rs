@@ -34,6 +34,9 @@ pub struct FrameData {
     all_lights: TexelTable,
     list_records: GrowingBuffer,
     list_indices: GrowingBuffer,
+    /// The frame's lights as uploaded, kept from frame to frame: thousands of lights
+    /// written into fresh memory each frame cost more in page faults than in writing.
+    gpu_lights: Vec<GpuLight>,
     shadow_sampler: wgpu::Sampler,
     /// Directional cookies tile; spot cookies stop at the cone's edge.
     cookie_repeat: wgpu::Sampler,
@@ -163,6 +166,7 @@ impl FrameData {
             all_lights: TexelTable::new(device, "frame lights"),
             list_records: GrowingBuffer::new(device, "light list records", size_of::<ListRecord>() as u64 * 64),
             list_indices: GrowingBuffer::new(device, "light list indices", 4 * 1024),
+            gpu_lights: Vec::new(),
             shadow_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("shadow comparison sampler"),
                 mag_filter: wgpu::FilterMode::Linear,
@@ -191,21 +195,21 @@ impl FrameData {
         // Every light only where culled lists read them from their table; else the
         // uniform's.
         let in_table = !culled.records.is_empty() && plan.lights_in_table();
-        let mut lights =
-            plan.gpu_lights_up_to(scene, if in_table { plan.lights.len() } else { MAX_UNIFORM_LIGHTS as usize });
+        let count = if in_table { plan.lights.len() } else { MAX_UNIFORM_LIGHTS as usize };
+        plan.write_gpu_lights(scene, count, &mut self.gpu_lights);
         if !culled.records.is_empty() {
             if in_table {
-                self.all_lights.write(device, queue, bytemuck::cast_slice(&lights))?;
+                self.all_lights.write(device, queue, bytemuck::cast_slice(&self.gpu_lights))?;
             }
             self.list_records.write(device, queue, bytemuck::cast_slice(&culled.records));
             self.list_indices.write(device, queue, bytemuck::cast_slice(&culled.indices));
         }
-        lights.truncate(MAX_UNIFORM_LIGHTS as usize);
+        let lights = &self.gpu_lights[..self.gpu_lights.len().min(MAX_UNIFORM_LIGHTS as usize)];
         let list: Vec<GpuLightListEntry> =
             plan.lists.concatenated().into_iter().map(|light| GpuLightListEntry { light, _pad: [0; 3] }).collect();
         debug_assert!(list.len() <= MAX_FRAME_LIGHTS as usize, "the plan keeps to the light limits");
         if !lights.is_empty() {
-            queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
+            queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(lights));
             queue.write_buffer(&self.light_list, 0, bytemuck::cast_slice(&list));
         }
         queue.write_buffer(&self.shadows, 0, bytemuck::bytes_of(&plan.shadows.gpu));

@@ -310,7 +310,16 @@ impl FramePlan {
     /// The first `count` lights the frame shades (all of them, if fewer), as the shaders
     /// read them.
     pub fn gpu_lights_up_to(&self, scene: &Scene, count: usize) -> Vec<GpuLight> {
-        (0..self.lights.len().min(count)).map(|k| self.gpu_light(scene, k)).collect()
+        let mut lights = Vec::new();
+        self.write_gpu_lights(scene, count, &mut lights);
+        lights
+    }
+
+    /// `gpu_lights_up_to` into `out` (cleared first), so that a renderer reuses one
+    /// allocation from frame to frame.
+    pub fn write_gpu_lights(&self, scene: &Scene, count: usize, out: &mut Vec<GpuLight>) {
+        out.clear();
+        out.extend((0..self.lights.len().min(count)).map(|k| self.gpu_light(scene, k)));
     }
 
     /// The light volumes as the deferred light pass reads them.
