@@ -139,7 +139,7 @@ impl Light {
     }
 
     /// Whether the light casts realtime shadows. Set True (the settings' filter), False,
-    /// or a mode name: "none", "hard" (2x2 filter) or "soft".
+    /// or a mode name: "none", "hard" (2x2 filter), "soft" or "pcss" (contact-hardening).
     #[getter]
     fn shadows(&self) -> bool {
         self.with(|l| l.shadow.casts())
@@ -154,14 +154,15 @@ impl Light {
                 "none" => ShadowMode::None,
                 "hard" => ShadowMode::Hard,
                 "soft" => ShadowMode::Soft,
+                "pcss" => ShadowMode::Pcss,
                 _ => {
                     return Err(PyValueError::new_err(format!(
-                        "shadows: '{name}' is not one of True, False, 'none', 'hard', 'soft'"
+                        "shadows: '{name}' is not one of True, False, 'none', 'hard', 'soft', 'pcss'"
                     )));
                 }
             }
         } else {
-            return Err(PyTypeError::new_err("shadows: expected a bool or 'none', 'hard' or 'soft'"));
+            return Err(PyTypeError::new_err("shadows: expected a bool or 'none', 'hard', 'soft' or 'pcss'"));
         };
         self.edit(|l| {
             l.shadow.mode = mode;

@@ -62,6 +62,8 @@ overrides! {
     ALPHA_TESTED = 13;
     /// The draw's material has a texture; without one its fragments sample none.
     MATERIAL_TEXTURED = 14;
+    /// Contact-hardening (PCSS) shadows are compiled in.
+    PCSS_SHADOWS = 15;
 }
 
 #[cfg(test)]

@@ -334,8 +334,9 @@ impl LightKind {
     }
 }
 
-/// Realtime shadows of a light: `none`, `hard` (the 2x2 filter whatever the settings say)
-/// or `soft` (the settings' filter).
+/// Realtime shadows of a light: `none`, `hard` (the 2x2 filter whatever the settings say),
+/// `soft` (the settings' filter) or `pcss` (contact-hardening: a penumbra as wide as the
+/// light's size and the blocker's distance make it).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ShadowMode {
     /// No realtime shadows.
@@ -345,6 +346,9 @@ pub enum ShadowMode {
     /// The settings' filter.
     #[default]
     Soft,
+    /// Percentage-closer soft shadows from the light's size (`LightShadow::light_radius`,
+    /// `angular_diameter_deg`).
+    Pcss,
 }
 
 impl ShadowMode {
@@ -354,6 +358,7 @@ impl ShadowMode {
             ShadowMode::None => "none",
             ShadowMode::Hard => "hard",
             ShadowMode::Soft => "soft",
+            ShadowMode::Pcss => "pcss",
         }
     }
 }
@@ -375,11 +380,30 @@ pub struct LightShadow {
     /// clips (or, with depth clamping, flattens) casters close to the light; too much wastes
     /// depth precision.
     pub near_plane: f32,
+    /// Radius in metres of the sphere a point or spot light emits from
+    /// (`extras.lightRadius`): how wide `pcss` shadows grow with distance from their caster.
+    pub light_radius: f32,
+    /// Angle in degrees the disc of a directional light spans (`extras.angularDiameter`;
+    /// the sun's is about 0.53), for its `pcss` shadows.
+    pub angular_diameter_deg: f32,
 }
+
+/// `LightShadow::light_radius` where a light's extras give none, metres.
+pub const DEFAULT_LIGHT_RADIUS: f32 = 0.05;
+/// `LightShadow::angular_diameter_deg` where a light's extras give none: the sun's.
+pub const DEFAULT_ANGULAR_DIAMETER_DEG: f32 = 0.53;
 
 impl Default for LightShadow {
     fn default() -> Self {
-        LightShadow { mode: ShadowMode::Soft, strength: 1.0, depth_bias: 1.0, normal_bias: 0.5, near_plane: 0.0 }
+        LightShadow {
+            mode: ShadowMode::Soft,
+            strength: 1.0,
+            depth_bias: 1.0,
+            normal_bias: 0.5,
+            near_plane: 0.0,
+            light_radius: DEFAULT_LIGHT_RADIUS,
+            angular_diameter_deg: DEFAULT_ANGULAR_DIAMETER_DEG,
+        }
     }
 }
 

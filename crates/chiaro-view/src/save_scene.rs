@@ -106,6 +106,10 @@ fn write_lights(root: &mut Value, lights: &[Light]) -> Result<()> {
         extras.insert("shadowDepthBias".into(), json!(light.shadow.depth_bias));
         extras.insert("shadowNormalBias".into(), json!(light.shadow.normal_bias));
         extras.insert("shadowNearPlane".into(), json!(light.shadow.near_plane));
+        match light.kind {
+            LightKind::Directional => extras.insert("angularDiameter".into(), json!(light.shadow.angular_diameter_deg)),
+            _ => extras.insert("lightRadius".into(), json!(light.shadow.light_radius)),
+        };
         extras.insert("mode".into(), json!(light.mode.name()));
     }
     Ok(())

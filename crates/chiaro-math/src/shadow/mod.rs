@@ -1,7 +1,8 @@
 //! Shadow-map math of the Custom SRP "Directional Shadows" and "Point and Spot Shadows"
 //! tutorials, free of the GPU: cascade splits and culling spheres, stable (texel-snapped)
 //! cascade projections, atlas tiling and tile allocation, caster culling, bias and fade
-//! terms, the tent filters' sample weights, and the spot and cube-face projections.
+//! terms, the tent filters' sample weights, the spot and cube-face projections, and the
+//! lenses and penumbra widths of contact-hardening shadows.
 
 pub mod allocator;
 pub mod atlas;
@@ -11,6 +12,7 @@ pub mod culling;
 pub mod fade;
 pub mod filter;
 pub mod other;
+pub mod pcss;
 pub mod tiers;
 
 pub use allocator::{TileAllocation, TileAllocator, first_fit_tiles};

@@ -42,8 +42,9 @@ pub struct GpuLight {
     pub shadow_mask_channel: u32,
     /// See `axis_x_ws`.
     pub axis_y_ws: Vec3,
-    /// Pads the struct to 16-byte alignment.
-    pub _pad1: f32,
+    /// The light's size for contact-hardening shadows: a point or spot light's radius in
+    /// metres, tan of half a directional light's angular diameter.
+    pub shadow_light_size: f32,
 }
 
 /// One light volume of the deferred path, at a dynamic offset.

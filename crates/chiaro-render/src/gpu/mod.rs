@@ -52,18 +52,18 @@ layouts! {
     GpuLight {
         color, kind, position_ws, range, direction_ws, shadow_slot, spot_scale, spot_offset,
         shadow_strength, shadow_first_tile, shadow_filter, cookie_layer, cookie_scale, axis_x_ws,
-        shadow_mask_channel, axis_y_ws,
+        shadow_mask_channel, axis_y_ws, shadow_light_size,
     }
     GpuVolumeLight { world_from_volume, light }
     GpuLightListEntry { light }
     GpuAovLight { light_index }
-    GpuShadowTile { atlas_from_world, uv_min, uv_max, normal_bias }
+    GpuShadowTile { atlas_from_world, uv_min, uv_max, normal_bias, lens_near, lens_far, lens_metres_per_uv }
     GpuCascade { culling_sphere_center_ws, radius_squared, inverse_radius_squared }
     GpuAtlas { size_texels, texel_uv }
     GpuShadowFade { inverse_max_distance, inverse_distance_fade, inverse_cascade_fade }
     GpuShadows {
         directional_tiles, other_tiles, cascades, directional_atlas, other_atlas, fade, cascade_count,
-        cascade_blend,
+        cascade_blend, pcss_blocker_samples, pcss_filter_samples,
     }
     GpuCasterView { clip_from_world, flags }
     GpuTextureTransform { linear, offset, uv_set }

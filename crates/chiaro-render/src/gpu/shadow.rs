@@ -4,6 +4,7 @@
 
 use crate::shader_constants::{MAX_CASCADES, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES};
 use bytemuck::{Pod, Zeroable};
+use chiaro_math::shadow::pcss::TileLens;
 use glam::{Mat4, Vec2, Vec3};
 
 /// One atlas tile as the receivers sample it.
@@ -21,8 +22,22 @@ pub struct GpuShadowTile {
     /// How far receivers move along their normal before sampling: metres for cascade
     /// tiles; metres per metre of distance from the light's plane for perspective tiles.
     pub normal_bias: f32,
-    /// Pads the tile to 16-byte alignment.
-    pub _pad: [f32; 3],
+    /// How the tile's depths and texture offsets map back to metres, for contact-hardening
+    /// shadows (chiaro_math::shadow::pcss::TileLens): perspective tiles' near plane, 0 for
+    /// cascades.
+    pub lens_near: f32,
+    /// See `lens_near`: the far plane, or the metres a cascade's depth 0 to 1 spans.
+    pub lens_far: f32,
+    /// See `lens_near`: the metres one unit of texture coordinates spans (perspective
+    /// tiles: at 1 m from the light).
+    pub lens_metres_per_uv: f32,
+}
+
+impl GpuShadowTile {
+    /// The tile with its lens from chiaro_math::shadow::pcss.
+    pub fn with_lens(self, [near, far, metres_per_uv]: TileLens) -> GpuShadowTile {
+        GpuShadowTile { lens_near: near, lens_far: far, lens_metres_per_uv: metres_per_uv, ..self }
+    }
 }
 
 impl Default for GpuShadowTile {
@@ -32,7 +47,9 @@ impl Default for GpuShadowTile {
             uv_min: Vec2::ZERO,
             uv_max: Vec2::ZERO,
             normal_bias: 0.0,
-            _pad: [0.0; 3],
+            lens_near: 0.0,
+            lens_far: 0.0,
+            lens_metres_per_uv: 0.0,
         }
     }
 }
@@ -98,8 +115,10 @@ pub struct GpuShadows {
     pub cascade_count: u32,
     /// `CASCADE_BLEND_*`.
     pub cascade_blend: u32,
-    /// Pads the uniform to 16-byte alignment.
-    pub _pad: [u32; 2],
+    /// Depth samples of a contact-hardening shadow's blocker search.
+    pub pcss_blocker_samples: u32,
+    /// Comparison samples filtering a contact-hardening shadow's penumbra.
+    pub pcss_filter_samples: u32,
 }
 
 impl Default for GpuShadows {
@@ -113,7 +132,8 @@ impl Default for GpuShadows {
             fade: GpuShadowFade::default(),
             cascade_count: 0,
             cascade_blend: 0,
-            _pad: [0; 2],
+            pcss_blocker_samples: 16,
+            pcss_filter_samples: 16,
         }
     }
 }

@@ -5,8 +5,8 @@
 use super::shadows::ShadowSlot;
 use crate::gpu::GpuLight;
 use crate::shader_constants::{
-    LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, NO_COOKIE, NO_MASK_CHANNEL, SHADOW_SLOT_BAKED_ONLY,
-    SHADOW_SLOT_NONE, SHADOW_SLOT_REALTIME,
+    LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, NO_COOKIE, NO_MASK_CHANNEL, SHADOW_FILTER_PCSS,
+    SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE, SHADOW_SLOT_REALTIME,
 };
 use crate::view::View;
 use chiaro_math::Frustum;
@@ -124,6 +124,7 @@ pub fn gpu_light(
     };
     let (shadow_slot, shadow_first_tile, shadow_filter) = match frame_light.shadow {
         ShadowSlot::None => (SHADOW_SLOT_NONE, 0, 0),
+        ShadowSlot::Realtime { first_tile, pcss: true, .. } => (SHADOW_SLOT_REALTIME, first_tile, SHADOW_FILTER_PCSS),
         ShadowSlot::Realtime { first_tile, filter, .. } => (SHADOW_SLOT_REALTIME, first_tile, filter.index()),
         ShadowSlot::BakedOnly => (SHADOW_SLOT_BAKED_ONLY, 0, 0),
     };
@@ -148,6 +149,9 @@ pub fn gpu_light(
         axis_x_ws: light.world_from_light.x_axis.truncate(),
         shadow_mask_channel: mask_channel.map_or(NO_MASK_CHANNEL, u32::from),
         axis_y_ws: light.world_from_light.y_axis.truncate(),
-        _pad1: 0.0,
+        shadow_light_size: match light.kind {
+            LightKind::Directional => (light.shadow.angular_diameter_deg.to_radians() * 0.5).tan(),
+            _ => light.shadow.light_radius,
+        },
     }
 }

@@ -18,6 +18,7 @@ use chiaro_math::shadow::fade::distance_fade_params;
 use chiaro_math::shadow::other::{
     POINT_LIGHT_FACES, perspective_normal_bias, point_face_fov_rad, point_face_view, spot_shadow_view,
 };
+use chiaro_math::shadow::pcss::{DIRECTIONAL_NEAR_PLANE_PULL, orthographic_lens, perspective_lens};
 use chiaro_math::shadow::tiers::{TileRect, coverage_tier, pack_tiles, screen_coverage, tile_sizes};
 use chiaro_math::shadow::{
     AtlasLayout, ShadowFilter, TileAllocation, TileAllocator, cascade_splits, first_fit_tiles, fit_cascade,
@@ -40,8 +41,11 @@ pub enum ShadowSlot {
         first_tile: u32,
         /// Tiles it has, consecutive from `first_tile`.
         tile_count: u32,
-        /// The filter its shadow is sampled with.
+        /// The filter its shadow is sampled with (and, for `pcss`, whose reach sizes the
+        /// biases).
         filter: ShadowFilter,
+        /// Contact-hardening (`"shadows": "pcss"`) instead of `filter`.
+        pcss: bool,
     },
     /// It casts shadows but found no free atlas tiles: no realtime shadow; baked shadows
     /// (the tutorial's negative strength) are what would apply.
@@ -180,6 +184,8 @@ pub fn plan_shadows(
                 CascadeBlend::Soft => CASCADE_BLEND_SOFT,
                 CascadeBlend::Dither => CASCADE_BLEND_DITHER,
             },
+            pcss_blocker_samples: settings.shadows.pcss_blocker_samples,
+            pcss_filter_samples: settings.shadows.pcss_filter_samples,
             ..GpuShadows::default()
         },
         directional_atlas_size: 0,
@@ -254,17 +260,24 @@ fn plan_directional(
             };
             let light = &scene.lights[id.index()];
             let filter = light_filter(light, filter);
+            let pcss = light.shadow.mode == ShadowMode::Pcss;
             for (c, sphere) in plan.cascade_spheres.iter().enumerate() {
                 let tile = first_tile + c;
-                let fit = fit_cascade(*sphere, light.direction(), tile_size, light.shadow.near_plane);
+                let near_plane = match pcss {
+                    true => light.shadow.near_plane.max(DIRECTIONAL_NEAR_PLANE_PULL * sphere.radius),
+                    false => light.shadow.near_plane,
+                };
+                let fit = fit_cascade(*sphere, light.direction(), tile_size, near_plane);
                 let (uv_min, uv_max) = layout.tile_bounds_uv(tile);
+                let atlas_from_world = layout.atlas_from_clip(tile) * fit.clip_from_world;
                 plan.gpu.directional_tiles[tile] = GpuShadowTile {
-                    atlas_from_world: layout.atlas_from_clip(tile) * fit.clip_from_world,
+                    atlas_from_world,
                     uv_min,
                     uv_max,
                     normal_bias: light.shadow.normal_bias * normal_bias_ws(texel_sizes[c], filter),
-                    _pad: [0.0; 3],
-                };
+                    ..GpuShadowTile::default()
+                }
+                .with_lens(orthographic_lens(&atlas_from_world));
                 plan.tiles.push(CasterTile {
                     atlas: ShadowAtlas::Directional,
                     light: *id,
@@ -276,7 +289,7 @@ fn plan_directional(
                     casters: Vec::new(),
                 });
             }
-            ShadowSlot::Realtime { first_tile: first_tile as u32, tile_count: cascade_count as u32, filter }
+            ShadowSlot::Realtime { first_tile: first_tile as u32, tile_count: cascade_count as u32, filter, pcss }
         })
         .collect();
     plan.gpu.cascade_count = cascade_count as u32;
@@ -445,8 +458,9 @@ fn plan_other_light_tiles(
             uv_min,
             uv_max,
             normal_bias: perspective_normal_bias(tile_size, clip_from_view, filter) * light.shadow.normal_bias,
-            _pad: [0.0; 3],
-        };
+            ..GpuShadowTile::default()
+        }
+        .with_lens(perspective_lens(clip_from_view, tile_size as f32 / os.atlas_size as f32));
         plan.tiles.push(CasterTile {
             atlas: ShadowAtlas::Other,
             light: id,
@@ -458,7 +472,12 @@ fn plan_other_light_tiles(
             casters: Vec::new(),
         });
     }
-    ShadowSlot::Realtime { first_tile: first_tile as u32, tile_count: views.len() as u32, filter }
+    ShadowSlot::Realtime {
+        first_tile: first_tile as u32,
+        tile_count: views.len() as u32,
+        filter,
+        pcss: light.shadow.mode == ShadowMode::Pcss,
+    }
 }
 
 fn atlas_params(size: u32) -> GpuAtlas {

@@ -1,6 +1,6 @@
 //! glTF `extras` Chiaro reads, since glTF has no place for shadow settings or cookies: a
-//! light's `{"shadows": "none"|"hard"|"soft", "shadowStrength", "shadowDepthBias",
-//! "shadowNormalBias", "shadowNearPlane", "cookie": {"image": N, "size": [W, H]}, "mode":
+//! light's `{"shadows": "none"|"hard"|"soft"|"pcss", "shadowStrength", "shadowDepthBias",
+//! "shadowNormalBias", "shadowNearPlane", "lightRadius", "angularDiameter", "cookie": {"image": N, "size": [W, H]}, "mode":
 //! "realtime"|"mixed"|"baked"}`, a mesh node's `{"castShadows":
 //! "on"|"off"|"two-sided"|"shadows-only", "receiveShadows": bool, "static": bool, "label": class id}`, and a material's `{"shadowCasting": "on"|"clip"|"dither"|"off"}`. Other keys
 //! are left alone; a known key with a wrong value is an error naming it.
@@ -29,6 +29,8 @@ struct LightExtras {
     shadow_depth_bias: Option<f32>,
     shadow_normal_bias: Option<f32>,
     shadow_near_plane: Option<f32>,
+    light_radius: Option<f32>,
+    angular_diameter: Option<f32>,
     mode: Option<serde_json::Value>,
 }
 
@@ -58,6 +60,10 @@ fn parse<'a, T: Deserialize<'a> + Default>(extras: Option<&'a RawValue>) -> Resu
     }
 }
 
+/// A directional light's disc spans less than a half sphere (tan of half of it is finite).
+/// Wider is no sun: 180 degrees or more is refused.
+const MAX_ANGULAR_DIAMETER_DEG: f32 = 180.0;
+
 fn non_negative(key: &str, value: Option<f32>, default: f32) -> Result<f32, String> {
     match value {
         None => Ok(default),
@@ -75,13 +81,20 @@ pub(super) fn light_shadow(extras: Option<&RawValue>) -> Result<LightShadow, Str
         Some("none") => ShadowMode::None,
         Some("hard") => ShadowMode::Hard,
         Some("soft") => ShadowMode::Soft,
+        Some("pcss") => ShadowMode::Pcss,
         Some(other) => {
-            return Err(format!("extras.shadows: '{other}' is not none, hard or soft"));
+            return Err(format!("extras.shadows: '{other}' is not none, hard, soft or pcss"));
         }
     };
     let strength = non_negative("shadowStrength", e.shadow_strength, d.strength)?;
     if strength > 1.0 {
         return Err(format!("extras.shadowStrength: {strength} must be between 0 and 1"));
+    }
+    let angular_diameter_deg = non_negative("angularDiameter", e.angular_diameter, d.angular_diameter_deg)?;
+    if angular_diameter_deg >= MAX_ANGULAR_DIAMETER_DEG {
+        return Err(format!(
+            "extras.angularDiameter: {angular_diameter_deg} degrees must be below {MAX_ANGULAR_DIAMETER_DEG}"
+        ));
     }
     Ok(LightShadow {
         mode,
@@ -89,6 +102,8 @@ pub(super) fn light_shadow(extras: Option<&RawValue>) -> Result<LightShadow, Str
         depth_bias: non_negative("shadowDepthBias", e.shadow_depth_bias, d.depth_bias)?,
         normal_bias: non_negative("shadowNormalBias", e.shadow_normal_bias, d.normal_bias)?,
         near_plane: non_negative("shadowNearPlane", e.shadow_near_plane, d.near_plane)?,
+        light_radius: non_negative("lightRadius", e.light_radius, d.light_radius)?,
+        angular_diameter_deg,
     })
 }
 
@@ -202,12 +217,23 @@ mod tests {
     }
 
     #[test]
+    fn pcss_extras_set_the_light_size() {
+        let s = light_shadow(Some(&raw(r#"{"shadows": "pcss", "lightRadius": 0.2, "angularDiameter": 2}"#))).unwrap();
+        assert_eq!((s.mode, s.light_radius, s.angular_diameter_deg), (ShadowMode::Pcss, 0.2, 2.0));
+        let d = light_shadow(Some(&raw(r#"{"shadows": "pcss"}"#))).unwrap();
+        assert_eq!((d.light_radius, d.angular_diameter_deg), (0.05, 0.53));
+    }
+
+    #[test]
     fn bad_light_extras_name_the_key() {
         for (text, key) in [
             (r#"{"shadows": "fuzzy"}"#, "extras.shadows"),
             (r#"{"shadowStrength": 2}"#, "extras.shadowStrength"),
             (r#"{"shadowDepthBias": -1}"#, "extras.shadowDepthBias"),
             (r#"{"shadowNearPlane": "far"}"#, "extras"),
+            (r#"{"lightRadius": -0.1}"#, "extras.lightRadius"),
+            (r#"{"angularDiameter": 180}"#, "extras.angularDiameter"),
+            (r#"{"angularDiameter": -1}"#, "extras.angularDiameter"),
         ] {
             let e = light_shadow(Some(&raw(text))).unwrap_err();
             assert!(e.starts_with(key), "{e}");

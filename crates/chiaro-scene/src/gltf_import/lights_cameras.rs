@@ -73,6 +73,13 @@ impl Loader<'_> {
         };
         let shadow =
             super::extras::light_shadow(light.extras.as_deref()).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+        // An emitter larger than the light's reach lights nothing the way its shadows say.
+        if let Some(range) = light.range.filter(|&r| shadow.light_radius > r && kind != LightKind::Directional) {
+            return Err(self.invalid(format!(
+                "{label}: extras.lightRadius: {} m is larger than the light's range ({range} m)",
+                shadow.light_radius
+            )));
+        }
         let mode =
             super::extras::light_mode(light.extras.as_deref()).map_err(|e| self.invalid(format!("{label}: {e}")))?;
         let cookie = match super::extras::light_cookie(light.extras.as_deref())

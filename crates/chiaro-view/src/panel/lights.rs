@@ -123,10 +123,21 @@ fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &LightsState) -> 
     }
     let shadow = &mut light.shadow;
     ComboBox::new(("shadows", i), "shadows").selected_text(shadow.mode.name()).show_ui(ui, |ui| {
-        for m in [ShadowMode::None, ShadowMode::Hard, ShadowMode::Soft] {
+        for m in [ShadowMode::None, ShadowMode::Hard, ShadowMode::Soft, ShadowMode::Pcss] {
             changed |= ui.selectable_value(&mut shadow.mode, m, m.name()).changed();
         }
     });
+    if shadow.mode == ShadowMode::Pcss {
+        changed |= match light.kind {
+            LightKind::Directional => ui.add(
+                Slider::new(&mut shadow.angular_diameter_deg, 0.0..=10.0)
+                    .text("angular diameter (deg)")
+                    .clamping(EDITS_ONLY),
+            ),
+            _ => ui.add(Slider::new(&mut shadow.light_radius, 0.0..=1.0).text("light radius (m)").clamping(EDITS_ONLY)),
+        }
+        .changed();
+    }
     changed |=
         ui.add(Slider::new(&mut shadow.strength, 0.0..=1.0).text("shadow strength").clamping(EDITS_ONLY)).changed();
     changed |=

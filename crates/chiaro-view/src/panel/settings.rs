@@ -131,6 +131,8 @@ fn shadows_section(ui: &mut Ui, s: &mut Settings) {
     ui.add(Slider::new(&mut sh.max_distance, 0.1..=10000.0).logarithmic(true).text("shadows.max_distance"));
     ui.add(Slider::new(&mut sh.distance_fade, 0.001..=1.0).text("shadows.distance_fade"));
     ui.checkbox(&mut sh.cache, "shadows.cache");
+    ui.add(Slider::new(&mut sh.pcss_blocker_samples, 4..=64).text("shadows.pcss_blocker_samples"));
+    ui.add(Slider::new(&mut sh.pcss_filter_samples, 4..=64).text("shadows.pcss_filter_samples"));
     ui.heading("[shadows.directional]");
     let d = &mut sh.directional;
     atlas_combo(ui, "shadows.directional.atlas_size", &mut d.atlas_size);

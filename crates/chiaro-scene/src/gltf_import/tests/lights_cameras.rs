@@ -97,6 +97,9 @@ fn bad_lights_are_invalid() {
         (json!({ "type": "point", "range": 0.0 }), "range"),
         (json!({ "type": "spot", "spot": { "innerConeAngle": 0.6, "outerConeAngle": 0.5 } }), "cone"),
         (json!({ "type": "spot", "spot": { "outerConeAngle": 2.0 } }), "cone"),
+        (json!({ "type": "point", "range": 2.0, "extras": { "shadows": "pcss", "lightRadius": 3.0 } }), "lightRadius"),
+        (json!({ "type": "point", "extras": { "lightRadius": -0.5 } }), "lightRadius"),
+        (json!({ "type": "directional", "extras": { "angularDiameter": 200.0 } }), "angularDiameter"),
     ] {
         let mut doc = triangle_doc();
         doc["extensions"] = json!({ "KHR_lights_punctual": { "lights": [light] } });

@@ -26,6 +26,12 @@ pub struct ShadowSettings {
     /// Fraction of `max_distance` over which shadows fade out (0.001 to 1). Too small
     /// shows a hard line where shadows end; too large fades shadows that should be there.
     pub distance_fade: f32,
+    /// Depth samples a `pcss` light's blocker search takes per pixel (4 to 64): fewer are
+    /// cheaper and find small blockers less reliably (the penumbra's width is noisier).
+    pub pcss_blocker_samples: u32,
+    /// Comparison samples a `pcss` light's penumbra is filtered with per pixel (4 to 64):
+    /// fewer are cheaper and grainier.
+    pub pcss_filter_samples: u32,
     /// `[shadows.directional]`: the cascaded atlas of directional lights.
     pub directional: DirectionalShadowSettings,
     /// `[shadows.other]`: the atlas of point and spot lights.
@@ -38,6 +44,8 @@ impl Default for ShadowSettings {
             max_distance: 100.0,
             cache: true,
             distance_fade: 0.1,
+            pcss_blocker_samples: 16,
+            pcss_filter_samples: 16,
             directional: DirectionalShadowSettings::default(),
             other: OtherShadowSettings::default(),
         }
@@ -49,9 +57,14 @@ pub const MAX_DISTANCE: Bound = Bound::new("shadows.max_distance", 0.1, 10000.0)
 /// The interval of `shadows.distance_fade`.
 pub const DISTANCE_FADE: Bound = Bound::new("shadows.distance_fade", 0.001, 1.0);
 
+/// The interval of `shadows.pcss_blocker_samples`.
+pub const PCSS_BLOCKER_SAMPLES: Bound = Bound::new("shadows.pcss_blocker_samples", 4.0, 64.0);
+/// The interval of `shadows.pcss_filter_samples`.
+pub const PCSS_FILTER_SAMPLES: Bound = Bound::new("shadows.pcss_filter_samples", 4.0, 64.0);
+
 /// Every interval of the section and its subsections.
 pub(super) fn bounds() -> impl Iterator<Item = Bound> {
-    [MAX_DISTANCE, DISTANCE_FADE]
+    [MAX_DISTANCE, DISTANCE_FADE, PCSS_BLOCKER_SAMPLES, PCSS_FILTER_SAMPLES]
         .into_iter()
         .chain(directional::BOUNDS.iter().copied())
         .chain(other::BOUNDS.iter().copied())
@@ -68,6 +81,8 @@ impl ShadowSettings {
     pub fn validate(&self) -> Result<(), String> {
         MAX_DISTANCE.check(self.max_distance)?;
         DISTANCE_FADE.check(self.distance_fade)?;
+        PCSS_BLOCKER_SAMPLES.check(self.pcss_blocker_samples as f32)?;
+        PCSS_FILTER_SAMPLES.check(self.pcss_filter_samples as f32)?;
         self.directional.validate()?;
         self.other.validate()
     }
