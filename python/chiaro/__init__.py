@@ -179,7 +179,10 @@ def compare(scene, camera=None, width=256, height=256, renderer=None, device="au
     `chiaro compare` prints them: a list of dicts with node, light (its name), kind,
     compared (pixels judged), disagree_percent, false_percent (shadow where the reference
     has light: acne), missed_percent (light where it has shadow: peter-panning, leaks),
-    not_compared (why a light was not judged, else None) and shadow_mask_only.
+    not_compared (why a light was not judged, else None) and shadow_mask_only; for a light
+    with "pcss" shadows, visibility_mean_abs, visibility_p95_abs and
+    visibility_far_off_percent (its rendered visibility against the share of its disc the
+    reference sees; None for other lights).
     time: seconds into the scene's animations to pose it at first (None: as it is)."""
     if renderer is None:
         renderer = Renderer(device=device, settings=settings)

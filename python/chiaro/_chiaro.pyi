@@ -33,6 +33,8 @@ class Light:
     @property
     def shadow_mode(self) -> str: ...
     shadow_strength: float
+    light_radius: float
+    angular_diameter: float
     mode: str
     @property
     def position(self) -> List[float]: ...

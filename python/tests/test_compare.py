@@ -16,3 +16,17 @@ def test_a_light_without_shadows_is_not_compared(renderer, scene):
     scene.lights[0].shadows = False
     (row,) = renderer.compare(scene, camera="overview", width=64, height=48)
     assert row["not_compared"] == "casts no shadows" and row["disagree_percent"] is None
+
+
+def test_a_pcss_light_reports_its_visibility_against_the_traced_disc(renderer, scene):
+    (hard,) = renderer.compare(scene, camera="overview", width=96, height=72)
+    assert hard["visibility_mean_abs"] is None
+    sun = scene.lights[0]
+    sun.shadows = "pcss"
+    sun.angular_diameter = 3.0
+    assert sun.shadow_mode == "pcss" and sun.angular_diameter == 3.0
+    (row,) = renderer.compare(scene, camera="overview", width=96, height=72)
+    assert row["not_compared"] is None and row["compared"] > 2000
+    assert 0.0 <= row["visibility_mean_abs"] < 0.03
+    assert row["visibility_mean_abs"] <= row["visibility_p95_abs"] or row["visibility_p95_abs"] == 0.0
+    assert 0.0 <= row["visibility_far_off_percent"] < 10.0

@@ -3,9 +3,11 @@
 //! (`crate::verdict`). A scene, a view and settings flow in; a `ShadowComparison` (one
 //! `LightReport` per scene light, the reference and the rendered AOVs) flows out.
 
-use crate::verdict::{LightComparison, PixelVerdict, classify_pixels};
+use crate::verdict::{
+    LightComparison, PixelVerdict, VisibilityError, classify_pixels, signed_difference_image, visibility_error,
+};
 use chiaro_render::{FrameOptions, PreparedScene, RenderError, Renderer, ShadowStatus, View};
-use chiaro_scene::{Scene, Settings};
+use chiaro_scene::{Scene, Settings, ShadowMode};
 use chiaro_trace::{PixelCamera, ShadowReference, trace_shadow_reference};
 use glam::Vec3;
 
@@ -15,7 +17,11 @@ pub struct LightReport {
     /// Index in `Scene::lights`.
     pub light: usize,
     pub comparison: LightComparison,
-    /// RGBA8 difference image (see `PixelVerdict::color`).
+    /// For a light with contact-hardening (`pcss`) shadows: how far its rendered
+    /// visibility is from the share of its disc the reference sees.
+    pub visibility: Option<VisibilityError>,
+    /// RGBA8 difference image: the verdicts' colours (`PixelVerdict::color`), or for a
+    /// `pcss` light the signed difference (`verdict::signed_difference_color`).
     pub difference: Vec<[u8; 4]>,
 }
 
@@ -96,12 +102,22 @@ pub fn compare_rendered(
         .iter()
         .enumerate()
         .map(|(i, light)| {
+            let (shadow, positions) = (&rendered.shadow_aovs[i], &rendered.positions);
             // Classified once; the counts and the picture both come from the verdicts.
-            let verdicts =
-                classify_pixels(&rendered.shadow_aovs[i], &rendered.positions, &reference, i, light, ranges[i]);
+            let verdicts = classify_pixels(shadow, positions, &reference, i, light, ranges[i]);
+            let comparison = LightComparison::from_verdicts(&verdicts);
+            if light.shadow.mode == ShadowMode::Pcss {
+                return LightReport {
+                    light: i,
+                    comparison,
+                    visibility: Some(visibility_error(shadow, positions, &reference, i, light, ranges[i])),
+                    difference: signed_difference_image(shadow, positions, &reference, i, light, ranges[i]),
+                };
+            }
             LightReport {
                 light: i,
-                comparison: LightComparison::from_verdicts(&verdicts),
+                comparison,
+                visibility: None,
                 difference: verdicts.into_iter().map(PixelVerdict::color).collect(),
             }
         })

@@ -19,6 +19,9 @@ pub struct LightVerdict {
     compared: usize,
     /// Disagreement, false and missed shadow, percent of compared pixels.
     percents: Option<[f64; 3]>,
+    /// A contact-hardening light's visibility error: mean and 95th percentile of
+    /// |rendered - reference|, and the percent of pixels off by more than 0.1.
+    visibility: Option<[f64; 3]>,
 }
 
 impl LightVerdict {
@@ -44,6 +47,10 @@ impl LightVerdict {
                     percents: not_compared
                         .is_none()
                         .then(|| [c.disagreement(), c.false_share(), c.missed_share()].map(|share| 100.0 * share)),
+                    visibility: report
+                        .visibility
+                        .filter(|v| not_compared.is_none() && v.compared > 0)
+                        .map(|v| [v.mean_abs, v.p95_abs, 100.0 * v.far_off]),
                 }
             })
             .collect()
@@ -61,6 +68,9 @@ impl LightVerdict {
         d.set_item("missed_percent", self.percents.map(|p| p[2]))?;
         d.set_item("not_compared", self.not_compared)?;
         d.set_item("shadow_mask_only", self.shadow_mask_only)?;
+        d.set_item("visibility_mean_abs", self.visibility.map(|v| v[0]))?;
+        d.set_item("visibility_p95_abs", self.visibility.map(|v| v[1]))?;
+        d.set_item("visibility_far_off_percent", self.visibility.map(|v| v[2]))?;
         Ok(d)
     }
 }

@@ -170,7 +170,8 @@ impl Light {
         })
     }
 
-    /// The shadow mode by name: "none", "hard" or "soft" (the light's `extras.shadows`).
+    /// The shadow mode by name: "none", "hard", "soft" or "pcss" (the light's
+    /// `extras.shadows`).
     #[getter]
     fn shadow_mode(&self) -> &'static str {
         self.with(|l| l.shadow.mode.name())
@@ -189,6 +190,46 @@ impl Light {
         }
         self.edit(|l| {
             l.shadow.strength = strength;
+            Ok(())
+        })
+    }
+
+    /// Radius in metres of the sphere a point or spot light emits from, for "pcss" shadows
+    /// (the light's `extras.lightRadius`).
+    #[getter]
+    fn light_radius(&self) -> f32 {
+        self.with(|l| l.shadow.light_radius)
+    }
+
+    #[setter]
+    fn set_light_radius(&self, radius: f32) -> PyResult<()> {
+        self.edit(|l| {
+            if !(radius.is_finite() && radius >= 0.0 && l.range.is_none_or(|range| radius <= range)) {
+                return Err(PyValueError::new_err(format!(
+                    "light_radius: {radius} m is negative, not finite or larger than the light's range"
+                )));
+            }
+            l.shadow.light_radius = radius;
+            Ok(())
+        })
+    }
+
+    /// Degrees a directional light's disc spans, for "pcss" shadows (the light's
+    /// `extras.angularDiameter`; the sun's is about 0.53).
+    #[getter]
+    fn angular_diameter(&self) -> f32 {
+        self.with(|l| l.shadow.angular_diameter_deg)
+    }
+
+    #[setter]
+    fn set_angular_diameter(&self, degrees: f32) -> PyResult<()> {
+        if !(degrees.is_finite() && (0.0..180.0).contains(&degrees)) {
+            return Err(PyValueError::new_err(format!(
+                "angular_diameter: {degrees} is not from 0 to below 180 degrees"
+            )));
+        }
+        self.edit(|l| {
+            l.shadow.angular_diameter_deg = degrees;
             Ok(())
         })
     }

@@ -8,59 +8,27 @@ mod common;
 
 use chiaro_math::shadow::pcss::{disc_edge_visibility, penumbra_width};
 use chiaro_render::{FrameOptions, FrameOutput, Renderer, View};
-use chiaro_scene::{CastShadows, Light, LightKind, RenderPath, Scene, Settings, ShadowMode};
+use chiaro_scene::{RenderPath, Scene, Settings, ShadowMode};
 use common::*;
-use glam::Vec3;
 
 const SIZE: u32 = 256;
-const LIGHT_HEIGHT: f32 = 3.0;
-const PLANK_HEIGHT: f32 = 1.0;
 const LIGHT_RADIUS: f32 = 0.2;
-/// The plank's edge nearest the light, in x; it reaches to +x.
-const PLANK_EDGE_X: f32 = 0.4;
-
 const SUN_DIAMETER_DEG: f32 = 5.0;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Kind {
-    Point,
-    Spot,
-    Sun,
-}
-
-/// The plank under a point or spot light of radius LIGHT_RADIUS at LIGHT_HEIGHT (or a sun
-/// of SUN_DIAMETER_DEG straight above), the camera straight above the shadow's edge.
-fn plank_scene(mode: ShadowMode, kind: Kind) -> Scene {
-    let sun = kind == Kind::Sun;
-    let position = Vec3::new(0.0, LIGHT_HEIGHT, 0.0);
-    let mut light = match kind {
-        Kind::Point => point_light(position, 40.0, Some(20.0)),
-        Kind::Spot => Light {
-            intensity: 40.0,
-            range: Some(20.0),
-            ..Light::new(LightKind::Spot { inner_cone_rad: 0.8, outer_cone_rad: 1.0 }, position, Vec3::NEG_Y)
-        },
-        Kind::Sun => Light { intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y) },
-    };
-    light.shadow.mode = mode;
-    light.shadow.light_radius = LIGHT_RADIUS;
-    light.shadow.angular_diameter_deg = SUN_DIAMETER_DEG;
-    let edge = shadow_edge_x(sun);
-    let mut scene = floor_scene(6.0, Vec3::new(edge, 4.0, 0.0), vec![light]);
-    // Close enough that the penumbra spans tens of pixels (the sun's is 9 cm).
-    let height = if sun { 0.6 } else { 2.0 };
-    scene.cameras[0].world_from_view =
-        glam::Mat4::look_at_rh(Vec3::new(edge, height, 0.0), Vec3::new(edge, 0.0, 0.0), Vec3::Z).inverse();
-    let plank = Vec3::new(0.8, 0.04, 3.0);
-    // Seen by the lights alone, so that the camera above sees the floor under it.
-    let at = Vec3::new(PLANK_EDGE_X + plank.x / 2.0, PLANK_HEIGHT, 0.0);
-    add_box(&mut scene, at, plank, 0.0, CastShadows::ShadowsOnly);
+/// The plank under a point or spot light of radius LIGHT_RADIUS (or a sun of
+/// SUN_DIAMETER_DEG) with `mode` shadows, the camera straight above the shadow's edge:
+/// close enough that the penumbra spans tens of pixels (the sun's is 9 cm).
+fn plank(mode: ShadowMode, kind: PlankLight) -> Scene {
+    let sun = kind == PlankLight::Sun;
+    let size = if sun { SUN_DIAMETER_DEG } else { LIGHT_RADIUS };
+    let mut scene = plank_scene(kind, size, if sun { 0.6 } else { 2.0 }, shadow_edge_x(sun));
+    scene.lights[0].shadow.mode = mode;
     scene
 }
 
 /// Where the plank's edge casts the middle of the penumbra on the floor.
 fn shadow_edge_x(sun: bool) -> f32 {
-    if sun { PLANK_EDGE_X } else { PLANK_EDGE_X * LIGHT_HEIGHT / (LIGHT_HEIGHT - PLANK_HEIGHT) }
+    if sun { PLANK_EDGE_X } else { PLANK_EDGE_X * PLANK_LIGHT_HEIGHT / (PLANK_LIGHT_HEIGHT - PLANK_HEIGHT) }
 }
 
 fn render_shadow(renderer: &mut Renderer, scene: &Scene, settings: &Settings) -> FrameOutput {
@@ -112,16 +80,16 @@ fn disc_offset(level: f32) -> f32 {
 
 /// Renders the plank with `mode` and checks the penumbra's 10-90% width against the disc
 /// light's and the whole profile against it; returns the measured width.
-fn check_penumbra(kind: Kind, mode: ShadowMode) -> f32 {
-    let sun = kind == Kind::Sun;
+fn check_penumbra(kind: PlankLight, mode: ShadowMode) -> f32 {
+    let sun = kind == PlankLight::Sun;
     let mut renderer = renderer();
     let mut settings = unlit_settings();
     settings.render.msaa = 1;
-    let frame = render_shadow(&mut renderer, &plank_scene(mode, kind), &settings);
+    let frame = render_shadow(&mut renderer, &plank(mode, kind), &settings);
     let width = if sun {
         penumbra_width(false, (SUN_DIAMETER_DEG.to_radians() * 0.5).tan(), 1.0, 0.0)
     } else {
-        penumbra_width(true, LIGHT_RADIUS, LIGHT_HEIGHT, LIGHT_HEIGHT - PLANK_HEIGHT)
+        penumbra_width(true, LIGHT_RADIUS, PLANK_LIGHT_HEIGHT, PLANK_LIGHT_HEIGHT - PLANK_HEIGHT)
     };
     let middle = shadow_edge_x(sun);
     let measured = profile(&frame, middle - 1.5 * width, middle + 1.5 * width, width / 20.0);
@@ -147,16 +115,16 @@ fn check_penumbra(kind: Kind, mode: ShadowMode) -> f32 {
 
 #[test]
 fn a_plank_under_a_sphere_light_casts_the_penumbra_similar_triangles_predict() {
-    let pcss = check_penumbra(Kind::Point, ShadowMode::Pcss);
+    let pcss = check_penumbra(PlankLight::Point, ShadowMode::Pcss);
     // The same light with its filtered hard shadow: a penumbra of a few texels.
-    assert!(check_penumbra(Kind::Point, ShadowMode::Hard) < 0.25 * pcss);
-    check_penumbra(Kind::Spot, ShadowMode::Pcss);
+    assert!(check_penumbra(PlankLight::Point, ShadowMode::Hard) < 0.25 * pcss);
+    check_penumbra(PlankLight::Spot, ShadowMode::Pcss);
 }
 
 #[test]
 fn a_plank_under_a_wide_sun_casts_the_penumbra_similar_triangles_predict() {
-    let pcss = check_penumbra(Kind::Sun, ShadowMode::Pcss);
-    assert!(check_penumbra(Kind::Sun, ShadowMode::Hard) < 0.5 * pcss);
+    let pcss = check_penumbra(PlankLight::Sun, ShadowMode::Pcss);
+    assert!(check_penumbra(PlankLight::Sun, ShadowMode::Hard) < 0.5 * pcss);
 }
 
 /// Forward and deferred shade the same soft shadows: the shadow functions are shared,
@@ -164,8 +132,8 @@ fn a_plank_under_a_wide_sun_casts_the_penumbra_similar_triangles_predict() {
 #[test]
 fn forward_and_deferred_shade_the_same_penumbra() {
     let mut renderer = renderer();
-    for kind in [Kind::Point, Kind::Sun] {
-        let scene = plank_scene(ShadowMode::Pcss, kind);
+    for kind in [PlankLight::Point, PlankLight::Sun] {
+        let scene = plank(ShadowMode::Pcss, kind);
         let mut settings = unlit_settings();
         settings.render.msaa = 1;
         let forward = render_shadow(&mut renderer, &scene, &settings);

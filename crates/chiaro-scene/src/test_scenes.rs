@@ -83,6 +83,74 @@ pub fn add_box(scene: &mut Scene, position: Vec3, size: Vec3, yaw_rad: f32, cast
     });
 }
 
+/// Where the plank of `plank_scene` starts, in x.
+pub const PLANK_EDGE_X: f32 = 0.4;
+/// How high the plank of `plank_scene` floats.
+pub const PLANK_HEIGHT: f32 = 1.0;
+/// How far the point or spot light of `plank_scene` stands above the floor.
+pub const PLANK_LIGHT_HEIGHT: f32 = 3.0;
+
+/// The light of `plank_scene`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PlankLight {
+    /// A point light PLANK_LIGHT_HEIGHT above the origin.
+    Point,
+    /// A spot there, shining down (outer cone 1 rad).
+    Spot,
+    /// A sun straight above.
+    Sun,
+}
+
+/// A plank 0.8 m wide (from x = PLANK_EDGE_X), 3 m long and 4 cm thick, PLANK_HEIGHT above
+/// a 6 m floor, under one light with contact-hardening shadows of `size` (radius in
+/// metres, or angular diameter in degrees for the sun), the camera looking straight down
+/// from `camera_height` at `look_at_x`. The plank casts shadows but the camera does not
+/// see it, so the floor under it shows.
+pub fn plank_scene(light: PlankLight, size: f32, camera_height: f32, look_at_x: f32) -> Scene {
+    let position = Vec3::new(0.0, PLANK_LIGHT_HEIGHT, 0.0);
+    let mut light = match light {
+        PlankLight::Point => point_light(position, 40.0, Some(20.0)),
+        PlankLight::Spot => Light {
+            intensity: 40.0,
+            range: Some(20.0),
+            ..Light::new(LightKind::Spot { inner_cone_rad: 0.8, outer_cone_rad: 1.0 }, position, Vec3::NEG_Y)
+        },
+        PlankLight::Sun => Light { intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y) },
+    };
+    light.shadow.mode = crate::types::ShadowMode::Pcss;
+    light.shadow.light_radius = size;
+    light.shadow.angular_diameter_deg = size;
+    let mut scene = floor_scene(6.0, Vec3::new(look_at_x, camera_height, 0.0), vec![light]);
+    let (eye, target) = (Vec3::new(look_at_x, camera_height, 0.0), Vec3::new(look_at_x, 0.0, 0.0));
+    scene.cameras[0].world_from_view = Mat4::look_at_rh(eye, target, Vec3::Z).inverse();
+    let plank = Vec3::new(0.8, 0.04, 3.0);
+    let at = Vec3::new(PLANK_EDGE_X + plank.x / 2.0, PLANK_HEIGHT, 0.0);
+    add_box(&mut scene, at, plank, 0.0, CastShadows::ShadowsOnly);
+    scene
+}
+
+/// A pole (8 cm thick, 1.5 m tall) standing on a 6 m floor and a plank leaning from the
+/// floor up to 0.8 m, under a point light of radius 0.25 m with `mode` shadows, seen from
+/// above one corner at `aspect`: contact hardening on a thin and a wide caster.
+pub fn pole_and_plank_scene(mode: crate::types::ShadowMode, aspect: f32) -> Scene {
+    let mut light = point_light(Vec3::new(-0.8, 3.0, -0.6), 30.0, Some(15.0));
+    light.shadow.mode = mode;
+    light.shadow.light_radius = 0.25;
+    let mut scene = floor_scene(6.0, Vec3::new(3.0, 2.5, 3.5), vec![light]);
+    look_from(&mut scene, Vec3::new(2.6, 2.4, 3.2), Vec3::new(0.5, 0.0, 0.5));
+    scene.cameras[0].aspect_ratio = Some(aspect);
+    add_box(&mut scene, Vec3::new(-0.2, 0.75, 0.4), Vec3::new(0.08, 1.5, 0.08), 0.0, CastShadows::On);
+    add_box(&mut scene, Vec3::ZERO, Vec3::ONE, 0.0, CastShadows::On);
+    let plank = scene.instances.last_mut().expect("the plank");
+    let rise = (0.8f32 / 1.6).asin();
+    plank.world_from_local = Mat4::from_scale_rotation_translation(
+        Vec3::new(1.6, 0.04, 0.5),
+        glam::Quat::from_rotation_z(rise),
+        Vec3::new(0.9, 0.4, -0.2),
+    );
+    scene
+}
+
 /// Points the scene's first camera from `eye` at `target`.
 pub fn look_from(scene: &mut Scene, eye: Vec3, target: Vec3) {
     scene.cameras[0].world_from_view = Mat4::look_at_rh(eye, target, Vec3::Y).inverse();

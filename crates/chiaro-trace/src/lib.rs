@@ -6,8 +6,10 @@
 //! chiaro-compare's job. Nothing here touches the GPU.
 
 pub mod alpha;
+pub mod area;
 pub mod bvh;
 pub mod reference;
 
+pub use area::area_light_visibility;
 pub use bvh::{Hit, SceneBvh};
 pub use reference::{PixelCamera, ShadowReference, light_visibility, trace_shadow_reference};

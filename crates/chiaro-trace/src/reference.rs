@@ -3,11 +3,14 @@
 //! A `Scene`, a `PixelCamera` and one range per light flow in; `ShadowReference` flows out:
 //! for every pixel the surface the camera sees (position, camera-facing geometric normal,
 //! whether it receives shadows) and, per light, how much of it a shadow ray from that
-//! surface carries (through alpha-tested holes, dimmed by dithered casters).
+//! surface carries (through alpha-tested holes, dimmed by dithered casters); for a light
+//! with contact-hardening (`pcss`) shadows, the share of its disc the surface sees
+//! (`area`).
 //! chiaro-compare's `verdict` judges a rendered shadow against it.
 
+use crate::area::area_light_visibility;
 use crate::bvh::SceneBvh;
-use chiaro_scene::{Light, LightKind, Scene};
+use chiaro_scene::{Light, LightKind, Scene, ShadowMode};
 use glam::{Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -64,7 +67,7 @@ pub struct ShadowReference {
     pub receives: Vec<bool>,
     /// `visibility[light][pixel]`: 1 where a shadow ray reaches `scene.lights[light]`
     /// unoccluded, 0 where a caster blocks it, `1 - alpha` products through dithered
-    /// casters, NaN for sky. Computed for every surface,
+    /// casters (for a `pcss` light, the mean over rays to its disc), NaN for sky. Computed for every surface,
     /// whether or not it receives shadows, faces the light, or lies in its range or cone.
     pub visibility: Vec<Vec<f32>>,
     /// The range each light was traced with (`ranges` as given, the light's own or
@@ -155,18 +158,28 @@ fn trace_row(scene: &Scene, bvh: &SceneBvh, world_from_clip: &Mat4, camera: &Pix
         row.normal[x] = facing_normal;
         row.receives[x] = scene.instances[hit.instance].receive_shadows;
         for (light_index, light) in scene.lights.iter().enumerate() {
-            row.visibility[light_index * width + x] = light_visibility(bvh, light, hit.position, facing_normal);
+            row.visibility[light_index * width + x] = if light.shadow.mode == ShadowMode::Pcss {
+                // The light's disc, jittered per pixel and light.
+                let seed = ((y as u64 * camera.width as u64 + x as u64) << 8) ^ light_index as u64;
+                area_light_visibility(bvh, light, hit.position, facing_normal, seed)
+            } else {
+                light_visibility(bvh, light, hit.position, facing_normal)
+            };
         }
     }
     row
+}
+
+/// Where shadow rays from a surface at `position` start: off it along `facing_normal`.
+pub(crate) fn shadow_ray_origin(position: Vec3, facing_normal: Vec3) -> Vec3 {
+    position + facing_normal * (SHADOW_RAY_OFFSET_SCALE * position.abs().max_element().max(1.0))
 }
 
 /// How much of `light` a shadow ray from just off the surface (on the side `facing_normal`
 /// points to) carries: 1 unoccluded, 0 behind a caster, between for dithered
 /// (transparent) casters. The baker's shadows use it too, so they agree with the reference.
 pub fn light_visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3) -> f32 {
-    let offset = SHADOW_RAY_OFFSET_SCALE * position.abs().max_element().max(1.0);
-    let origin = position + facing_normal * offset;
+    let origin = shadow_ray_origin(position, facing_normal);
     let (direction, max_t) = match light.kind {
         LightKind::Directional => (-light.direction(), f32::INFINITY),
         LightKind::Point | LightKind::Spot { .. } => {

@@ -103,14 +103,22 @@ fn light_lines(scene: &Scene, comparison: &ShadowComparison) -> Vec<String> {
             let light = &scene.lights[report.light];
             let name = if light.name.is_empty() { format!("light {}", report.light) } else { light.name.clone() };
             let c = &report.comparison;
-            match not_compared_because(comparison.status[report.light]) {
-                None => format!(
+            match (not_compared_because(comparison.status[report.light]), report.visibility) {
+                // A contact-hardening light: how far its soft visibility is from the traced disc's.
+                (None, Some(v)) => format!(
+                    "{name} (pcss): visibility off by {:.4} on average, {:.4} at the 95th percentile, more than \
+                     0.1 on {:.3}%",
+                    v.mean_abs,
+                    v.p95_abs,
+                    100.0 * v.far_off
+                ),
+                (None, None) => format!(
                     "{name}: {:.3}% disagree ({:.3}% false, {:.3}% missed)",
                     100.0 * c.disagreement(),
                     100.0 * c.false_share(),
                     100.0 * c.missed_share()
                 ),
-                Some(why) => format!("{name}: {why}"),
+                (Some(why), _) => format!("{name}: {why}"),
             }
         })
         .collect()

@@ -7,7 +7,7 @@ use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::{Result, bail};
-use chiaro_compare::{compare_shadows, not_compared_because};
+use chiaro_compare::{FAR_OFF, compare_shadows, not_compared_because};
 use chiaro_render::{GpuContext, Renderer, ShadowStatus};
 use clap::Args;
 use std::path::PathBuf;
@@ -91,8 +91,17 @@ pub fn run(args: CompareArgs) -> Result<()> {
             ShadowStatus::MaskOnly => "  shadow mask only (no atlas tile)",
             _ => "",
         };
+        // Contact-hardening lights: how far the soft visibility is from the traced disc's.
+        let soft = report.visibility.map_or(String::new(), |v| {
+            format!(
+                "  pcss: mean |dv| {:.4}, p95 |dv| {:.4}, |dv| > {FAR_OFF} {:.3}%",
+                v.mean_abs,
+                v.p95_abs,
+                100.0 * v.far_off
+            )
+        });
         println!(
-            "{:<6} {:<24} {:<12} {:>9} {:>12.3} {:>9.3} {:>9.3}{source}",
+            "{:<6} {:<24} {:<12} {:>9} {:>12.3} {:>9.3} {:>9.3}{source}{soft}",
             light.node,
             light.name.chars().take(24).collect::<String>(),
             kind,

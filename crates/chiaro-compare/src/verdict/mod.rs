@@ -5,7 +5,9 @@
 //! a `chiaro_trace::ShadowReference` flow in; out comes one `PixelVerdict` per pixel
 //! (`classify_pixels`), which `counts` turns into false shadows (acne: shadow where the
 //! reference is lit) and missed shadows (peter-panning and leaks: light where the
-//! reference is shadowed), and into an RGBA difference image.
+//! reference is shadowed), and into an RGBA difference image. A light with
+//! contact-hardening shadows is also judged by how far its soft visibility is from the
+//! traced share of its disc (`soft`).
 //!
 //! Only pixels where the question is fair are compared: the reference and the renderer
 //! see the same surface, the surface receives shadows and the light reaches it, and no
@@ -14,10 +16,12 @@
 
 mod counts;
 mod edge_band;
+mod soft;
 #[cfg(test)]
 mod tests;
 
 pub use counts::{LightComparison, compare_light, difference_image};
+pub use soft::{FAR_OFF, VisibilityError, signed_difference_color, signed_difference_image, visibility_error};
 
 use chiaro_math::light::{spot_angle_params, spot_attenuation};
 use chiaro_scene::{Light, LightKind};
@@ -76,44 +80,73 @@ pub fn classify_pixels(
     light: &Light,
     range: f32,
 ) -> Vec<PixelVerdict> {
+    let pairs = compared_pairs(rendered_shadow, rendered_position, reference, light_index, light, range, true);
+    pairs
+        .into_par_iter()
+        .map(|pair| {
+            let Some((rendered, expected)) = pair else {
+                return PixelVerdict::NotCompared;
+            };
+            verdict_of(rendered, expected)
+        })
+        .collect()
+}
+
+fn verdict_of(rendered: f32, expected: f32) -> PixelVerdict {
+    if (rendered - expected).abs() <= DISAGREEMENT_THRESHOLD {
+        if expected >= 0.5 { PixelVerdict::AgreeLit } else { PixelVerdict::AgreeShadowed }
+    } else if rendered < expected {
+        PixelVerdict::FalseShadow
+    } else {
+        PixelVerdict::MissedShadow
+    }
+}
+
+/// Per pixel, `(rendered, reference)` visibility where the comparison is fair, `None`
+/// elsewhere: the same surface, receiving shadows, reached by the light, and (with
+/// `edge_band`) away from the reference's shadow edges. Nothing is compared where the
+/// reference's arrays do not match its size.
+#[allow(clippy::too_many_arguments)]
+fn compared_pairs(
+    rendered_shadow: &[f32],
+    rendered_position: &[Option<Vec3>],
+    reference: &ShadowReference,
+    light_index: usize,
+    light: &Light,
+    range: f32,
+    edge_band: bool,
+) -> Vec<Option<(f32, f32)>> {
     let (width, height) = (reference.width as usize, reference.height as usize);
     let pixels = width * height;
-    let mut verdicts = vec![PixelVerdict::NotCompared; pixels];
     let Some(visibility) = reference.visibility.get(light_index) else {
-        return verdicts;
+        return vec![None; pixels];
     };
     let consistent = [visibility.len(), reference.position.len(), reference.normal.len(), reference.receives.len()]
         .iter()
         .all(|&len| len == pixels);
     if !consistent {
-        return verdicts;
+        return vec![None; pixels];
     }
-    let near_edge = shadow_edge_band(visibility, width, height, EDGE_BAND_PX);
-
-    verdicts.par_iter_mut().enumerate().for_each(|(i, verdict)| {
-        let (Some(position), Some(&rendered), Some(Some(rendered_position))) =
-            (reference.position[i], rendered_shadow.get(i), rendered_position.get(i))
-        else {
-            return;
-        };
-        let compared = reference.receives[i]
-            && !near_edge[i]
-            && rendered.is_finite()
-            && rendered_position.distance(position) <= POSITION_TOLERANCE_M
-            && light_reaches(light, range, position, reference.normal[i]);
-        if !compared {
-            return;
-        }
-        let expected = visibility[i];
-        *verdict = if (rendered - expected).abs() <= DISAGREEMENT_THRESHOLD {
-            if expected >= 0.5 { PixelVerdict::AgreeLit } else { PixelVerdict::AgreeShadowed }
-        } else if rendered < expected {
-            PixelVerdict::FalseShadow
-        } else {
-            PixelVerdict::MissedShadow
-        };
-    });
-    verdicts
+    let near_edge = match edge_band {
+        true => shadow_edge_band(visibility, width, height, EDGE_BAND_PX),
+        false => vec![false; pixels],
+    };
+    (0..pixels)
+        .into_par_iter()
+        .map(|i| {
+            let (Some(position), Some(&rendered), Some(Some(rendered_position))) =
+                (reference.position[i], rendered_shadow.get(i), rendered_position.get(i))
+            else {
+                return None;
+            };
+            let compared = reference.receives[i]
+                && !near_edge[i]
+                && rendered.is_finite()
+                && rendered_position.distance(position) <= POSITION_TOLERANCE_M
+                && light_reaches(light, range, position, reference.normal[i]);
+            compared.then_some((rendered, visibility[i]))
+        })
+        .collect()
 }
 
 /// Whether `light` can light a surface at `position` facing `normal`: the surface faces
