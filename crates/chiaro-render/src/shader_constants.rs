@@ -46,8 +46,8 @@ pub const SHADOW_FILTER_TENT5X5: u32 = ShadowFilter::Tent5x5.index();
 pub const SHADOW_FILTER_TENT7X7: u32 = ShadowFilter::Tent7x7.index();
 /// `GpuLight::shadow_filter`: contact-hardening (PCSS) from the light's size.
 pub const SHADOW_FILTER_PCSS: u32 = 4;
-/// Texels a contact-hardening blocker search reaches at most.
-pub const PCSS_MAX_SEARCH_TEXELS: u32 = chiaro_math::shadow::pcss::MAX_SEARCH_TEXELS as u32;
+/// A contact-hardening blocker search reaches at most the tile's width over this.
+pub const PCSS_SEARCH_TILE_DIVISOR: u32 = chiaro_math::shadow::pcss::SEARCH_TILE_DIVISOR;
 
 /// `GpuShadows::cascade_blend`.
 pub const CASCADE_BLEND_HARD: u32 = 0;
@@ -138,7 +138,7 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("SHADOW_FILTER_TENT5X5", SHADOW_FILTER_TENT5X5),
     ("SHADOW_FILTER_TENT7X7", SHADOW_FILTER_TENT7X7),
     ("SHADOW_FILTER_PCSS", SHADOW_FILTER_PCSS),
-    ("PCSS_MAX_SEARCH_TEXELS", PCSS_MAX_SEARCH_TEXELS),
+    ("PCSS_SEARCH_TILE_DIVISOR", PCSS_SEARCH_TILE_DIVISOR),
     ("CASCADE_BLEND_HARD", CASCADE_BLEND_HARD),
     ("CASCADE_BLEND_SOFT", CASCADE_BLEND_SOFT),
     ("CASCADE_BLEND_DITHER", CASCADE_BLEND_DITHER),

@@ -41,12 +41,18 @@ fn render_shadow(renderer: &mut Renderer, scene: &Scene, settings: &Settings) ->
 /// Mean visibility of floor pixels near z = 0 in bins of `bin` metres along x, from
 /// `x0` to `x1`: (bin centre, mean visibility).
 fn profile(frame: &FrameOutput, x0: f32, x1: f32, bin: f32) -> Vec<(f32, f32)> {
+    profile_between(frame, (-0.3, 0.3), x0, x1, bin)
+}
+
+/// `profile` over the floor pixels with z in `z`.
+fn profile_between(frame: &FrameOutput, z: (f32, f32), x0: f32, x1: f32, bin: f32) -> Vec<(f32, f32)> {
     let aovs = frame.aovs.as_ref().expect("aovs");
     let bins = ((x1 - x0) / bin).round() as usize;
     let mut sums = vec![(0.0f32, 0u32); bins];
     for (i, p) in aovs.position_ws.iter().enumerate() {
         let visibility = frame.shadow_aovs[0][i];
-        if !(p[1].abs() < 1e-3 && p[2].abs() < 0.3 && visibility.is_finite() && p[0] >= x0 && p[0] < x1) {
+        let on_strip = p[1].abs() < 1e-3 && p[2] >= z.0 && p[2] < z.1;
+        if !(on_strip && visibility.is_finite() && p[0] >= x0 && p[0] < x1) {
             continue;
         }
         let k = (((p[0] - x0) / bin) as usize).min(bins - 1);
@@ -154,4 +160,48 @@ fn forward_and_deferred_shade_the_same_penumbra() {
         eprintln!("{kind:?}: {:.2}% of {} penumbra pixels within 2% of the brightest", 100.0 * share, penumbra.len());
         assert!(share > 0.995, "{kind:?}: forward and deferred differ in the penumbra ({share})");
     }
+}
+
+/// A sun's penumbra is as wide in every cascade: widths are worked out in metres, not
+/// texels. Seen from one end of the plank, the shadow's edge runs through three cascades
+/// (max distance 6 m: cascades end at 0.6, 1.5, 3 and 6 m).
+#[test]
+fn a_suns_penumbra_keeps_its_width_across_cascades() {
+    let mut scene = plank_scene(PlankLight::Sun, 10.0, 1.0, PLANK_EDGE_X);
+    // Low over the floor (the plank is seen by the light alone), looking along the edge.
+    let eye = glam::Vec3::new(PLANK_EDGE_X, 0.6, 1.8);
+    scene.cameras[0].world_from_view =
+        glam::Mat4::look_at_rh(eye, glam::Vec3::new(PLANK_EDGE_X, 0.0, -1.5), glam::Vec3::Y).inverse();
+    let mut settings = unlit_settings();
+    settings.render.msaa = 1;
+    settings.shadows.max_distance = 6.0;
+    let mut renderer = renderer();
+    let view = View::from_camera(&scene, 0, 384, 384);
+    let prepared = renderer.prepare(&scene).expect("prepare");
+    let options = FrameOptions { aovs: true, shadow_aovs: true, readback: true, ..Default::default() };
+    let frame = renderer.render(&scene, &prepared, &view, &settings, options).expect("render");
+    let width = penumbra_width(false, 5f32.to_radians().tan(), 1.0, 0.0);
+    let predicted = 0.5 * width * (disc_offset(0.1) - disc_offset(0.9));
+    // The cascade a point of the edge falls in: the first culling sphere that holds it.
+    let spheres = &frame.plan.shadows.cascade_spheres;
+    let cascade_of = |z: f32| {
+        let p = glam::Vec3::new(PLANK_EDGE_X, 0.0, z);
+        spheres.iter().position(|s| s.center.distance(p) < s.radius).expect("inside the cascades")
+    };
+    let mut cascades = Vec::new();
+    for z in [(1.05, 1.45), (-0.6, 0.5), (-1.42, -1.27)] {
+        let cascade = (cascade_of(z.0), cascade_of(z.1));
+        assert_eq!(cascade.0, cascade.1, "z {z:?} lies in one cascade");
+        cascades.push(cascade.0);
+        let measured = profile_between(&frame, z, PLANK_EDGE_X - width, PLANK_EDGE_X + width, width / 12.0);
+        let measured_width = crossing(&measured, 0.1) - crossing(&measured, 0.9);
+        let error = (measured_width - predicted).abs() / predicted;
+        eprintln!(
+            "z {z:?} (cascade {}): 10-90% width {measured_width:.4} m against {predicted:.4} m ({:.1}%)",
+            cascade.0,
+            100.0 * error
+        );
+        assert!(error < 0.15, "z {z:?}: {measured_width} m against {predicted} m");
+    }
+    assert!(cascades[0] < cascades[1] && cascades[1] < cascades[2], "three cascades: {cascades:?}");
 }
