@@ -35,7 +35,7 @@ fn main() {
         compiler.add_constant(format!("OVERRIDE_{}", o.name), o.id.into());
     }
     let mut done: Vec<&str> = Vec::new();
-    for &artifact in ARTIFACTS {
+    for &artifact in ARTIFACTS.iter().chain(SETUP_ARTIFACTS) {
         if done.contains(&artifact) {
             continue;
         }

@@ -1,6 +1,7 @@
 //! The path tracer behind lightmaps and probes. Light arrives at a surface point from:
 //! baked lights directly (next event estimation with the reference's shadow rays), and
-//! along cosine-weighted paths: the sky (the ambient setting), emissive surfaces, and the
+//! along cosine-weighted paths: the sky (the ambient setting, or the environment where
+//! `[environment] mode = "baked"`), emissive surfaces, and the
 //! light of baked and mixed lights reflected diffusely by up to `bounces` surfaces. The
 //! falloff is the runtime's: inverse square times the range window, times the spot cone.
 //! At every vertex a path also aims at one point of an emissive surface; that and a bounce
@@ -11,6 +12,8 @@ use crate::emitters::{Emitters, power_heuristic};
 use crate::rng::Rng;
 use crate::surface::Surfaces;
 use chiaro_math::light::{distance_attenuation, spot_angle_params, spot_attenuation};
+use chiaro_scene::environment::{EnvironmentError, EnvironmentLight};
+use chiaro_scene::settings::EnvironmentMode;
 use chiaro_scene::{Light, LightKind, LightMode, MeshInstance, Scene};
 use chiaro_trace::{SceneBvh, light_visibility};
 use glam::Vec3;
@@ -32,11 +35,41 @@ struct BakeLight {
     indirect: bool,
 }
 
+/// What a path that leaves the scene sees.
+#[derive(Clone, Debug)]
+pub enum Sky {
+    /// `render.ambient` from every direction.
+    Constant(Vec3),
+    /// The environment (`[environment] mode = "baked"`).
+    Environment(EnvironmentLight),
+}
+
+impl Sky {
+    /// The sky for `settings`: the environment where it is baked, else the ambient term.
+    pub fn for_bake(settings: &chiaro_scene::Settings, scene: &Scene) -> Result<Sky, EnvironmentError> {
+        let env = &settings.environment;
+        if env.mode == EnvironmentMode::Baked
+            && let Some(light) = EnvironmentLight::from_settings(env, scene)?
+        {
+            return Ok(Sky::Environment(light));
+        }
+        Ok(Sky::Constant(Vec3::from(settings.render.ambient)))
+    }
+
+    /// Radiance arriving from unit direction `d`.
+    pub fn radiance(&self, d: Vec3) -> Vec3 {
+        match self {
+            Sky::Constant(radiance) => *radiance,
+            Sky::Environment(light) => light.radiance(d),
+        }
+    }
+}
+
 pub struct Tracer<'a> {
     pub bvh: &'a SceneBvh,
     surfaces: Surfaces<'a>,
     lights: Vec<BakeLight>,
-    sky: Vec3,
+    sky: Sky,
     bounces: u32,
     emitters: Emitters,
 }
@@ -94,7 +127,7 @@ impl<'a> Tracer<'a> {
         scene: &'a Scene,
         modes: &[LightMode],
         bvh: &'a SceneBvh,
-        ambient: Vec3,
+        sky: Sky,
         bounces: u32,
         range_threshold_lux: f32,
     ) -> Tracer<'a> {
@@ -121,7 +154,7 @@ impl<'a> Tracer<'a> {
             .collect();
         // The same instances as the BVH's: an emitter the rays cannot hit is not aimed at.
         let emitters = Emitters::new(scene, bakes_instance);
-        Tracer { bvh, surfaces: Surfaces::new(scene), lights, sky: ambient, bounces, emitters }
+        Tracer { bvh, surfaces: Surfaces::new(scene), lights, sky, bounces, emitters }
     }
 
     pub fn bounces(&self) -> u32 {
@@ -278,7 +311,7 @@ impl<'a> Tracer<'a> {
         loop {
             *rays += 1;
             let Some(hit) = self.bvh.closest_hit(origin, direction, f32::INFINITY) else {
-                radiance += throughput * self.sky;
+                radiance += throughput * self.sky.radiance(direction);
                 break;
             };
             first_hit = first_hit.or(Some(hit.t));

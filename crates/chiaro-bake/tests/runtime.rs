@@ -285,3 +285,57 @@ fn baked_direct_light_equals_realtime_diffuse_light_per_light_type() {
         assert!(at(0.95) < 0.03, "{name}: p95 {}", at(0.95));
     }
 }
+
+#[test]
+fn a_box_on_a_floor_under_the_baked_sky_gets_the_traced_sky_light() {
+    use chiaro_scene::environment::EnvironmentLight;
+    use chiaro_scene::settings::{EnvironmentMode, EnvironmentSource};
+    // The sun sets the sky's direction and brightness; realtime, so the bake holds only
+    // the sky.
+    let mut sun = Light::new(LightKind::Directional, Vec3::ZERO, Vec3::new(-0.4, -0.8, -0.3));
+    sun.intensity = 5.0;
+    let mut scene = floor_scene(8.0, Vec3::new(0.0, 5.0, 4.0), vec![sun]);
+    add_box(&mut scene, Vec3::new(0.0, 0.5, 0.0), Vec3::ONE, 0.3, CastShadows::On);
+    let mut s = settings(RenderPath::Forward);
+    s.environment.source = EnvironmentSource::Sky;
+    s.environment.mode = EnvironmentMode::Baked;
+    s.bake.samples = Some(256);
+    s.bake.texels_per_metre = 8.0;
+    let baked = baked_scene(&scene, &s);
+    let frame = render(&mut renderer(), &baked, &s, 128);
+    let aovs = frame.aovs.as_ref().unwrap();
+
+    let sky = EnvironmentLight::from_settings(&s.environment, &scene).unwrap().unwrap();
+    let bvh = chiaro_trace::SceneBvh::build(&scene);
+    let luminance = |e: Vec3| chiaro_math::tonemap::luminance(e);
+    let open_floor =
+        luminance(chiaro_trace::environment_irradiance(&bvh, &sky, Vec3::new(3.5, 0.0, 3.5), Vec3::Y, 32, 7));
+    let (mut ratios, mut shaded) = (Vec::new(), Vec::new());
+    for i in (0..aovs.position_ws.len()).step_by(2) {
+        let p = Vec3::from(aovs.position_ws[i]);
+        if !(p.y.abs() < 1e-3 && p.x.abs() < 3.5 && p.z.abs() < 3.5) {
+            continue;
+        }
+        let traced = luminance(chiaro_trace::environment_irradiance(&bvh, &sky, p, Vec3::Y, 24, i as u64));
+        let ratio = luminance(Vec3::from(aovs.baked_irradiance[i])) / traced;
+        ratios.push(ratio);
+        // Where the box hides a tenth of the sky or more.
+        if traced < 0.9 * open_floor {
+            shaded.push(ratio);
+        }
+    }
+    ratios.sort_by(f32::total_cmp);
+    shaded.sort_by(f32::total_cmp);
+    let shaded_median = shaded[shaded.len() / 2];
+    let (median, p10, p90) = (ratios[ratios.len() / 2], ratios[ratios.len() / 10], ratios[ratios.len() * 9 / 10]);
+    println!(
+        "baked sky on the floor against the traced sky: {} pixels, baked / traced median {median:.4}, 10th \
+         percentile {p10:.4}, 90th {p90:.4}; the {} pixels the box darkens: median {shaded_median:.4}; open floor \
+         {open_floor:.2} lux",
+        ratios.len(),
+        shaded.len()
+    );
+    assert!(ratios.len() > 1_000 && shaded.len() > 100, "{} {}", ratios.len(), shaded.len());
+    assert!((median - 1.0).abs() < 0.03, "median {median}");
+    assert!((shaded_median - 1.0).abs() < 0.03, "median by the box {shaded_median}");
+}

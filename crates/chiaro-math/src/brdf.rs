@@ -10,7 +10,8 @@ fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
     a2 / (PI * f * f)
 }
 
-fn v_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
+/// The height-correlated Smith visibility term, G / (4 n.v n.l).
+pub fn v_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, alpha: f32) -> f32 {
     let a2 = alpha * alpha;
     let gv = n_dot_l * (n_dot_v * n_dot_v * (1.0 - a2) + a2).sqrt();
     let gl = n_dot_v * (n_dot_l * n_dot_l * (1.0 - a2) + a2).sqrt();

@@ -7,6 +7,7 @@ pub mod bounds;
 pub mod brdf;
 pub mod camera;
 pub mod culling;
+pub mod environment;
 pub mod frustum;
 pub mod light;
 pub mod rigid;

@@ -29,6 +29,9 @@ pub enum RenderError {
     /// twice or written but never created.
     #[error("frame graph: {0}")]
     FrameGraph(String),
+    /// The environment could not be made; the message names the image file.
+    #[error("{0}")]
+    Environment(String),
     /// A request this device cannot serve, such as an MSAA sample count it lacks.
     #[error("{0}")]
     Unsupported(String),

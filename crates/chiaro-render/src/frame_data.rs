@@ -3,10 +3,12 @@
 //! the cookie arrays with their samplers, the lightmap array (sampled with the clamping
 //! cookie sampler: one mip, bilinear), the light probes and the shadow mask array, and
 //! the culled light lists: past the uniform's 512, every light in a texel table
-//! (`texel_table`), and the list records and the lists' light indices in storage buffers.
+//! (`texel_table`), and the list records and the lists' light indices in storage buffers;
+//! then the environment's uniform, prefiltered cube, BRDF table and image (`environment`).
 //! A frame plan flows in and is uploaded; a bind group over this frame's buffers and
 //! atlases flows out.
 
+use crate::environment::GpuEnvironmentMaps;
 use crate::error::RenderError;
 use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuShadows};
 use crate::graph::Targets;
@@ -144,6 +146,10 @@ impl FrameData {
                 entry(15, S::FRAGMENT, TEXEL_TABLE),
                 entry(16, S::FRAGMENT, buffer(storage)),
                 entry(17, S::FRAGMENT, buffer(storage)),
+                entry(18, S::FRAGMENT, buffer(uniform)),
+                entry(19, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::Cube)),
+                entry(20, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2)),
+                entry(21, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2)),
             ],
         });
         let uniform_buffer = |label, size| {
@@ -218,7 +224,14 @@ impl FrameData {
 
     /// The bind group over this frame's buffers, the scene's objects, cookies and bakes, and
     /// the shadow atlases in `targets`.
-    pub fn bind_group(&self, device: &wgpu::Device, scene: &GpuScene, targets: &Targets) -> wgpu::BindGroup {
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        scene: &GpuScene,
+        environment: &GpuEnvironmentMaps,
+        targets: &Targets,
+    ) -> wgpu::BindGroup {
+        let texture = |view| wgpu::BindingResource::TextureView(view);
         let view = |r| wgpu::BindingResource::TextureView(targets.view(r));
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame bind group"),
@@ -251,6 +264,10 @@ impl FrameData {
                 },
                 wgpu::BindGroupEntry { binding: 16, resource: self.list_records.buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 17, resource: self.list_indices.buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 18, resource: environment.uniform.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 19, resource: texture(&environment.specular) },
+                wgpu::BindGroupEntry { binding: 20, resource: texture(&environment.brdf_table) },
+                wgpu::BindGroupEntry { binding: 21, resource: texture(&environment.image) },
             ],
         })
     }

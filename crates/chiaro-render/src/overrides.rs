@@ -64,6 +64,8 @@ overrides! {
     MATERIAL_TEXTURED = 14;
     /// Contact-hardening (PCSS) shadows are compiled in.
     PCSS_SHADOWS = 15;
+    /// Image-based environment light is compiled in (else the constant ambient term).
+    ENVIRONMENT_ENABLED = 16;
 }
 
 #[cfg(test)]

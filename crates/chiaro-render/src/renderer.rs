@@ -3,6 +3,7 @@
 //! the GPU unless the caller reads something back; up to two frames are in flight.
 
 use crate::context::GpuContext;
+use crate::environment::EnvironmentCache;
 use crate::error::RenderError;
 use crate::frame_data::FrameData;
 use crate::graph::target::ATTACHMENT_COPY;
@@ -54,6 +55,8 @@ pub struct Renderer {
     /// The device it renders with.
     pub ctx: GpuContext,
     frame_data: FrameData,
+    /// The environment's maps, made again when its source changes.
+    environment: EnvironmentCache,
     material_layout: wgpu::BindGroupLayout,
     /// Every pass of `passes::DECLARATIONS`, in the same order; the frame graph says which
     /// run, and when.
@@ -72,6 +75,7 @@ impl Renderer {
     pub fn new(ctx: GpuContext) -> Result<Renderer, RenderError> {
         let device = &ctx.device;
         let frame_data = FrameData::new(device);
+        let environment = EnvironmentCache::new(device, &ctx.queue);
         let material_layout = material_layout(device);
         let passes = crate::passes::make_all(&PassInit {
             ctx: &ctx,
@@ -84,6 +88,7 @@ impl Renderer {
         ctx.take_error()?;
         Ok(Renderer {
             frame_data,
+            environment,
             material_layout,
             passes,
             targets: Targets::default(),
@@ -246,7 +251,9 @@ impl Renderer {
 
         let (device, queue) = (&self.ctx.device, &self.ctx.queue);
         self.frame_data.upload(device, queue, &plan, scene, settings)?;
-        let frame_bind_group = self.frame_data.bind_group(device, &prepared.gpu, &self.targets);
+        self.environment.update(device, queue, &settings.environment, scene)?;
+        let frame_bind_group =
+            self.frame_data.bind_group(device, &prepared.gpu, self.environment.maps(), &self.targets);
         let prepare = PrepareContext { device, queue, plan: &plan, scene: &prepared.gpu, source: scene, output_format };
         for &i in &graph.order {
             self.passes[i].prepare(&prepare);

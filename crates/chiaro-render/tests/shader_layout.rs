@@ -42,6 +42,7 @@ fn every_gpu_struct_is_checked() {
     // The `Gpu*` structs declared in src/gpu, except the vertex (read as attributes; its
     // offsets are checked against the attribute list in src/gpu/vertex.rs).
     let sources = [
+        include_str!("../src/gpu/environment.rs"),
         include_str!("../src/gpu/frame.rs"),
         include_str!("../src/gpu/light.rs"),
         include_str!("../src/gpu/material.rs"),

@@ -8,6 +8,7 @@
 pub mod animation;
 pub mod baked;
 pub mod demo;
+pub mod environment;
 pub mod error;
 pub mod files;
 pub mod gltf_import;

@@ -155,3 +155,56 @@ pub fn pole_and_plank_scene(mode: crate::types::ShadowMode, aspect: f32) -> Scen
 pub fn look_from(scene: &mut Scene, eye: Vec3, target: Vec3) {
     scene.cameras[0].world_from_view = Mat4::look_at_rh(eye, target, Vec3::Y).inverse();
 }
+
+/// A sphere's material in `spheres_scene`: linear base colour, metallic, roughness.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphereMaterial {
+    /// Linear RGB base colour.
+    pub base_color: Vec3,
+    /// 0 dielectric, 1 metal.
+    pub metallic: f32,
+    /// Perceptual roughness.
+    pub roughness: f32,
+}
+
+/// Spheres of radius 1 in a row along X (2.5 m apart, centred on the origin), one per
+/// material, with no floor and no light, seen from +Z: what environment tests look at.
+pub fn spheres_scene(materials: &[SphereMaterial]) -> Scene {
+    let mut scene = floor_scene(1.0, Vec3::new(0.0, 0.0, 5.0), Vec::new());
+    scene.materials.clear();
+    scene.instances.clear();
+    let count = materials.len();
+    for (i, m) in materials.iter().enumerate() {
+        scene.materials.push(Material {
+            name: format!("sphere {i}"),
+            base_color: m.base_color.extend(1.0),
+            metallic: m.metallic,
+            roughness: m.roughness,
+            ..Material::default()
+        });
+        let x = (i as f32 - (count as f32 - 1.0) / 2.0) * 2.5;
+        scene.instances.push(MeshInstance {
+            mesh: i,
+            node: 100 + i,
+            name: format!("sphere {i}"),
+            world_from_local: Mat4::from_translation(Vec3::new(x, 0.0, 0.0)),
+            cast_shadows: CastShadows::On,
+            receive_shadows: true,
+            is_static: false,
+            lightmap: None,
+            label: 0,
+        });
+    }
+    // One material per sphere: each sphere has its own mesh.
+    scene.meshes = (0..count)
+        .map(|i| {
+            let mut sphere = shapes::sphere(1.0, 96, 48);
+            sphere.material = Some(i);
+            Mesh { name: format!("sphere {i}"), primitives: vec![sphere] }
+        })
+        .collect();
+    let distance = 2.0 + 1.5 * count as f32;
+    look_from(&mut scene, Vec3::new(0.0, 0.0, distance), Vec3::ZERO);
+    scene.cameras[0].yfov_rad = 50f32.to_radians();
+    scene
+}

@@ -65,7 +65,7 @@ fn uniform_disc(u: Vec2) -> Vec2 {
 }
 
 /// The next float in [0, 1) of a SplitMix64 sequence.
-fn unit_float(state: &mut u64) -> f32 {
+pub(crate) fn unit_float(state: &mut u64) -> f32 {
     *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
     let mut z = *state;
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);

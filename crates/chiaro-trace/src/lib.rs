@@ -8,8 +8,10 @@
 pub mod alpha;
 pub mod area;
 pub mod bvh;
+pub mod environment;
 pub mod reference;
 
 pub use area::area_light_visibility;
 pub use bvh::{Hit, SceneBvh};
+pub use environment::environment_irradiance;
 pub use reference::{PixelCamera, ShadowReference, light_visibility, trace_shadow_reference};

@@ -9,6 +9,7 @@ use crate::reference::{Disagreement, ReferenceJob};
 use crate::save_scene;
 use crate::viewer::Viewer;
 use chiaro_render::{AovView, DebugView};
+use chiaro_scene::settings::EnvironmentSource;
 use chiaro_scene::{Light, Settings};
 use std::path::PathBuf;
 
@@ -99,6 +100,15 @@ impl Viewer {
                     .map_err(|e| format!("{e:#}"))
             }
             None => Ok(()),
+        });
+        // A newly named environment image is checked from its header before it is kept.
+        let checked = checked.and_then(|()| match &settings.environment.source {
+            EnvironmentSource::File(path)
+                if settings.environment.source != self.state.settings.current.environment.source =>
+            {
+                chiaro_scene::environment::check_image(path).map(|_| ()).map_err(|e| e.to_string())
+            }
+            _ => Ok(()),
         });
         if let Err(e) = checked {
             self.state.panel.error = Some(e);

@@ -229,3 +229,32 @@ fn the_timeline_poses_the_scene_and_the_rest_pose_returns() {
     assert!((timeline.advanced(1.0, 4.0) - 0.5).abs() < 1e-6);
     assert_eq!(timeline.advanced(1.0, 0.0), 0.0);
 }
+
+#[test]
+fn a_dropped_environment_image_lights_the_scene_and_a_bad_one_is_reported() {
+    use chiaro_scene::settings::EnvironmentSource;
+    let dir = std::env::temp_dir().join(format!("chiaro-view-drop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, width: u32, height: u32| {
+        let path = dir.join(name);
+        let pixels = vec![image::Rgb([0.5f32; 3]); (width * height) as usize];
+        let file = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+        image::codecs::hdr::HdrEncoder::new(file).encode(&pixels, width as usize, height as usize).unwrap();
+        path
+    };
+    let mut viewer = demo_viewer();
+    let good = write("studio.hdr", 16, 8);
+    viewer.apply(crate::input::dropped_file(good.clone(), &viewer.state.settings.current));
+    assert_eq!(viewer.state.settings.current.environment.source, EnvironmentSource::File(good.clone()));
+    assert_eq!(viewer.state.panel.error, None);
+
+    let square = write("square.hdr", 8, 8);
+    viewer.apply(crate::input::dropped_file(square, &viewer.state.settings.current));
+    assert_eq!(viewer.state.settings.current.environment.source, EnvironmentSource::File(good), "kept");
+    let error = viewer.state.panel.error.clone().unwrap_or_default();
+    assert!(error.contains("square.hdr") && error.contains("not equirectangular"), "{error}");
+
+    // Anything else dropped is a scene to open.
+    let scene = asset("ShadowsSpot/glTF/shadows-spot.gltf");
+    assert!(matches!(crate::input::dropped_file(scene, &Settings::default()), Action::Open(_)));
+}

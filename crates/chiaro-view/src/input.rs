@@ -129,7 +129,7 @@ impl Viewer {
                 let _ = gpu.window.request_inner_size(window_size(w, h, scale_factor));
                 vec![Action::RefreshPanel]
             }
-            WindowEvent::DroppedFile(path) => vec![Action::Open(path)],
+            WindowEvent::DroppedFile(path) => vec![dropped_file(path, &self.state.settings.current)],
             _ => refresh(response.repaint),
         }
     }
@@ -163,6 +163,20 @@ impl Viewer {
             return key_action(&event.logical_key, &self.state).into_iter().collect();
         }
         Vec::new()
+    }
+}
+
+/// A dropped environment image (.hdr or .exr) lights the scene; any other file is opened
+/// as a scene.
+pub fn dropped_file(path: std::path::PathBuf, settings: &chiaro_scene::Settings) -> Action {
+    use chiaro_scene::settings::EnvironmentSource;
+    match EnvironmentSource::parse(&path.to_string_lossy()) {
+        Ok(source @ EnvironmentSource::File(_)) => {
+            let mut edited = settings.clone();
+            edited.environment.source = source;
+            Action::SetSettings(Box::new(edited))
+        }
+        _ => Action::Open(path),
     }
 }
 

@@ -37,6 +37,8 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub shadow: ShadowArgs,
     #[command(flatten)]
+    pub environment: crate::environment_arg::EnvironmentArg,
+    #[command(flatten)]
     pub path: PathArgs,
     #[command(flatten)]
     pub bake: BakeUseArgs,
@@ -134,6 +136,7 @@ fn stats(mut v: Vec<f64>) -> Stats {
 pub fn run(args: BenchArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
+    args.environment.apply(&mut settings)?;
     args.path.apply(&mut settings)?;
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;

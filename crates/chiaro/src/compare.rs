@@ -38,6 +38,8 @@ pub struct CompareArgs {
     #[command(flatten)]
     pub shadow: ShadowArgs,
     #[command(flatten)]
+    pub environment: crate::environment_arg::EnvironmentArg,
+    #[command(flatten)]
     pub path: PathArgs,
     #[command(flatten)]
     pub bake: BakeUseArgs,
@@ -52,6 +54,7 @@ fn percentage(text: &str) -> Result<f64, String> {
 pub fn run(args: CompareArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
+    args.environment.apply(&mut settings)?;
     args.path.apply(&mut settings)?;
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;

@@ -7,6 +7,7 @@ mod bake_arg;
 mod batch;
 mod bench;
 mod compare;
+mod environment_arg;
 mod info;
 mod path_arg;
 mod render;

@@ -108,6 +108,8 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub shadow: ShadowArgs,
     #[command(flatten)]
+    pub environment: crate::environment_arg::EnvironmentArg,
+    #[command(flatten)]
     pub path: PathArgs,
     #[command(flatten)]
     pub bake: BakeUseArgs,
@@ -147,6 +149,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         settings.validate().map_err(|e| anyhow::anyhow!("--exposure: {e}"))?;
     }
     args.shadow.apply(&mut settings)?;
+    args.environment.apply(&mut settings)?;
     args.path.apply(&mut settings)?;
     let debug = drawn_debug_view(&args.debug)?;
     if debug == Some(DebugView::Cascades) && settings.render.path == RenderPath::Deferred {

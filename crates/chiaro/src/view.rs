@@ -60,6 +60,8 @@ pub struct ViewArgs {
     #[command(flatten)]
     pub shadow: ShadowArgs,
     #[command(flatten)]
+    pub environment: crate::environment_arg::EnvironmentArg,
+    #[command(flatten)]
     pub path: PathArgs,
     #[command(flatten)]
     pub bake: BakeUseArgs,
@@ -79,6 +81,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
     }
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
+    args.environment.apply(&mut settings)?;
+    // The viewer opens in the studio, as other model viewers do, unless told otherwise.
+    if args.environment.environment.is_none() && args.settings.is_none() {
+        settings.environment.source = chiaro_scene::settings::EnvironmentSource::Neutral;
+    }
     args.path.apply(&mut settings)?;
     // The view's size is render.width and height, so that saved settings keep it.
     settings.render.width = args.width.unwrap_or(settings.render.width);

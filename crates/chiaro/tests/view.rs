@@ -63,7 +63,12 @@ fn the_viewer_screenshot_and_window_show_what_chiaro_render_writes() {
     );
     assert_eq!(shot.code, 0, "the viewer failed: {}", shot.stderr);
     assert!(shot.stderr.contains("after 3 frames"), "{}", shot.stderr);
-    let render = chiaro(&[&["render", scene][..], &size, &["-o", "render.png"]].concat(), &[], dir.path());
+    // The viewer opens in the neutral studio environment.
+    let render = chiaro(
+        &[&["render", scene][..], &size, &["--environment", "neutral", "-o", "render.png"]].concat(),
+        &[],
+        dir.path(),
+    );
     assert_eq!(render.code, 0, "{}", render.stderr);
     let (shot, reference) = (rgb(&dir.path().join("shot.png")), rgb(&dir.path().join("render.png")));
     assert_eq!(shot.len(), reference.len(), "same size");
@@ -95,10 +100,14 @@ fn a_debug_view_screenshot_equals_chiaro_render_with_the_same_debug_view() {
         dir.path(),
     );
     assert_eq!(shot.code, 0, "the viewer failed: {}", shot.stderr);
-    let render =
-        chiaro(&[&["render"][..], &size, &["--debug", "cascades", "-o", "render.png"]].concat(), &[], dir.path());
+    let studio = ["--environment", "neutral"];
+    let render = chiaro(
+        &[&["render"][..], &size, &studio, &["--debug", "cascades", "-o", "render.png"]].concat(),
+        &[],
+        dir.path(),
+    );
     assert_eq!(render.code, 0, "{}", render.stderr);
-    let plain = chiaro(&[&["render"][..], &size, &["-o", "plain.png"]].concat(), &[], dir.path());
+    let plain = chiaro(&[&["render"][..], &size, &studio, &["-o", "plain.png"]].concat(), &[], dir.path());
     assert_eq!(plain.code, 0, "{}", plain.stderr);
     let (shot, reference, plain) =
         (rgb(&dir.path().join("shot.png")), rgb(&dir.path().join("render.png")), rgb(&dir.path().join("plain.png")));
@@ -154,7 +163,7 @@ fn the_viewer_reloads_a_scene_whose_file_changes() {
     assert!(status.success(), "the viewer failed: {log}");
     assert!(log.contains(&format!("chiaro: reloaded {}", scene.display())), "no reload: {log}");
     // The screenshot shows the changed file, as chiaro render draws it.
-    let size = ["--width", w.as_str(), "--height", h.as_str()];
+    let size = ["--width", w.as_str(), "--height", h.as_str(), "--environment", "neutral"];
     let render =
         chiaro(&[&["render", scene.to_str().unwrap()][..], &size, &["-o", "render.png"]].concat(), &[], dir.path());
     assert_eq!(render.code, 0, "{}", render.stderr);

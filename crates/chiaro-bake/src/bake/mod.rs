@@ -15,7 +15,7 @@ use crate::channels::ChannelAssignment;
 use crate::denoise::{NoiseEstimate, Strength, strength_for};
 use crate::layout::{AtlasLayout, layout_scene};
 use crate::rng::Rng;
-use crate::tracer::{Tracer, bakes_instance};
+use crate::tracer::{Sky, Tracer, bakes_instance};
 use chiaro_scene::baked::{BakedLighting, Lightmap, ProbeGrid, ShadowMask};
 use chiaro_scene::settings::BakeSettings;
 use chiaro_scene::{Scene, Settings};
@@ -128,14 +128,8 @@ pub fn bake(
     let bvh = SceneBvh::build_with(scene, bakes_instance);
     let assignment = lights::shadow_mask_channels(scene, settings);
     let modes = lights::bake_modes(scene, &assignment);
-    let tracer = Tracer::new(
-        scene,
-        &modes,
-        &bvh,
-        Vec3::from(settings.render.ambient),
-        settings.bake.bounces,
-        settings.lights.range_threshold_lux,
-    );
+    let sky = Sky::for_bake(settings, scene).map_err(|e| BakeError::Invalid(e.to_string()))?;
+    let tracer = Tracer::new(scene, &modes, &bvh, sky, settings.bake.bounces, settings.lights.range_threshold_lux);
     let channel_lights = lights::channel_lights(&assignment, &tracer);
     let job = Job {
         scene,

@@ -24,6 +24,10 @@ pub struct Manifest {
     pub settings: BakeSettings,
     /// The other settings the bake depends on.
     pub ambient: [f32; 3],
+    /// The environment the sky was, where `[environment] mode = "baked"` (else the
+    /// ambient term was).
+    #[serde(default)]
+    pub environment: Option<chiaro_scene::settings::EnvironmentSettings>,
     pub range_threshold_lux: f32,
     /// Side of every atlas in texels.
     pub lightmap_size: u32,
@@ -114,6 +118,9 @@ pub(super) fn manifest_of(scene: &Scene, settings: &Settings, result: &BakeResul
             ..settings.bake.clone()
         },
         ambient: settings.render.ambient,
+        environment: (settings.environment.enabled()
+            && settings.environment.mode == chiaro_scene::settings::EnvironmentMode::Baked)
+            .then(|| settings.environment.clone()),
         range_threshold_lux: settings.lights.range_threshold_lux,
         lightmap_size: result.layout.size,
         lightmaps: files("lightmap", result.lighting.lightmaps.len()),

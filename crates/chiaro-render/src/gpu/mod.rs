@@ -3,12 +3,14 @@
 //! `GPU_STRUCT_LAYOUTS` lists every one with its fields' offsets, and a test checks each
 //! against naga's layout of the composed shaders.
 
+mod environment;
 mod frame;
 mod light;
 mod material;
 mod shadow;
 mod vertex;
 
+pub use environment::{GpuEnvironment, GpuEnvironmentBake};
 pub use frame::{GpuFrame, GpuObject, GpuProbeGridHeader};
 pub use light::{GpuAovLight, GpuLight, GpuLightListEntry, GpuVolumeLight};
 pub use material::{GpuMaterial, GpuTextureTransform};
@@ -66,6 +68,8 @@ layouts! {
         cascade_blend, pcss_blocker_samples, pcss_filter_samples,
     }
     GpuCasterView { clip_from_world, flags }
+    GpuEnvironment { radiance_sh, turn_cos, turn_sin, intensity, specular_last_mip, diffuse_baked }
+    GpuEnvironmentBake { size, source_size, roughness, samples }
     GpuTextureTransform { linear, offset, uv_set }
     GpuMaterial {
         base_color, emissive, metallic, roughness, normal_scale, occlusion_strength, alpha_cutoff,

@@ -4,6 +4,7 @@
 //! target. On the deferred path it draws only the transparent draws, over the lit
 //! G-buffer's image and depth.
 
+use super::background::{BackgroundPipelines, BackgroundTargets};
 use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, forward_depth, scene_depth};
 use super::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::graph::target::ATTACHMENT_SAMPLED;
@@ -31,6 +32,7 @@ pub struct ForwardPass {
     depth_format: wgpu::TextureFormat,
     /// One set per shader specialisation, made when first used.
     pipelines: HashMap<Variant, MeshPipelines>,
+    background: BackgroundPipelines,
 }
 
 impl PassType for ForwardPass {
@@ -65,6 +67,7 @@ impl PassType for ForwardPass {
             layout: init.scene_layout(),
             depth_format: init.depth_format,
             pipelines: HashMap::new(),
+            background: BackgroundPipelines::new(init.device, init.frame_layout, init.depth_format),
         }
     }
 }
@@ -105,6 +108,9 @@ impl FramePass for ForwardPass {
         }
         let pipelines = self.pipelines.get_mut(&key).expect("made above");
         pipelines.prepare(cx.device, &cx.scene.draws, forward_draws(cx.plan), cx.plan.msaa);
+        if let Some(targets) = background_targets(cx.plan) {
+            self.background.prepare(cx.device, &targets);
+        }
     }
 
     fn record(&self, cx: &mut PassContext<'_>) {
@@ -147,8 +153,28 @@ impl FramePass for ForwardPass {
             multiview_mask: None,
         });
         pass.set_bind_group(0, cx.frame_bind_group, &[]);
-        self.pipelines[&Variant::of(cx.plan)].draw(&mut pass, cx.scene, forward_draws(cx.plan));
+        let pipelines = &self.pipelines[&Variant::of(cx.plan)];
+        match background_targets(cx.plan) {
+            // Behind the transparent draws, over what the opaque ones left uncovered.
+            Some(targets) => {
+                let (opaque, transparent) = cx.plan.camera_draws.split_at(cx.plan.transparent_from);
+                pipelines.draw(&mut pass, cx.scene, opaque);
+                self.background.draw(&mut pass, &targets);
+                pipelines.draw(&mut pass, cx.scene, transparent);
+            }
+            None => pipelines.draw(&mut pass, cx.scene, forward_draws(cx.plan)),
+        }
     }
+}
+
+/// The forward path's background pipeline, where it draws the environment behind the
+/// scene (the deferred path's G-buffer pass draws it there).
+fn background_targets(plan: &FramePlan) -> Option<BackgroundTargets> {
+    (plan.environment_background && plan.path == RenderPath::Forward).then(|| BackgroundTargets {
+        color_formats: vec![HDR_FORMAT],
+        samples: plan.msaa,
+        ldr_exp2: false,
+    })
 }
 
 /// The shader's override constants for a frame: how it finds its lights, where it reads

@@ -3,6 +3,7 @@
 //! the light accumulation target, and stencil bit `STENCIL_SURFACE` where a surface is,
 //! so that the light volumes never shade the sky.
 
+use super::background::{BackgroundPipelines, BackgroundTargets};
 use super::forward::{HDR, HDR_FORMAT};
 use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, STENCIL_SURFACE, cleared, depth_desc, scene_depth};
 use crate::graph::target::ATTACHMENT_SAMPLED;
@@ -50,9 +51,14 @@ pub struct GBufferPass {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     depth_format: wgpu::TextureFormat,
-    /// By light buffer and whether baked light is compiled in; made when first used.
-    pipelines: HashMap<(LightBuffer, bool), MeshPipelines>,
+    /// By light buffer and whether baked light and the environment are compiled in; made
+    /// when first used.
+    pipelines: HashMap<PipelineKey, MeshPipelines>,
+    background: BackgroundPipelines,
 }
+
+/// The light buffer, and whether baked light and the environment are compiled in.
+type PipelineKey = (LightBuffer, bool, bool);
 
 impl PassType for GBufferPass {
     const NAME: &'static str = "gbuffer";
@@ -76,12 +82,13 @@ impl PassType for GBufferPass {
             layout: init.scene_layout(),
             depth_format: init.depth_format,
             pipelines: HashMap::new(),
+            background: BackgroundPipelines::new(init.device, init.frame_layout, init.depth_format),
         }
     }
 }
 
 impl GBufferPass {
-    fn create(&self, (light_buffer, baked): (LightBuffer, bool)) -> MeshPipelines {
+    fn create(&self, (light_buffer, baked, environment): PipelineKey) -> MeshPipelines {
         let ldr_exp2 = light_buffer == LightBuffer::LdrExp2;
         MeshPipelines::new(MeshPipelinesDesc {
             label: "gbuffer",
@@ -97,15 +104,33 @@ impl GBufferPass {
             depth_test: DepthTest::Nearest,
             depth_format: self.depth_format,
             marks_stencil: true,
-            constants: vec![overrides::LDR_EXP2.flag(ldr_exp2), overrides::BAKED_ENABLED.flag(baked)],
+            constants: vec![
+                overrides::LDR_EXP2.flag(ldr_exp2),
+                overrides::BAKED_ENABLED.flag(baked),
+                overrides::ENVIRONMENT_ENABLED.flag(environment),
+            ],
             alpha_test_override: Some(overrides::ALPHA_TESTED),
             textured_override: Some(overrides::MATERIAL_TEXTURED),
         })
     }
 }
 
-fn pipeline_key(plan: &FramePlan) -> (LightBuffer, bool) {
-    (plan.light_buffer, plan.features.baked)
+fn pipeline_key(plan: &FramePlan) -> PipelineKey {
+    (plan.light_buffer, plan.features.baked, plan.features.environment)
+}
+
+/// The G-buffer's attachments, for the background pipeline, where it draws one.
+fn background_targets(plan: &FramePlan) -> Option<BackgroundTargets> {
+    let ldr_exp2 = plan.light_buffer == LightBuffer::LdrExp2;
+    plan.environment_background.then(|| BackgroundTargets {
+        color_formats: vec![
+            if ldr_exp2 { LIGHT_BUFFER_LDR_FORMAT } else { HDR_FORMAT },
+            GBUFFER_ALBEDO_METALLIC_FORMAT,
+            GBUFFER_PACKED_FORMAT,
+        ],
+        samples: 1,
+        ldr_exp2,
+    })
 }
 
 /// The opaque and masked draws, which the G-buffer takes.
@@ -122,6 +147,9 @@ impl FramePass for GBufferPass {
         }
         let pipelines = self.pipelines.get_mut(&key).expect("made above");
         pipelines.prepare(cx.device, &cx.scene.draws, opaque_draws(cx.plan), 1);
+        if let Some(targets) = background_targets(cx.plan) {
+            self.background.prepare(cx.device, &targets);
+        }
     }
 
     fn record(&self, cx: &mut PassContext<'_>) {
@@ -150,5 +178,8 @@ impl FramePass for GBufferPass {
         pass.set_stencil_reference(STENCIL_SURFACE);
         pass.set_bind_group(0, cx.frame_bind_group, &[]);
         self.pipelines[&pipeline_key(cx.plan)].draw(&mut pass, cx.scene, opaque_draws(cx.plan));
+        if let Some(targets) = background_targets(cx.plan) {
+            self.background.draw(&mut pass, &targets);
+        }
     }
 }

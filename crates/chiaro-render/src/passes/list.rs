@@ -7,10 +7,10 @@ macro_rules! frame_passes {
         $then! {
             shadows: ShadowPass ["shadow_caster"],
             depth_prepass: DepthPrepassPass ["forward"],
-            gbuffer: GBufferPass ["gbuffer"],
+            gbuffer: GBufferPass ["gbuffer", "background"],
             deferred_lights: DeferredLightsPass ["deferred_light"],
             ldr_decode: LdrDecodePass ["ldr_decode"],
-            forward: ForwardPass ["forward"],
+            forward: ForwardPass ["forward", "background"],
             fxaa: FxaaPass ["fxaa"],
             aov: AovPass ["aov"],
             id: IdPass ["id"],
@@ -20,3 +20,7 @@ macro_rules! frame_passes {
         }
     };
 }
+
+// Shader artifacts no frame pass draws with: the compute passes that make an environment's
+// maps when it is loaded (src/environment/).
+const SETUP_ARTIFACTS: &[&str] = &["environment_bake"];

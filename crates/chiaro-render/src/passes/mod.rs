@@ -6,6 +6,7 @@
 
 use crate::graph::{FramePass, PassDeclaration, PassInit, PassType};
 
+pub mod background;
 pub mod fullscreen;
 pub mod mesh;
 
@@ -31,6 +32,8 @@ macro_rules! declare_passes {
         pub fn shader_sources() -> Vec<(&'static str, &'static str)> {
             let mut sources: Vec<(&'static str, &'static str)> =
                 vec![$($(($artifact, crate::wgsl!($artifact))),*),*];
+            sources.push(("environment_bake", crate::wgsl!("environment_bake")));
+            debug_assert_eq!(SETUP_ARTIFACTS, ["environment_bake"], "each setup artifact is listed here");
             sources.sort();
             sources.dedup();
             sources

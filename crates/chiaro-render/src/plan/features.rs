@@ -23,12 +23,20 @@ pub struct ShaderFeatures {
     pub soft_cascades: bool,
     /// A realtime shadow is contact-hardening (`"shadows": "pcss"`).
     pub pcss: bool,
+    /// An environment lights the frame (`[environment] source` is not "none").
+    pub environment: bool,
 }
 
 impl ShaderFeatures {
     /// Everything on: what the shaders do when nothing is overridden.
-    pub const ALL: ShaderFeatures =
-        ShaderFeatures { cookies: true, baked: true, tent_filters: true, soft_cascades: true, pcss: true };
+    pub const ALL: ShaderFeatures = ShaderFeatures {
+        cookies: true,
+        baked: true,
+        tent_filters: true,
+        soft_cascades: true,
+        pcss: true,
+        environment: true,
+    };
 
     /// The features the frame's `lights`, the scene's bake and the settings call for.
     pub fn of(scene: &Scene, settings: &Settings, lights: &[FrameLight]) -> ShaderFeatures {
@@ -40,17 +48,19 @@ impl ShaderFeatures {
                 .any(|l| matches!(l.shadow, ShadowSlot::Realtime { filter, .. } if filter != ShadowFilter::Pcf2x2)),
             soft_cascades: settings.shadows.directional.cascade_blend == CascadeBlend::Soft,
             pcss: lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { pcss: true, .. })),
+            environment: settings.environment.enabled(),
         }
     }
 
     /// The override constants that select this specialisation.
-    pub fn constants(self) -> [(&'static str, f64); 5] {
+    pub fn constants(self) -> [(&'static str, f64); 6] {
         [
             overrides::COOKIES_ENABLED.flag(self.cookies),
             overrides::BAKED_ENABLED.flag(self.baked),
             overrides::TENT_FILTERS.flag(self.tent_filters),
             overrides::SOFT_CASCADES.flag(self.soft_cascades),
             overrides::PCSS_SHADOWS.flag(self.pcss),
+            overrides::ENVIRONMENT_ENABLED.flag(self.environment),
         ]
     }
 }

@@ -135,6 +135,8 @@ pub struct FramePlan {
     pub fxaa: bool,
     /// What the forward pass's shader needs compiled in.
     pub features: features::ShaderFeatures,
+    /// The environment is drawn behind the scene (`[environment] background`).
+    pub environment_background: bool,
 }
 
 impl FramePlan {
@@ -258,6 +260,7 @@ impl FramePlan {
             culling,
             culled,
             msaa,
+            environment_background: settings.environment.enabled() && settings.environment.background,
             fxaa,
             features,
         }

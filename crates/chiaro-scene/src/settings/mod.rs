@@ -12,6 +12,7 @@
 pub mod bake;
 pub mod bound;
 pub mod camera;
+pub mod environment;
 pub mod lighting;
 pub mod lights;
 pub mod render;
@@ -26,6 +27,7 @@ mod tests;
 pub use bake::{BakeQuality, BakeSettings};
 pub use bound::Bound;
 pub use camera::CameraSettings;
+pub use environment::{EnvironmentMode, EnvironmentSettings, EnvironmentSource};
 pub use lighting::{LightingSettings, MixedMode};
 pub use lights::{LightCulling, LightSettings};
 pub use render::{DeferredAntialiasing, LightBuffer, RenderPath, RenderSettings};
@@ -53,6 +55,8 @@ pub struct Settings {
     pub bake: BakeSettings,
     /// `[lighting]`: how mixed lights' baked and realtime shadows combine.
     pub lighting: LightingSettings,
+    /// `[environment]`: image-based light from a studio, a sky or an HDR image.
+    pub environment: EnvironmentSettings,
 }
 
 /// Why a settings file could not be used; both variants name the file.
@@ -78,7 +82,7 @@ pub enum SettingsError {
 
 /// Every numeric range a setting has, section by section.
 pub fn bounds() -> Vec<Bound> {
-    let sections = [render::BOUNDS, lights::BOUNDS, camera::BOUNDS, bake::BOUNDS];
+    let sections = [render::BOUNDS, lights::BOUNDS, camera::BOUNDS, bake::BOUNDS, environment::BOUNDS];
     sections.into_iter().flatten().copied().chain(shadows::bounds()).collect()
 }
 
@@ -89,7 +93,12 @@ impl Settings {
             .map_err(|source| SettingsError::Io { path: path.to_path_buf(), source })?;
         let text = String::from_utf8(text)
             .map_err(|_| SettingsError::Invalid { path: path.to_path_buf(), message: "not UTF-8 text".into() })?;
-        Settings::parse(&text).map_err(|message| SettingsError::Invalid { path: path.to_path_buf(), message })
+        let mut settings =
+            Settings::parse(&text).map_err(|message| SettingsError::Invalid { path: path.to_path_buf(), message })?;
+        // An environment image named in the file is found beside the file.
+        let dir = path.parent().unwrap_or(Path::new(""));
+        settings.environment.source = std::mem::take(&mut settings.environment.source).relative_to(dir);
+        Ok(settings)
     }
 
     /// Parses and validates TOML text; the error starts with the offending key and the
@@ -137,6 +146,7 @@ impl Settings {
         self.lights.validate(self.render.path)?;
         self.camera.validate()?;
         self.shadows.validate()?;
-        self.bake.validate()
+        self.bake.validate()?;
+        self.environment.validate()
     }
 }

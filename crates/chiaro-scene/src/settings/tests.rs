@@ -136,3 +136,37 @@ fn cascade_ratios_take_one_fewer_than_the_cascades() {
     let s = Settings::parse("[shadows.directional]\ncascade_count = 2\n").unwrap();
     assert_eq!(s.shadows.directional.ratios(), DEFAULT_CASCADE_RATIOS);
 }
+
+#[test]
+fn environment_sources_parse_and_bad_ones_name_the_key() {
+    let s = Settings::parse("[environment]\nsource = \"sky\"\nintensity = 2.5\nrotation_deg = -90\n").unwrap();
+    assert_eq!(s.environment.source, EnvironmentSource::Sky);
+    assert_eq!((s.environment.intensity, s.environment.rotation_deg), (2.5, -90.0));
+    assert!(s.environment.enabled() && s.environment.background);
+    let s = Settings::parse("[environment]\nsource = \"maps/Studio.HDR\"\nmode = \"baked\"\n").unwrap();
+    assert_eq!(s.environment.source, EnvironmentSource::File("maps/Studio.HDR".into()));
+    assert_eq!(s.environment.mode, EnvironmentMode::Baked);
+    assert!(!Settings::default().environment.enabled());
+    for (text, expected) in [
+        ("[environment]\nsource = \"studio.png\"\n", "environment.source (line 2): \"studio.png\" is not none"),
+        ("[environment]\nintensity = -1\n", "environment.intensity (line 2): -1 is out of range (0 to 1000000)"),
+        ("[environment]\nrotation_deg = 400\n", "environment.rotation_deg (line 2): 400 is out of range"),
+        ("[environment]\nmode = \"live\"\n", "environment.mode (line 2): unknown variant `live`"),
+    ] {
+        let e = Settings::parse(text).unwrap_err();
+        assert!(e.starts_with(expected), "{text:?}: {e}");
+    }
+}
+
+#[test]
+fn an_environment_image_is_found_beside_the_settings_file() {
+    let dir = std::env::temp_dir().join(format!("chiaro-settings-env-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("settings.toml");
+    std::fs::write(&file, "[environment]\nsource = \"sky.exr\"\n").unwrap();
+    let s = Settings::load(&file).unwrap();
+    assert_eq!(s.environment.source, EnvironmentSource::File(dir.join("sky.exr")));
+    // Saved and read again, the path stays as it was resolved.
+    assert_eq!(Settings::parse(&s.to_toml()).unwrap().environment, s.environment);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

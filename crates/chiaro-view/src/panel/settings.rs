@@ -4,7 +4,7 @@
 //! headless.
 
 use crate::action::Action;
-use chiaro_scene::settings::BakeQuality;
+use chiaro_scene::settings::{BakeQuality, EnvironmentMode, EnvironmentSource};
 use chiaro_scene::{CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
 use egui::{ComboBox, DragValue, Slider, Ui};
 
@@ -21,6 +21,7 @@ pub fn settings_panel(ui: &mut Ui, settings: &Settings) -> Option<Action> {
     render_section(ui, &mut edited);
     lights_section(ui, &mut edited);
     shadows_section(ui, &mut edited);
+    environment_section(ui, &mut edited);
     lighting_and_bake_section(ui, &mut edited);
     // Cascade ratios must match the count; unset, the defaults for it apply.
     if edited.shadows.directional.cascade_count != settings.shadows.directional.cascade_count {
@@ -183,6 +184,33 @@ fn cascade_ratios(ui: &mut Ui, count: u32, ratios: &mut Option<Vec<f32>>) {
     if ratios.is_some() && ui.small_button("default splits").clicked() {
         *ratios = None;
     }
+}
+
+/// The environment: a source (an image is dropped on the window or named in the file),
+/// its intensity, turn, background and mode.
+fn environment_section(ui: &mut Ui, s: &mut Settings) {
+    ui.heading("[environment]");
+    let e = &mut s.environment;
+    let mut sources = vec![EnvironmentSource::None, EnvironmentSource::Neutral, EnvironmentSource::Sky];
+    if let EnvironmentSource::File(_) = &e.source {
+        sources.push(e.source.clone());
+    }
+    ComboBox::from_label("environment.source").selected_text(e.source.name()).show_ui(ui, |ui| {
+        for source in sources {
+            let name = source.name();
+            ui.selectable_value(&mut e.source, source, name);
+        }
+    });
+    ui.label("(drop an .hdr or .exr on the window to use it)");
+    ui.add(Slider::new(&mut e.intensity, 0.0..=1.0e6).logarithmic(true).text("environment.intensity"));
+    ui.add(Slider::new(&mut e.rotation_deg, -180.0..=180.0).text("environment.rotation_deg"));
+    ui.checkbox(&mut e.background, "environment.background");
+    combo(
+        ui,
+        "environment.mode",
+        &mut e.mode,
+        &[(EnvironmentMode::Realtime, "realtime"), (EnvironmentMode::Baked, "baked")],
+    );
 }
 
 fn lighting_and_bake_section(ui: &mut Ui, s: &mut Settings) {

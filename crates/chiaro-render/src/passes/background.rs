@@ -1,0 +1,97 @@
+//! The environment behind the scene, drawn by the passes that make the lit image (the
+//! forward pass after its opaque draws, the G-buffer pass after its draws): one triangle
+//! at the far plane, depth-tested, so that it covers only what no surface
+//! did, sample by sample under MSAA. Shader: `shaders/background.wesl`.
+
+use crate::overrides;
+use crate::shaders;
+use std::collections::HashMap;
+
+/// What a background pipeline must match in the pass that draws it.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct BackgroundTargets {
+    /// The colour attachments' formats; the first takes the background, the others are
+    /// left as they are.
+    pub color_formats: Vec<wgpu::TextureFormat>,
+    /// Samples per pixel.
+    pub samples: u32,
+    /// The light buffer stores exp2(-light).
+    pub ldr_exp2: bool,
+}
+
+/// Background pipelines, made per attachment set when first used.
+pub struct BackgroundPipelines {
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    depth_format: wgpu::TextureFormat,
+    pipelines: HashMap<BackgroundTargets, wgpu::RenderPipeline>,
+}
+
+impl BackgroundPipelines {
+    /// Pipelines with group 0 (the frame's) alone, over depth of `depth_format`.
+    pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout, depth_format: wgpu::TextureFormat) -> Self {
+        BackgroundPipelines {
+            module: shaders::module(device, "background", crate::wgsl!("background")),
+            layout: device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("background layout"),
+                bind_group_layouts: &[Some(frame_layout)],
+                immediate_size: 0,
+            }),
+            depth_format,
+            pipelines: HashMap::new(),
+        }
+    }
+
+    /// Makes the pipeline for `targets` if it is new.
+    pub fn prepare(&mut self, device: &wgpu::Device, targets: &BackgroundTargets) {
+        if self.pipelines.contains_key(targets) {
+            return;
+        }
+        let color_targets: Vec<Option<wgpu::ColorTargetState>> = targets
+            .color_formats
+            .iter()
+            .enumerate()
+            .map(|(i, &format)| {
+                let write_mask = if i == 0 { wgpu::ColorWrites::ALL } else { wgpu::ColorWrites::empty() };
+                Some(wgpu::ColorTargetState { format, blend: None, write_mask })
+            })
+            .collect();
+        let constants = [overrides::LDR_EXP2.flag(targets.ldr_exp2)];
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("background"),
+            layout: Some(&self.layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some("vs_background"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: self.depth_format,
+                depth_write_enabled: Some(false),
+                // Reverse Z: the far plane is 0, where the depth was cleared, and no surface
+                // is farther (0 >= depth only where nothing was drawn).
+                depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState { count: targets.samples, ..Default::default() },
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some("fs_background"),
+                compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+                targets: &color_targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        self.pipelines.insert(targets.clone(), pipeline);
+    }
+
+    /// Draws the background into `pass` (group 0 bound), with the pipeline `prepare` made.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, targets: &BackgroundTargets) {
+        pass.set_pipeline(&self.pipelines[targets]);
+        pass.draw(0..3, 0..1);
+    }
+}

@@ -1,0 +1,163 @@
+//! Environment maps: the radiance arriving from every direction, as an equirectangular
+//! image in glTF's physical units (nits). A source and the scene flow in (a studio made
+//! here, a daylight sky from the first directional light, or an `.hdr`/`.exr` file); an
+//! `EnvironmentMap` or an error naming the file flows out. The renderer turns the map
+//! into irradiance and a prefiltered cube; the baker and the reference trace it.
+
+mod image_file;
+mod neutral;
+mod sky;
+
+pub use image_file::{MAX_HEIGHT, MAX_WIDTH, check_image, load_image};
+pub use neutral::neutral;
+pub use sky::{SKY_TO_SUN_ILLUMINANCE, sky};
+
+use crate::settings::EnvironmentSource;
+use crate::types::{LightKind, Scene};
+use chiaro_math::environment::{environment_direction, equirect_direction, equirect_texel_solid_angle, equirect_uv};
+use glam::{Vec2, Vec3};
+use std::path::PathBuf;
+
+/// Radiance over the sphere, equirectangular: `width` = 2 x `height`, rows from +Y down.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvironmentMap {
+    /// Texels across: twice `height`.
+    pub width: u32,
+    /// Texels down.
+    pub height: u32,
+    /// Linear RGB radiance, row by row from the top.
+    pub texels: Vec<Vec3>,
+}
+
+/// Why an environment could not be made; names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum EnvironmentError {
+    /// The file could not be read.
+    #[error("{path}: cannot read environment image: {message}")]
+    Io {
+        /// The image.
+        path: PathBuf,
+        /// What the file system or decoder said.
+        message: String,
+    },
+    /// The file is not an environment Chiaro can use.
+    #[error("{path}: {message}")]
+    Invalid {
+        /// The image.
+        path: PathBuf,
+        /// What is wrong with it.
+        message: String,
+    },
+}
+
+impl EnvironmentMap {
+    /// A map of `width` x `width / 2` texels with radiance `f(direction)` at each centre.
+    pub fn from_fn(width: u32, f: impl Fn(Vec3) -> Vec3) -> EnvironmentMap {
+        let height = width / 2;
+        let mut texels = Vec::with_capacity((width * height) as usize);
+        for y in 0..height {
+            for x in 0..width {
+                let uv = Vec2::new((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32);
+                texels.push(f(equirect_direction(uv)));
+            }
+        }
+        EnvironmentMap { width, height, texels }
+    }
+
+    /// The same radiance everywhere: the furnace of the tests.
+    pub fn uniform(radiance: Vec3) -> EnvironmentMap {
+        EnvironmentMap { width: 8, height: 4, texels: vec![radiance; 32] }
+    }
+
+    /// The radiance the nearest texel holds for unit direction `d` (in the map's frame).
+    pub fn radiance(&self, d: Vec3) -> Vec3 {
+        let uv = equirect_uv(d);
+        let x = ((uv.x.rem_euclid(1.0) * self.width as f32) as u32).min(self.width - 1);
+        let y = ((uv.y * self.height as f32) as u32).min(self.height - 1);
+        self.texels[(y * self.width + x) as usize]
+    }
+
+    /// The radiance at texture coordinate `uv`, bilinear between texel centres, wrapping
+    /// across u and clamped in v.
+    pub fn bilinear(&self, uv: Vec2) -> Vec3 {
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = (uv.y * self.height as f32 - 0.5).clamp(0.0, (self.height - 1) as f32);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let at = |x: f32, y: f32| {
+            let x = (x as i64).rem_euclid(self.width as i64) as u32;
+            let y = (y as u32).min(self.height - 1);
+            self.texels[(y * self.width + x) as usize]
+        };
+        let top = at(x0, y0).lerp(at(x0 + 1.0, y0), fx);
+        let bottom = at(x0, y0 + 1.0).lerp(at(x0 + 1.0, y0 + 1.0), fx);
+        top.lerp(bottom, fy)
+    }
+
+    /// Irradiance on a surface facing +Y from the upper half, lux: what a sky gives the
+    /// ground.
+    pub fn upward_irradiance(&self) -> Vec3 {
+        let mut e = Vec3::ZERO;
+        for y in 0..self.height {
+            let weight = equirect_texel_solid_angle(y, self.width, self.height);
+            let up = equirect_direction(Vec2::new(0.5, (y as f32 + 0.5) / self.height as f32)).y;
+            if up <= 0.0 {
+                continue;
+            }
+            let row = &self.texels[(y * self.width) as usize..((y + 1) * self.width) as usize];
+            e += row.iter().copied().sum::<Vec3>() * weight * up;
+        }
+        e
+    }
+}
+
+/// An environment as the CPU tracers see it (the baker and the reference): the map,
+/// scaled by `intensity` and turned by `rotation_deg` about +Y, sampled bilinearly as
+/// the renderer's background is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvironmentLight {
+    /// The radiance over the sphere, in the image's frame.
+    pub map: EnvironmentMap,
+    /// `environment.intensity`.
+    pub intensity: f32,
+    /// `environment.rotation_deg`.
+    pub rotation_deg: f32,
+}
+
+impl EnvironmentLight {
+    /// The environment the settings name for `scene`, or `None` for `none`.
+    pub fn from_settings(
+        settings: &crate::settings::EnvironmentSettings,
+        scene: &Scene,
+    ) -> Result<Option<EnvironmentLight>, EnvironmentError> {
+        Ok(environment_map(&settings.source, scene)?.map(|map| EnvironmentLight {
+            map,
+            intensity: settings.intensity,
+            rotation_deg: settings.rotation_deg,
+        }))
+    }
+
+    /// Radiance arriving from world direction `d` (unit).
+    pub fn radiance(&self, d: Vec3) -> Vec3 {
+        let uv = equirect_uv(environment_direction(d, self.rotation_deg));
+        self.map.bilinear(uv) * self.intensity
+    }
+}
+
+/// The direction towards the sun and its illuminance (lux, weighted by its colour's
+/// luminance): the scene's first directional light, or none.
+pub fn scene_sun(scene: &Scene) -> Option<(Vec3, f32)> {
+    let light = scene.lights.iter().find(|l| matches!(l.kind, LightKind::Directional))?;
+    let luminance = light.color.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+    Some((-light.direction(), light.intensity * luminance))
+}
+
+/// The map a source names for `scene`, or `None` for `EnvironmentSource::None`.
+pub fn environment_map(source: &EnvironmentSource, scene: &Scene) -> Result<Option<EnvironmentMap>, EnvironmentError> {
+    Ok(match source {
+        EnvironmentSource::None => None,
+        EnvironmentSource::Neutral => Some(neutral()),
+        EnvironmentSource::Sky => Some(sky(scene_sun(scene))),
+        EnvironmentSource::File(path) => Some(load_image(path)?),
+    })
+}
