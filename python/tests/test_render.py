@@ -230,3 +230,34 @@ def test_depth_alone_equals_the_depth_of_a_full_aov_frame(renderer, scene):
     full = renderer.render(scene, camera=overview(), width=W, height=H, outputs=("depth", "normal"))
     np.testing.assert_array_equal(alone["depth"], full["depth"])
     assert np.isinf(alone["depth"]).any() and np.isfinite(alone["depth"]).any()
+
+
+def test_an_environment_lights_the_scene_and_fills_the_background(scene, tmp_path):
+    camera = overview()
+    plain = chiaro.Renderer(settings={"render": {"ambient": [0, 0, 0], "msaa": 1}})
+    studio = chiaro.Renderer(settings={"render": {"ambient": [0, 0, 0], "msaa": 1},
+                                       "environment": {"source": "neutral"}})
+    without = plain.render(scene, camera=camera, width=W, height=H, outputs=("hdr", "depth"))
+    lit = studio.render(scene, camera=camera, width=W, height=H, outputs=("hdr", "depth"))
+    sky = ~np.isfinite(lit["depth"])
+    assert sky.any() and (~sky).any()
+    # Behind the scene: black without an environment, the studio's grey room with one.
+    assert without["hdr"][sky].max() == 0.0 and lit["hdr"][sky].min() > 0.1
+    # Every surface gets the studio's light on top of the sun's.
+    gain = lit["hdr"][~sky].sum(axis=-1) - without["hdr"][~sky].sum(axis=-1)
+    assert (gain > 0.05).mean() > 0.99, (gain > 0.05).mean()
+    # Turned half a turn, the studio lights the scene from elsewhere.
+    turned = chiaro.Renderer(settings={"render": {"ambient": [0, 0, 0], "msaa": 1},
+                                       "environment": {"source": "neutral", "rotation_deg": 180}})
+    other = turned.render(scene, camera=camera, width=W, height=H, outputs=("hdr",))
+    assert np.abs(other["hdr"] - lit["hdr"]).max() > 0.1
+
+
+def test_a_bad_environment_is_an_error_naming_it(scene, tmp_path):
+    with pytest.raises(chiaro.SettingsError, match="environment.source"):
+        chiaro.Renderer(settings={"environment": {"source": "studio.png"}})
+    missing = tmp_path / "missing.hdr"
+    r = chiaro.Renderer(settings={"environment": {"source": str(missing)}})
+    with pytest.raises(chiaro.RenderError) as e:
+        r.render(scene, camera=overview(), width=W, height=H)
+    assert str(missing) in str(e.value) and "cannot read environment image" in str(e.value)

@@ -302,7 +302,8 @@ fn a_box_on_a_floor_under_the_baked_sky_gets_the_traced_sky_light() {
     s.bake.samples = Some(256);
     s.bake.texels_per_metre = 8.0;
     let baked = baked_scene(&scene, &s);
-    let frame = render(&mut renderer(), &baked, &s, 128);
+    let mut gpu = renderer();
+    let frame = render(&mut gpu, &baked, &s, 128);
     let aovs = frame.aovs.as_ref().unwrap();
 
     let sky = EnvironmentLight::from_settings(&s.environment, &scene).unwrap().unwrap();
@@ -338,4 +339,19 @@ fn a_box_on_a_floor_under_the_baked_sky_gets_the_traced_sky_light() {
     assert!(ratios.len() > 1_000 && shaded.len() > 100, "{} {}", ratios.len(), shaded.len());
     assert!((median - 1.0).abs() < 0.03, "median {median}");
     assert!((shaded_median - 1.0).abs() < 0.03, "median by the box {shaded_median}");
+
+    // `compare` judges the same: the environment as a light, against the traced one.
+    let view = View::from_camera(&baked, 0, 96, 96);
+    let prepared = gpu.prepare(&baked).unwrap();
+    let result = chiaro_compare::compare_shadows(&mut gpu, &baked, &prepared, &view, &s).unwrap();
+    let Some(chiaro_compare::EnvironmentReport::Compared { pixels, median, .. }) = result.environment else {
+        panic!("{:?}", result.environment);
+    };
+    println!("compare: baked / traced sky over {pixels} pixels, median {median:.4}");
+    assert!(pixels > 300 && (median - 1.0).abs() < 0.03, "{pixels} {median}");
+    s.environment.mode = EnvironmentMode::Realtime;
+    let result = chiaro_compare::compare_shadows(&mut gpu, &baked, &prepared, &view, &s).unwrap();
+    assert!(
+        matches!(result.environment, Some(chiaro_compare::EnvironmentReport::NotCompared(why)) if why.starts_with("realtime"))
+    );
 }

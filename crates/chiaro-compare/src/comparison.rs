@@ -3,6 +3,7 @@
 //! (`crate::verdict`). A scene, a view and settings flow in; a `ShadowComparison` (one
 //! `LightReport` per scene light, the reference and the rendered AOVs) flows out.
 
+use crate::environment::{EnvironmentPixels, EnvironmentReport, compare_environment};
 use crate::verdict::{
     LightComparison, PixelVerdict, VisibilityError, classify_pixels, signed_difference_image, visibility_error,
 };
@@ -32,6 +33,9 @@ pub struct ShadowComparison {
     pub rendered: Vec<Vec<f32>>,
     /// Per scene light: whether a shadow map was sampled.
     pub status: Vec<ShadowStatus>,
+    /// The environment's baked light against the traced environment, where the settings
+    /// name an environment.
+    pub environment: Option<EnvironmentReport>,
 }
 
 /// Why a light with `status` is not judged against the reference; `None` when it is.
@@ -55,6 +59,10 @@ pub struct RenderedShadows {
     pub status: Vec<ShadowStatus>,
     /// The frame itself, tone-mapped RGBA8, for showing the verdicts over it.
     pub ldr: Vec<u8>,
+    /// Each pixel's shading normal, and the baked irradiance it read (the environment's
+    /// comparison).
+    pub normals: Vec<Vec3>,
+    pub baked_irradiance: Vec<[f32; 3]>,
 }
 
 /// Renders `view` with the shadow AOVs a comparison needs, waiting for the frame.
@@ -72,16 +80,18 @@ pub fn render_shadows(
         settings,
         FrameOptions { aovs: true, shadow_aovs: true, readback: true, ..Default::default() },
     )?;
-    let positions = frame
-        .aovs
-        .as_ref()
-        .expect("aovs were asked for")
-        .position_ws
-        .iter()
-        .map(|p| p[0].is_finite().then(|| Vec3::from(*p)))
-        .collect();
     let status = frame.shadow_status(scene);
-    Ok(RenderedShadows { positions, shadow_aovs: frame.shadow_aovs, status, ldr: frame.ldr })
+    let aovs = frame.aovs.expect("aovs were asked for");
+    let positions = aovs.position_ws.iter().map(|p| p[0].is_finite().then(|| Vec3::from(*p))).collect();
+    let normals = aovs.normal_ws.iter().map(|n| Vec3::from(*n)).collect();
+    Ok(RenderedShadows {
+        positions,
+        shadow_aovs: frame.shadow_aovs,
+        status,
+        ldr: frame.ldr,
+        normals,
+        baked_irradiance: aovs.baked_irradiance,
+    })
 }
 
 /// Traces the reference for `view` and judges each light's rendered shadows against it.
@@ -122,7 +132,16 @@ pub fn compare_rendered(
             }
         })
         .collect();
-    ShadowComparison { reports, reference, rendered: rendered.shadow_aovs, status: rendered.status }
+    let environment = compare_environment(
+        scene,
+        settings,
+        &EnvironmentPixels {
+            positions: &rendered.positions,
+            normals: &rendered.normals,
+            baked_irradiance: &rendered.baked_irradiance,
+        },
+    );
+    ShadowComparison { reports, reference, rendered: rendered.shadow_aovs, status: rendered.status, environment }
 }
 
 pub fn compare_shadows(

@@ -1,10 +1,12 @@
 //! Rendered shadows against the ray-traced reference. `verdict` judges a rendered shadow
 //! term pixel by pixel against chiaro-trace's reference (agreeing, false shadow, missed
 //! shadow), counts the verdicts per light and paints them; `comparison` renders a view
-//! with chiaro-render, traces it and applies the verdicts to every light. It sits above
+//! with chiaro-render, traces it and applies the verdicts to every light; `environment`
+//! judges a baked environment's light against the traced environment. It sits above
 //! both crates so that the renderer does not depend on the tracer.
 
 pub mod comparison;
+pub mod environment;
 mod threshold;
 pub mod verdict;
 
@@ -12,6 +14,7 @@ pub use comparison::{
     LightReport, RenderedShadows, ShadowComparison, compare_rendered, compare_shadows, not_compared_because,
     render_shadows,
 };
+pub use environment::{EnvironmentReport, compare_environment};
 pub use threshold::{MAX_DISAGREEMENT, assert_agrees_with_reference};
 pub use verdict::{
     DISAGREEMENT_THRESHOLD, EDGE_BAND_PX, FAR_OFF, LightComparison, POSITION_TOLERANCE_M, PixelVerdict,

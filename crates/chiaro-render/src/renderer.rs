@@ -199,6 +199,21 @@ impl Renderer {
         self.finish(pending)
     }
 
+    /// Makes the maps of the environment `settings` name for `scene` now, rather than
+    /// with the next frame, and waits for the device to finish them: the milliseconds that
+    /// took (read, projected, uploaded and prefiltered), or `None` where nothing was made
+    /// (no environment, or the same one as before). Errors name the image file.
+    pub fn prepare_environment(&mut self, scene: &Scene, settings: &Settings) -> Result<Option<f64>, RenderError> {
+        let start = Instant::now();
+        let (device, queue) = (&self.ctx.device, &self.ctx.queue);
+        if !self.environment.update(device, queue, &settings.environment, scene)? {
+            return Ok(None);
+        }
+        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RenderError::Gpu(e.to_string()))?;
+        self.ctx.take_error()?;
+        Ok(Some(start.elapsed().as_secs_f64() * 1e3))
+    }
+
     /// Plans, records and submits one frame of `scene` into a texture of the renderer's,
     /// without waiting for it: [`Renderer::finish`] reads it back. Submitting the next
     /// frame before finishing this one keeps the GPU busy while the CPU unpacks (at most

@@ -146,6 +146,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     args.path.check_device(&ctx, &settings, args.settings.as_deref())?;
     let mut renderer = Renderer::new(ctx)?;
     let prepared = renderer.prepare(&scene)?;
+    let environment_setup_ms = renderer.prepare_environment(&scene, &settings)?;
     let options = FrameOptions::default();
     for _ in 0..args.warmup {
         renderer.render(&scene, &prepared, &view, &settings, options)?;
@@ -170,7 +171,10 @@ pub fn run(args: BenchArgs) -> Result<()> {
         renderer.gpu_times(true)?.into_iter().filter(|t| t.frame >= first.timings.frame).collect();
     let info = &renderer.ctx.adapter_info;
     if args.json {
-        println!("{}", json_report(&args, &settings, &first, &frames, &intervals, &gpu, &info.name));
+        let mut report = json_report(&args, &settings, &first, &frames, &intervals, &gpu, &info.name);
+        report["environment"] = settings.environment.source.name().into();
+        report["environment_setup_ms"] = environment_setup_ms.into();
+        println!("{report}");
         return Ok(());
     }
     let name = args
@@ -199,6 +203,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
         "shadows: {} tiles in a {} atlas ({} cascades, {}), {} caster draws",
         first.shadow_tiles, ds.atlas_size, ds.cascade_count, ds.filter, first.shadow_caster_draws
     );
+    if let Some(ms) = environment_setup_ms {
+        println!("environment: {} made in {ms:.1} ms (once, before the frames)", settings.environment.source.name());
+    }
     let mut rows: Vec<(String, Stats)> = vec![("frame (back to back)".into(), stats(intervals))];
     if !gpu.is_empty() {
         rows.push(("gpu frame (timestamps)".into(), stats(gpu.iter().map(GpuFrameTimes::total_ms).collect())));

@@ -7,7 +7,7 @@ use crate::path_arg::PathArgs;
 use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
 use crate::shadow_args::ShadowArgs;
 use anyhow::{Result, bail};
-use chiaro_compare::{FAR_OFF, compare_shadows, not_compared_because};
+use chiaro_compare::{EnvironmentReport, FAR_OFF, compare_shadows, not_compared_because};
 use chiaro_render::{GpuContext, Renderer, ShadowStatus};
 use clap::Args;
 use std::path::PathBuf;
@@ -117,6 +117,17 @@ pub fn run(args: CompareArgs) -> Result<()> {
         if let Some(path) = diff_path(light.node) {
             diffs.push((path, report.difference.iter().flatten().copied().collect()));
         }
+    }
+    match &result.environment {
+        Some(EnvironmentReport::Compared { pixels, median, p10, p90 }) => println!(
+            "environment ({}, baked): baked / traced irradiance over {pixels} pixels: median {median:.4}, 10th \
+             percentile {p10:.4}, 90th {p90:.4}",
+            settings.environment.source.name()
+        ),
+        Some(EnvironmentReport::NotCompared(why)) => {
+            println!("environment ({}): {why}", settings.environment.source.name())
+        }
+        None => {}
     }
     let (width, height) = (args.width, args.height);
     write_group(diffs.iter().map(|(path, rgba8)| (path.clone(), Encoded::Png { width, height, rgba8 })).collect())?;

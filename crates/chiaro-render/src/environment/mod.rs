@@ -17,7 +17,7 @@ use chiaro_scene::environment::{EnvironmentMap, environment_map, scene_sun};
 use chiaro_scene::settings::{EnvironmentMode, EnvironmentSettings, EnvironmentSource};
 use glam::Vec3;
 use std::path::PathBuf;
-use std::time::{Instant, SystemTime};
+use std::time::SystemTime;
 
 /// The widest equirectangular image sent to the device: wider images are averaged down
 /// (the background loses detail past this; the irradiance keeps the full image).
@@ -72,15 +72,12 @@ pub struct EnvironmentCache {
     key: Option<EnvironmentKey>,
     maps: GpuEnvironmentMaps,
     baker: Option<bake::EnvironmentBaker>,
-    /// CPU milliseconds the last change took to read, project and record (the device's
-    /// compute passes run after, with the frame).
-    pub last_setup_ms: Option<f64>,
 }
 
 impl EnvironmentCache {
     /// Stand-ins, until a frame asks for an environment.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> EnvironmentCache {
-        EnvironmentCache { key: None, maps: stand_ins(device, queue), baker: None, last_setup_ms: None }
+        EnvironmentCache { key: None, maps: stand_ins(device, queue), baker: None }
     }
 
     /// The bound maps.
@@ -88,28 +85,27 @@ impl EnvironmentCache {
         &self.maps
     }
 
-    /// Makes the maps `settings` call for if they changed, and writes this frame's
-    /// intensity and rotation. Errors name the image file.
+    /// Makes the maps `settings` call for if they changed (then returns true), and writes
+    /// this frame's intensity and rotation. Errors name the image file.
     pub fn update(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         settings: &EnvironmentSettings,
         scene: &Scene,
-    ) -> Result<(), RenderError> {
+    ) -> Result<bool, RenderError> {
         let key = key_of(&settings.source, scene);
-        if key.is_some() && key != self.key {
-            let start = Instant::now();
+        let changed = key.is_some() && key != self.key;
+        if changed {
             let map = environment_map(&settings.source, scene)
                 .map_err(|e| RenderError::Environment(e.to_string()))?
                 .expect("a source with a key has a map");
             let baker = self.baker.get_or_insert_with(|| bake::EnvironmentBaker::new(device, queue));
             self.maps = baker.make(device, queue, &map);
             self.key = key;
-            self.last_setup_ms = Some(start.elapsed().as_secs_f64() * 1e3);
         }
         queue.write_buffer(&self.maps.uniform, 0, bytemuck::bytes_of(&self.maps.uniform_for(settings)));
-        Ok(())
+        Ok(changed)
     }
 }
 

@@ -16,7 +16,7 @@ pub const SKY_TO_SUN_ILLUMINANCE: f32 = 0.2;
 const TURBIDITY: f32 = 3.0;
 const GROUND_ALBEDO: f32 = 0.2;
 const ZENITH_COLOR: Vec3 = Vec3::new(0.45, 0.62, 1.0);
-const HORIZON_COLOR: Vec3 = Vec3::new(1.0, 0.98, 0.95);
+const HORIZON_COLOR: Vec3 = Vec3::new(0.85, 0.9, 1.0);
 
 /// Where the sun stands when the scene has no directional light: 45 degrees up, and
 /// the sky then lights a horizontal surface with pi lux (as a uniform 1 nit would).
@@ -38,7 +38,7 @@ fn luminance(c: Vec3) -> f32 {
 /// The sky's radiance shape (not yet scaled) towards unit `d` above the horizon.
 fn sky_shape(d: Vec3, sun: Vec3) -> Vec3 {
     let gamma = d.dot(sun).clamp(-1.0, 1.0).acos();
-    let whiteness = ((1.0 - d.y).powi(3) + 0.6 * (-3.0 * gamma).exp()).clamp(0.0, 1.0);
+    let whiteness = (0.8 * (1.0 - d.y).powi(4) + 0.6 * (-3.0 * gamma).exp()).clamp(0.0, 1.0);
     let color = ZENITH_COLOR.lerp(HORIZON_COLOR, whiteness);
     color / luminance(color) * perez(d.y, gamma)
 }
