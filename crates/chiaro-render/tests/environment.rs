@@ -79,6 +79,29 @@ fn a_white_sphere_in_a_uniform_environment_returns_its_radiance() {
 }
 
 #[test]
+fn the_ldr_light_buffer_and_msaa_draw_the_environment_too() {
+    // The deferred path's 8-bit exp2(-light) buffer and the forward path's multisampled
+    // target take the environment and its background through their own pipelines.
+    let path = write_hdr("furnace-ldr.hdr", 64, |_| Vec3::splat(FURNACE));
+    let scene = spheres_scene(&[sphere(Vec3::ONE, 0.0, 0.5)]);
+    let mut renderer = renderer();
+    let mut ldr = environment_settings(path.clone(), RenderPath::Deferred);
+    ldr.render.light_buffer = chiaro_scene::LightBuffer::LdrExp2;
+    let mut msaa = environment_settings(path, RenderPath::Forward);
+    msaa.render.msaa = 4;
+    for (name, settings, tolerance) in [("ldr-exp2", ldr, 0.02), ("4x msaa", msaa, 0.01)] {
+        let view = chiaro_render::View::from_camera(&scene, 0, 128, 128);
+        let prepared = renderer.prepare(&scene).unwrap();
+        let options = chiaro_render::FrameOptions { readback: true, ..Default::default() };
+        let frame = renderer.render(&scene, &prepared, &view, &settings, options).unwrap();
+        // Sphere and background alike: the furnace's radiance everywhere.
+        let worst = frame.hdr.iter().map(|h| (h[0] / FURNACE - 1.0).abs()).fold(0.0, f32::max);
+        println!("{name}: worst |radiance / L - 1| over the whole image {worst:.4}");
+        assert!(worst < tolerance, "{name}: {worst}");
+    }
+}
+
+#[test]
 fn metals_reflect_what_the_split_sum_predicts() {
     let path = write_hdr("furnace-metal.hdr", 64, |_| Vec3::splat(FURNACE));
     let gold = Vec3::new(1.0, 0.78, 0.34);
