@@ -135,7 +135,7 @@ mod tests {
         let (position, direction, range) = (Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, -0.6, 0.8), 5.0);
         for outer in [0.2f32, 0.6, 0.78, 1.2] {
             let (centre, radius) = spot_bounds(position, direction, range, outer);
-            let (t, b) = crate::tracer::basis(direction);
+            let (t, b) = chiaro_math::sampling::basis(direction);
             for i in 0..=8 {
                 for j in 0..16 {
                     let angle = outer * i as f32 / 8.0;

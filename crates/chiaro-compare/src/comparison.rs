@@ -4,9 +4,7 @@
 //! `LightReport` per scene light, the reference and the rendered AOVs) flows out.
 
 use crate::environment::{EnvironmentPixels, EnvironmentReport, compare_environment};
-use crate::verdict::{
-    LightComparison, PixelVerdict, VisibilityError, classify_pixels, signed_difference_image, visibility_error,
-};
+use crate::verdict::{LightComparison, PixelVerdict, VisibilityError, classify_pixels, soft_shadow_report};
 use chiaro_render::{FrameOptions, PreparedScene, RenderError, Renderer, ShadowStatus, View};
 use chiaro_scene::{Scene, Settings, ShadowMode};
 use chiaro_trace::{PixelCamera, ShadowReference, trace_shadow_reference};
@@ -117,12 +115,8 @@ pub fn compare_rendered(
             let verdicts = classify_pixels(shadow, positions, &reference, i, light, ranges[i]);
             let comparison = LightComparison::from_verdicts(&verdicts);
             if light.shadow.mode == ShadowMode::Pcss {
-                return LightReport {
-                    light: i,
-                    comparison,
-                    visibility: Some(visibility_error(shadow, positions, &reference, i, light, ranges[i])),
-                    difference: signed_difference_image(shadow, positions, &reference, i, light, ranges[i]),
-                };
+                let (visibility, difference) = soft_shadow_report(shadow, positions, &reference, i, light, ranges[i]);
+                return LightReport { light: i, comparison, visibility: Some(visibility), difference };
             }
             LightReport {
                 light: i,

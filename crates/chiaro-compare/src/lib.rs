@@ -18,5 +18,6 @@ pub use environment::{EnvironmentReport, compare_environment};
 pub use threshold::{MAX_DISAGREEMENT, assert_agrees_with_reference};
 pub use verdict::{
     DISAGREEMENT_THRESHOLD, EDGE_BAND_PX, FAR_OFF, LightComparison, POSITION_TOLERANCE_M, PixelVerdict,
-    VisibilityError, classify_pixels, compare_light, difference_image, signed_difference_image, visibility_error,
+    VisibilityError, classify_pixels, compare_light, difference_image, signed_difference_image, soft_shadow_report,
+    visibility_error,
 };

@@ -11,6 +11,7 @@ pub mod environment;
 pub mod frustum;
 pub mod light;
 pub mod rigid;
+pub mod sampling;
 pub mod sh;
 pub mod shadow;
 pub mod tonemap;

@@ -23,9 +23,7 @@ fn write_hdr(name: &str, width: u32, f: impl Fn(Vec3) -> Vec3) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("chiaro-environment-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(name);
-    let pixels: Vec<image::Rgb<f32>> = map.texels.iter().map(|t| image::Rgb(t.to_array())).collect();
-    let file = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
-    image::codecs::hdr::HdrEncoder::new(file).encode(&pixels, map.width as usize, map.height as usize).unwrap();
+    write_environment_hdr(&path, &map);
     path
 }
 

@@ -208,3 +208,12 @@ pub fn spheres_scene(materials: &[SphereMaterial]) -> Scene {
     scene.cameras[0].yfov_rad = 50f32.to_radians();
     scene
 }
+
+/// Writes `map` to `path` as a Radiance .hdr file, as environment tests read them back.
+pub fn write_environment_hdr(path: &std::path::Path, map: &crate::environment::EnvironmentMap) {
+    let pixels: Vec<image::Rgb<f32>> = map.texels.iter().map(|t| image::Rgb(t.to_array())).collect();
+    let file = std::io::BufWriter::new(std::fs::File::create(path).expect("create the .hdr"));
+    image::codecs::hdr::HdrEncoder::new(file)
+        .encode(&pixels, map.width as usize, map.height as usize)
+        .expect("write the .hdr");
+}

@@ -7,9 +7,10 @@
 use crate::area::unit_float;
 use crate::bvh::SceneBvh;
 use crate::reference::shadow_ray_origin;
+use chiaro_math::sampling::cosine_direction;
 use chiaro_scene::environment::EnvironmentLight;
 use glam::Vec3;
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::PI;
 
 /// Irradiance (lux) at `position` on a surface facing `normal` from `light`, with
 /// `strata` x `strata` rays.
@@ -22,16 +23,13 @@ pub fn environment_irradiance(
     seed: u64,
 ) -> Vec3 {
     let origin = shadow_ray_origin(position, normal);
-    let (tangent, bitangent) = normal.any_orthonormal_pair();
     let mut state = seed;
     let mut sum = Vec3::ZERO;
     for i in 0..strata * strata {
         let u = ((i % strata) as f32 + unit_float(&mut state)) / strata as f32;
         let v = ((i / strata) as f32 + unit_float(&mut state)) / strata as f32;
         // Cosine-weighted: the pdf cos / pi cancels the cosine, leaving pi / N per ray.
-        let (r, phi) = (u.sqrt(), TAU * v);
-        let d = (tangent * (r * phi.cos()) + bitangent * (r * phi.sin()) + normal * (1.0 - u).max(0.0).sqrt())
-            .normalize_or_zero();
+        let d = cosine_direction(normal, u, v);
         let through = bvh.transmittance(origin, d, f32::INFINITY);
         if through > 0.0 {
             sum += light.radiance(d) * through;

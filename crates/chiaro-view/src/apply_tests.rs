@@ -237,9 +237,9 @@ fn a_dropped_environment_image_lights_the_scene_and_a_bad_one_is_reported() {
     std::fs::create_dir_all(&dir).unwrap();
     let write = |name: &str, width: u32, height: u32| {
         let path = dir.join(name);
-        let pixels = vec![image::Rgb([0.5f32; 3]); (width * height) as usize];
-        let file = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
-        image::codecs::hdr::HdrEncoder::new(file).encode(&pixels, width as usize, height as usize).unwrap();
+        let texels = vec![glam::Vec3::splat(0.5); (width * height) as usize];
+        let map = chiaro_scene::environment::EnvironmentMap { width, height, texels };
+        chiaro_scene::test_scenes::write_environment_hdr(&path, &map);
         path
     };
     let mut viewer = demo_viewer();

@@ -5,7 +5,8 @@
 
 use super::{BakeError, DOMAIN_PROBE, Job, MAX_PROBES, stratum};
 use crate::rng::Rng;
-use crate::tracer::{Came, RayCount, Tracer, sphere_direction};
+use crate::tracer::{Came, RayCount, Tracer};
+use chiaro_math::sampling::sphere_direction;
 use chiaro_math::sh::ShRgb;
 use chiaro_scene::baked::ProbeGrid;
 use chiaro_scene::{LightKind, Scene};

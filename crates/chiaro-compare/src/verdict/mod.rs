@@ -21,7 +21,9 @@ mod soft;
 mod tests;
 
 pub use counts::{LightComparison, compare_light, difference_image};
-pub use soft::{FAR_OFF, VisibilityError, signed_difference_color, signed_difference_image, visibility_error};
+pub use soft::{
+    FAR_OFF, VisibilityError, signed_difference_color, signed_difference_image, soft_shadow_report, visibility_error,
+};
 
 use chiaro_math::light::{spot_angle_params, spot_attenuation};
 use chiaro_scene::{Light, LightKind};

@@ -36,7 +36,24 @@ pub fn visibility_error(
     light: &Light,
     range: f32,
 ) -> VisibilityError {
+    error_of(&compared_pairs(rendered_shadow, rendered_position, reference, light_index, light, range, false))
+}
+
+/// `visibility_error` and `signed_difference_image` together, from one pass over the
+/// light's pixels: what `compare` reports for a contact-hardening light.
+pub fn soft_shadow_report(
+    rendered_shadow: &[f32],
+    rendered_position: &[Option<Vec3>],
+    reference: &ShadowReference,
+    light_index: usize,
+    light: &Light,
+    range: f32,
+) -> (VisibilityError, Vec<[u8; 4]>) {
     let pairs = compared_pairs(rendered_shadow, rendered_position, reference, light_index, light, range, false);
+    (error_of(&pairs), pairs.into_iter().map(signed_difference_color).collect())
+}
+
+fn error_of(pairs: &[Option<(f32, f32)>]) -> VisibilityError {
     let mut errors: Vec<f32> =
         pairs.iter().flatten().map(|&(rendered, expected)| (rendered - expected).abs()).collect();
     if errors.is_empty() {

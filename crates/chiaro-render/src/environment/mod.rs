@@ -16,6 +16,7 @@ use chiaro_scene::Scene;
 use chiaro_scene::environment::{EnvironmentMap, environment_map, scene_sun};
 use chiaro_scene::settings::{EnvironmentMode, EnvironmentSettings, EnvironmentSource};
 use glam::Vec3;
+use std::borrow::Cow;
 use std::path::PathBuf;
 use std::time::SystemTime;
 
@@ -130,9 +131,10 @@ fn storage_scale(brightest: f32) -> f32 {
     if brightest > HALF_HEADROOM { brightest / HALF_HEADROOM } else { 1.0 }
 }
 
-/// The map averaged down 2x2 until it is at most `MAX_DEVICE_WIDTH` wide.
-fn device_sized(map: &EnvironmentMap) -> EnvironmentMap {
-    let mut map = map.clone();
+/// The map averaged down 2x2 until it is at most `MAX_DEVICE_WIDTH` wide; borrowed as it
+/// is when it already fits (an 8192-wide image is 400 MB of texels: no copy for nothing).
+fn device_sized(map: &EnvironmentMap) -> Cow<'_, EnvironmentMap> {
+    let mut map = Cow::Borrowed(map);
     while map.width > MAX_DEVICE_WIDTH {
         let (w, h) = (map.width / 2, map.height / 2);
         let at = |x: u32, y: u32| map.texels[(y * map.width + x) as usize];
@@ -142,7 +144,7 @@ fn device_sized(map: &EnvironmentMap) -> EnvironmentMap {
                 (at(x, y) + at(x + 1, y) + at(x, y + 1) + at(x + 1, y + 1)) * 0.25
             })
             .collect();
-        map = EnvironmentMap { width: w, height: h, texels };
+        map = Cow::Owned(EnvironmentMap { width: w, height: h, texels });
     }
     map
 }

@@ -94,9 +94,8 @@ mod tests {
     }
 
     fn write_hdr(path: &Path, width: u32, height: u32, value: [f32; 3]) {
-        let pixels = vec![image::Rgb(value); (width * height) as usize];
-        let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
-        image::codecs::hdr::HdrEncoder::new(file).encode(&pixels, width as usize, height as usize).unwrap();
+        let texels = vec![Vec3::from(value); (width * height) as usize];
+        crate::test_scenes::write_environment_hdr(path, &EnvironmentMap { width, height, texels });
     }
 
     fn write_exr(path: &Path, width: u32, height: u32, value: [f32; 3]) {

@@ -53,13 +53,13 @@ pub fn sky(sun: Option<(Vec3, f32)>) -> EnvironmentMap {
     // A sun under the horizon shapes the sky as if at it.
     let shaped_sun = Vec3::new(towards.x, towards.y.max(0.02), towards.z).normalize();
     let unscaled = EnvironmentMap::from_fn(512, |d| if d.y >= 0.0 { sky_shape(d, shaped_sun) } else { Vec3::ZERO });
+    // Scaled, the sky lights a horizontal surface with `target` lux.
     let scale = target / luminance(unscaled.upward_irradiance()).max(1e-12);
-    let sky_lux = luminance(unscaled.upward_irradiance()) * scale;
     let sun_lux = match sun {
         Some((_, lux)) => lux * towards.y.max(0.0),
         None => 0.0,
     };
-    let ground = Vec3::splat(GROUND_ALBEDO * (sky_lux + sun_lux) / PI);
+    let ground = Vec3::splat(GROUND_ALBEDO * (target + sun_lux) / PI);
     let texels = unscaled.texels.iter().map(|t| if *t == Vec3::ZERO { ground } else { *t * scale }).collect();
     EnvironmentMap { texels, ..unscaled }
 }
