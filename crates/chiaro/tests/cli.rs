@@ -138,6 +138,41 @@ fn out_of_range_setting() {
 }
 
 #[test]
+fn bad_environments_name_the_file_or_flag_and_write_nothing() {
+    let missing = expect_failure(
+        &[],
+        &["render", "--width", "32", "--height", "32", "--environment", "missing.hdr", "-o", "out.png"],
+        &[],
+        &["missing.hdr", "cannot read environment image"],
+    );
+    assert_eq!(missing, 1);
+    // Twice as tall as wide: not equirectangular (a 2 x 4 Radiance file, flat RGBE).
+    let mut tall = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 2\n".to_vec();
+    tall.extend([128u8, 128, 128, 129].repeat(8));
+    let code = expect_failure(
+        &[("tall.hdr", &tall)],
+        &["render", "--width", "32", "--height", "32", "--environment", "tall.hdr", "-o", "out.png"],
+        &[],
+        &["tall.hdr", "2 x 4 texels is not equirectangular"],
+    );
+    assert_eq!(code, 1);
+    let code = expect_failure(
+        &[],
+        &["render", "--environment", "studio.png", "-o", "out.png"],
+        &[],
+        &["--environment", "\"studio.png\" is not none, neutral, sky"],
+    );
+    assert_eq!(code, 1);
+    let code = expect_failure(
+        &[("settings.toml", b"[environment]\nsource = \"neutral\"\nintensity = -2\n")],
+        &["render", "--settings", "settings.toml", "-o", "out.png"],
+        &[],
+        &["settings.toml", "environment.intensity (line 3): -2 is out of range"],
+    );
+    assert_eq!(code, 1);
+}
+
+#[test]
 fn unknown_camera() {
     expect_failure(&[], &["render", "--camera", "nosuch", "-o", "out.png"], &[], &["nosuch", "demo camera"]);
 }
