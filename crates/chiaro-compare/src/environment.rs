@@ -45,7 +45,7 @@ pub fn compare_environment(
     pixels: &EnvironmentPixels<'_>,
 ) -> Option<EnvironmentReport> {
     let env = &settings.environment;
-    if !env.enabled() {
+    if !env.enabled_for(scene) {
         return None;
     }
     if env.mode == EnvironmentMode::Realtime {

@@ -7,6 +7,7 @@
 
 mod common;
 
+use chiaro_math::cube_map::{cube_map_direction, cube_map_uv};
 use chiaro_scene::{ColorSpace, Cookie, Image, Light, LightKind, RenderPath, Scene, ShadowMode};
 use common::*;
 use glam::{Mat4, Vec2, Vec3};
@@ -55,40 +56,11 @@ fn bilinear(image: &Image, columns: (u32, u32), u: f32, v: f32, repeat: bool) ->
     top.lerp(bottom, fy)
 }
 
-/// Vulkan's cube face selection: (face index in +X, -X, +Y, -Y, +Z, -Z order, s, t).
-fn cube_face(d: Vec3) -> (u32, f32, f32) {
-    let a = d.abs();
-    let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
-        if d.x > 0.0 { (0, -d.z, -d.y, a.x) } else { (1, d.z, -d.y, a.x) }
-    } else if a.y >= a.z {
-        if d.y > 0.0 { (2, d.x, d.z, a.y) } else { (3, d.x, -d.z, a.y) }
-    } else if d.z > 0.0 {
-        (4, d.x, -d.y, a.z)
-    } else {
-        (5, -d.x, -d.y, a.z)
-    };
-    (face, 0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0))
-}
-
-/// The direction through (s, t) of cube face `face` (the inverse of `cube_face`).
-fn cube_direction(face: u32, s: f32, t: f32) -> Vec3 {
-    let (sc, tc) = (2.0 * s - 1.0, 2.0 * t - 1.0);
-    match face {
-        0 => Vec3::new(1.0, -tc, -sc),
-        1 => Vec3::new(-1.0, -tc, sc),
-        2 => Vec3::new(sc, 1.0, tc),
-        3 => Vec3::new(sc, -1.0, -tc),
-        4 => Vec3::new(sc, -tc, 1.0),
-        _ => Vec3::new(-sc, -tc, -1.0),
-    }
-    .normalize()
-}
-
 /// A point cookie, six faces of `n` texels, each texel the colour of its direction.
 fn cube_image(n: u32) -> Image {
     image_from(6 * n, n, |u, v| {
         let face = (u * 6.0).floor() as u32;
-        let d = cube_direction(face, u * 6.0 - face as f32, v);
+        let d = cube_map_direction(face as usize, Vec2::new(u * 6.0 - face as f32, v));
         Vec3::splat(0.5) + 0.45 * Vec3::new(d.x, d.y * d.y.abs(), d.z)
     })
 }
@@ -107,9 +79,9 @@ fn cookie_at(light: &Light, image: &Image, p: Vec3) -> Vec3 {
             bilinear(image, (0, image.width), 0.5 + local.x * scale, 0.5 - local.y * scale, false)
         }
         LightKind::Point => {
-            let (face, s, t) = cube_face(local);
-            let n = image.height;
-            bilinear(image, (face * n, (face + 1) * n), s, t, false)
+            let (face, st) = cube_map_uv(local);
+            let (face, n) = (face as u32, image.height);
+            bilinear(image, (face * n, (face + 1) * n), st.x, st.y, false)
         }
     }
 }
@@ -210,14 +182,6 @@ fn point_cookies_wrap_the_light_in_six_faces() {
 
 #[test]
 fn the_definition_helpers_agree_with_each_other() {
-    // cube_direction inverts cube_face on every face.
-    for face in 0..6 {
-        for (s, t) in [(0.2, 0.7), (0.5, 0.5), (0.9, 0.1)] {
-            let (f, s2, t2) = cube_face(cube_direction(face, s, t));
-            assert_eq!(f, face);
-            assert!((s - s2).abs() < 1e-5 && (t - t2).abs() < 1e-5);
-        }
-    }
     // The lookup reproduces a texel centre and repeats.
     let image = image_from(8, 4, pattern);
     let centre = bilinear(&image, (0, 8), 2.5 / 8.0, 1.5 / 4.0, true);

@@ -217,3 +217,45 @@ fn forward_and_deferred_agree_under_an_environment() {
     println!("forward against deferred: {:.3}% of pixels within 2%", share * 100.0);
     assert!(share >= 0.995, "{share}");
 }
+
+/// The environment of a glTF file with EXT_lights_image_based whose faces are all
+/// `FURNACE` (stored as RGBD PNGs) times `intensity`, read by the importer.
+fn file_environment(intensity: f32) -> chiaro_scene::environment::SceneEnvironment {
+    let doc = chiaro_scene::test_scenes::image_based_light_gltf(
+        16,
+        |_, _| Vec3::splat(FURNACE),
+        serde_json::json!({ "intensity": intensity }),
+    );
+    let dir = std::env::temp_dir().join(format!("chiaro-environment-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("image-based-{intensity}.gltf"));
+    std::fs::write(&path, doc.to_string()).unwrap();
+    chiaro_scene::load_gltf(&path).unwrap().environment.expect("the file's environment")
+}
+
+#[test]
+fn a_files_image_based_light_lights_it_unless_the_settings_name_another() {
+    let mut renderer = renderer();
+    let mut scene = spheres_scene(&[sphere(Vec3::ONE, 0.0, 0.5)]);
+    let settings = unlit_settings();
+    // Twice as bright second: the renderer makes its maps again when the file's changes.
+    for intensity in [1.0, 2.0] {
+        let own = file_environment(intensity);
+        // 0.5 through 8-bit RGBD comes back within 0.1%.
+        let stored = own.map.texels[0];
+        assert!((stored / (FURNACE * intensity) - Vec3::ONE).abs().max_element() < 1e-3, "{stored}");
+        scene.environment = Some(own);
+        let frame = render_environment(&mut renderer, &scene, &settings);
+        let worst = frame.hdr.iter().map(|h| (Vec3::new(h[0], h[1], h[2]) / stored - Vec3::ONE).abs().max_element());
+        let worst = worst.fold(0.0, f32::max);
+        println!("EXT_lights_image_based furnace, intensity {intensity}: worst |radiance / L - 1| {worst:.4}");
+        assert!(worst < 0.01, "intensity {intensity}: {worst}");
+    }
+    // `ambient` keeps the constant term (zero here): the sphere is black, the background
+    // is render.background.
+    let mut ambient = settings.clone();
+    ambient.environment.source = EnvironmentSource::Ambient;
+    let frame = render_environment(&mut renderer, &scene, &ambient);
+    let brightest = surface_pixels(&frame).iter().map(|(.., r)| r.max_element()).fold(0.0, f32::max);
+    assert!(brightest < 1e-4, "{brightest}");
+}

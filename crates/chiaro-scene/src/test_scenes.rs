@@ -217,3 +217,49 @@ pub fn write_environment_hdr(path: &std::path::Path, map: &crate::environment::E
         .encode(&pixels, map.width as usize, map.height as usize)
         .expect("write the .hdr");
 }
+
+/// A glTF document whose scene carries an EXT_lights_image_based light and nothing to
+/// draw but a camera at the origin looking down -Z. The light's first mip has six faces
+/// of `size` texels with radiance `face(index, uv)` (uv at texel centres), stored as RGBD
+/// PNGs in data URIs (images 0 to 5); `light` adds or replaces the light's properties.
+pub fn image_based_light_gltf(
+    size: u32,
+    face: impl Fn(usize, glam::Vec2) -> Vec3,
+    light: serde_json::Value,
+) -> serde_json::Value {
+    use base64::Engine as _;
+    let images: Vec<serde_json::Value> = (0..6)
+        .map(|index| {
+            let pixels = image::RgbaImage::from_fn(size, size, |x, y| {
+                let uv = glam::Vec2::new((x as f32 + 0.5) / size as f32, (y as f32 + 0.5) / size as f32);
+                let rgbd = crate::environment::rgbd_encode(face(index, uv));
+                image::Rgba((rgbd * 255.0).round().to_array().map(|c| c as u8))
+            });
+            let mut png = std::io::Cursor::new(Vec::new());
+            pixels.write_to(&mut png, image::ImageFormat::Png).expect("encode a face");
+            let data = base64::engine::general_purpose::STANDARD.encode(png.into_inner());
+            serde_json::json!({ "uri": format!("data:image/png;base64,{data}") })
+        })
+        .collect();
+    let mut properties = serde_json::json!({
+        "name": "test studio",
+        "intensity": 1.0,
+        "rotation": [0.0, 0.0, 0.0, 1.0],
+        "irradianceCoefficients": vec![[0.0f32; 3]; 9],
+        "specularImageSize": size,
+        "specularImages": [[0, 1, 2, 3, 4, 5]]
+    });
+    if let (Some(target), serde_json::Value::Object(extra)) = (properties.as_object_mut(), light) {
+        target.extend(extra);
+    }
+    serde_json::json!({
+        "asset": { "version": "2.0" },
+        "extensionsUsed": ["EXT_lights_image_based"],
+        "extensions": { "EXT_lights_image_based": { "lights": [properties] } },
+        "scene": 0,
+        "scenes": [{ "nodes": [0], "extensions": { "EXT_lights_image_based": { "light": 0 } } }],
+        "nodes": [{ "camera": 0, "name": "camera" }],
+        "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.1, "zfar": 100.0 } }],
+        "images": images
+    })
+}

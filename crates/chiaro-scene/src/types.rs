@@ -569,6 +569,9 @@ pub struct Scene {
     /// glTF animations, skins and morph targets, for `Scene::pose`; `None` when the file
     /// has none (and for scenes made in code).
     pub animation: Option<Box<crate::animation::SceneAnimation>>,
+    /// The environment the file carries (EXT_lights_image_based), used when the settings
+    /// name none of their own.
+    pub environment: Option<crate::environment::SceneEnvironment>,
 }
 
 impl Scene {

@@ -172,7 +172,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let info = &renderer.ctx.adapter_info;
     if args.json {
         let mut report = json_report(&args, &settings, &first, &frames, &intervals, &gpu, &info.name);
-        report["environment"] = settings.environment.source.name().into();
+        report["environment"] = settings.environment.describe(&scene).into();
         report["environment_setup_ms"] = environment_setup_ms.into();
         println!("{report}");
         return Ok(());
@@ -204,7 +204,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         first.shadow_tiles, ds.atlas_size, ds.cascade_count, ds.filter, first.shadow_caster_draws
     );
     if let Some(ms) = environment_setup_ms {
-        println!("environment: {} made in {ms:.1} ms (once, before the frames)", settings.environment.source.name());
+        println!("environment: {} made in {ms:.1} ms (once, before the frames)", settings.environment.describe(&scene));
     }
     let mut rows: Vec<(String, Stats)> = vec![("frame (back to back)".into(), stats(intervals))];
     if !gpu.is_empty() {

@@ -122,10 +122,10 @@ pub fn run(args: CompareArgs) -> Result<()> {
         Some(EnvironmentReport::Compared { pixels, median, p10, p90 }) => println!(
             "environment ({}, baked): baked / traced irradiance over {pixels} pixels: median {median:.4}, 10th \
              percentile {p10:.4}, 90th {p90:.4}",
-            settings.environment.source.name()
+            settings.environment.describe(&scene)
         ),
         Some(EnvironmentReport::NotCompared(why)) => {
-            println!("environment ({}): {why}", settings.environment.source.name())
+            println!("environment ({}): {why}", settings.environment.describe(&scene))
         }
         None => {}
     }

@@ -8,7 +8,8 @@ use clap::Args;
 
 #[derive(Args, Clone, Debug, Default)]
 pub struct EnvironmentArg {
-    /// none, neutral (a studio), sky (daylight from the first directional light) or an
+    /// none (the file's EXT_lights_image_based light if any), ambient (the constant term),
+    /// neutral (a studio), sky (daylight from the first directional light) or an
     /// equirectangular .hdr/.exr image (overrides environment.source).
     #[arg(long, value_name = "SOURCE")]
     pub environment: Option<String>,

@@ -104,6 +104,12 @@ pub fn run(args: InfoArgs) -> Result<()> {
             c.zfar.map(|f| f.to_string()).unwrap_or_else(|| "infinite".into())
         );
     }
+    if let Some(own) = &scene.environment {
+        println!(
+            "environment: {}, {} x {} texels (lights the scene unless the settings name another)",
+            own.label, own.map.width, own.map.height
+        );
+    }
     let b = scene.bounds();
     if b.is_empty() {
         println!("bounds: empty");

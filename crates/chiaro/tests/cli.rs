@@ -160,7 +160,7 @@ fn bad_environments_name_the_file_or_flag_and_write_nothing() {
         &[],
         &["render", "--environment", "studio.png", "-o", "out.png"],
         &[],
-        &["--environment", "\"studio.png\" is not none, neutral, sky"],
+        &["--environment", "\"studio.png\" is not none, ambient, neutral, sky"],
     );
     assert_eq!(code, 1);
     let code = expect_failure(
@@ -572,4 +572,50 @@ fn a_label_that_is_no_class_id_names_the_node_and_the_key() {
         &[],
         &["tri.gltf", "node 0", "extras.label"],
     );
+}
+
+#[test]
+fn a_file_with_an_image_based_light_renders_under_it() {
+    // Every cube face a different colour; the file's camera looks down -Z, so the middle
+    // of the picture is the -Z face (radiance in the linear .exr).
+    let faces = [[4.0, 1.0, 1.0], [1.0, 4.0, 1.0], [1.0, 1.0, 4.0], [3.0, 3.0, 1.0], [1.0, 3.0, 3.0], [0.5, 2.0, 6.0]];
+    let doc = chiaro_scene::test_scenes::image_based_light_gltf(
+        8,
+        |face, _| glam::Vec3::from_array(faces[face]),
+        serde_json::json!({}),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("studio.gltf"), doc.to_string()).unwrap();
+    let middle = |args: &[&str]| {
+        let run =
+            chiaro(&[&["render", "studio.gltf", "--width", "33", "--height", "33"], args].concat(), &[], dir.path());
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        let channels = read_exr_channels(&dir.path().join("out.exr"));
+        let names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
+        let at = |name: &str| channels[names.iter().position(|n| *n == name).unwrap()].1[16 * 33 + 16];
+        [at("R"), at("G"), at("B")]
+    };
+    let own = middle(&["-o", "out.exr"]);
+    for (got, want) in own.iter().zip(faces[5]) {
+        assert!((got / want - 1.0).abs() < 0.03, "{own:?} is not the -Z face {:?}", faces[5]);
+    }
+    let info = chiaro(&["info", "studio.gltf"], &[], dir.path());
+    assert!(
+        info.stdout.contains("environment: EXT_lights_image_based light 0 (test studio), 32 x 16"),
+        "{}",
+        info.stdout
+    );
+    // `--environment ambient` keeps the plain background.
+    let plain = middle(&["--environment", "ambient", "-o", "out.exr"]);
+    assert!(plain.iter().all(|c| *c < 0.5), "{plain:?}");
+    // A scene naming a light the file does not have is refused, naming file and path.
+    let mut bad = doc.clone();
+    bad["scenes"][0]["extensions"]["EXT_lights_image_based"]["light"] = serde_json::json!(2);
+    let code = expect_failure(
+        &[("bad.gltf", bad.to_string().as_bytes())],
+        &["render", "bad.gltf", "-o", "out.png"],
+        &[],
+        &["bad.gltf", "scenes[0].extensions.EXT_lights_image_based.light: 2 is not one of the 1 lights"],
+    );
+    assert_eq!(code, 1);
 }

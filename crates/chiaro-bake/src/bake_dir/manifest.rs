@@ -118,7 +118,7 @@ pub(super) fn manifest_of(scene: &Scene, settings: &Settings, result: &BakeResul
             ..settings.bake.clone()
         },
         ambient: settings.render.ambient,
-        environment: (settings.environment.enabled()
+        environment: (settings.environment.enabled_for(scene)
             && settings.environment.mode == chiaro_scene::settings::EnvironmentMode::Baked)
             .then(|| settings.environment.clone()),
         range_threshold_lux: settings.lights.range_threshold_lux,

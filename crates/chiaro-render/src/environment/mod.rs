@@ -2,7 +2,8 @@
 //! GGX-prefiltered cube with a mip per roughness and the split-sum BRDF table (made by
 //! compute passes, `bake`), and a uniform with the irradiance's spherical harmonics
 //! (projected on the CPU from the full-precision image). Settings and the scene flow in;
-//! the maps are made again only when the source (or, for `sky`, the sun) changes, while
+//! the maps are made again only when the source (or, for `sky`, the sun; for the file's
+//! own environment, its texels) changes, while
 //! intensity and rotation are written each frame. Without an environment, 1x1 stand-ins
 //! are bound and the shaders compile the environment out.
 
@@ -35,11 +36,14 @@ enum EnvironmentKey {
     Sky(Option<([u32; 3], u32)>),
     /// The file, its length and modification time (so the viewer sees an edited file).
     File(PathBuf, u64, Option<SystemTime>),
+    /// The glTF file's own environment, by its texels' hash.
+    Scene(u64),
 }
 
 fn key_of(source: &EnvironmentSource, scene: &Scene) -> Option<EnvironmentKey> {
     match source {
-        EnvironmentSource::None => None,
+        EnvironmentSource::None => scene.environment.as_ref().map(|own| EnvironmentKey::Scene(own.fingerprint)),
+        EnvironmentSource::Ambient => None,
         EnvironmentSource::Neutral => Some(EnvironmentKey::Neutral),
         EnvironmentSource::Sky => {
             Some(EnvironmentKey::Sky(scene_sun(scene).map(|(d, lux)| (d.to_array().map(f32::to_bits), lux.to_bits()))))

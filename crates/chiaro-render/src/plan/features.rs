@@ -48,7 +48,7 @@ impl ShaderFeatures {
                 .any(|l| matches!(l.shadow, ShadowSlot::Realtime { filter, .. } if filter != ShadowFilter::Pcf2x2)),
             soft_cascades: settings.shadows.directional.cascade_blend == CascadeBlend::Soft,
             pcss: lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { pcss: true, .. })),
-            environment: settings.environment.enabled(),
+            environment: settings.environment.enabled_for(scene),
         }
     }
 

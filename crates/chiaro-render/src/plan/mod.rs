@@ -260,7 +260,7 @@ impl FramePlan {
             culling,
             culled,
             msaa,
-            environment_background: settings.environment.enabled() && settings.environment.background,
+            environment_background: settings.environment.enabled_for(scene) && settings.environment.background,
             fxaa,
             features,
         }

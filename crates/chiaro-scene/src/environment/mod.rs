@@ -1,13 +1,16 @@
 //! Environment maps: the radiance arriving from every direction, as an equirectangular
 //! image in glTF's physical units (nits). A source and the scene flow in (a studio made
-//! here, a daylight sky from the first directional light, or an `.hdr`/`.exr` file); an
+//! here, a daylight sky from the first directional light, an `.hdr`/`.exr` file, or the
+//! glTF file's own EXT_lights_image_based cube, read by the importer); an
 //! `EnvironmentMap` or an error naming the file flows out. The renderer turns the map
 //! into irradiance and a prefiltered cube; the baker and the reference trace it.
 
+mod cube_faces;
 mod image_file;
 mod neutral;
 mod sky;
 
+pub use cube_faces::{CubeFaces, image_based_light_direction, ldr_radiance, rgbd_encode, rgbd_radiance};
 pub use image_file::{MAX_HEIGHT, MAX_WIDTH, check_image, load_image};
 pub use neutral::neutral;
 pub use sky::{SKY_TO_SUN_ILLUMINANCE, sky};
@@ -16,7 +19,9 @@ use crate::settings::EnvironmentSource;
 use crate::types::{LightKind, Scene};
 use chiaro_math::environment::{environment_direction, equirect_direction, equirect_texel_solid_angle, equirect_uv};
 use glam::{Vec2, Vec3};
+use std::hash::{Hash, Hasher};
 use std::path::PathBuf;
+use std::sync::Arc;
 
 /// Radiance over the sphere, equirectangular: `width` = 2 x `height`, rows from +Y down.
 #[derive(Clone, Debug, PartialEq)]
@@ -152,10 +157,36 @@ pub fn scene_sun(scene: &Scene) -> Option<(Vec3, f32)> {
     Some((-light.direction(), light.intensity * luminance))
 }
 
-/// The map a source names for `scene`, or `None` for `EnvironmentSource::None`.
+/// The environment a glTF file carries, made into a map at import (its intensity and
+/// rotation already applied).
+#[derive(Clone, Debug)]
+pub struct SceneEnvironment {
+    /// Where it came from, for messages: `EXT_lights_image_based light 0 (name)`.
+    pub label: String,
+    /// The radiance, in the world's frame.
+    pub map: Arc<EnvironmentMap>,
+    /// A hash of the texels: the renderer makes its maps again when it changes.
+    pub fingerprint: u64,
+}
+
+impl SceneEnvironment {
+    /// The scene's environment `map`, named `label`.
+    pub fn new(label: String, map: EnvironmentMap) -> SceneEnvironment {
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        (map.width, map.height).hash(&mut hasher);
+        for texel in &map.texels {
+            texel.to_array().map(f32::to_bits).hash(&mut hasher);
+        }
+        SceneEnvironment { label, map: Arc::new(map), fingerprint: hasher.finish() }
+    }
+}
+
+/// The map a source names for `scene`, or `None` where the constant ambient term lights
+/// it (`ambient`, or `none` for a scene without an environment of its own).
 pub fn environment_map(source: &EnvironmentSource, scene: &Scene) -> Result<Option<EnvironmentMap>, EnvironmentError> {
     Ok(match source {
-        EnvironmentSource::None => None,
+        EnvironmentSource::None => scene.environment.as_ref().map(|own| (*own.map).clone()),
+        EnvironmentSource::Ambient => None,
         EnvironmentSource::Neutral => Some(neutral()),
         EnvironmentSource::Sky => Some(sky(scene_sun(scene))),
         EnvironmentSource::File(path) => Some(load_image(path)?),

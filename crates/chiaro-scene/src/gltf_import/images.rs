@@ -121,6 +121,19 @@ impl Loader<'_> {
     }
 
     fn decode_image(&self, index: usize, color_space: ColorSpace) -> Result<Image, SceneError> {
+        let rgba = self.decode_pixels(index)?.into_rgba8();
+        let image = &self.root.images[index];
+        let name = image
+            .name
+            .clone()
+            .or_else(|| image.uri.clone().filter(|u| !u.starts_with("data:")))
+            .unwrap_or_else(|| format!("image {index}"));
+        Ok(Image { name, width: rgba.width(), height: rgba.height(), rgba8: rgba.into_raw(), color_space })
+    }
+
+    /// The pixels of image `index` as the file stores them (channels and bit depth kept),
+    /// read from its buffer view or URI; an error names the image.
+    pub(super) fn decode_pixels(&self, index: usize) -> Result<image::DynamicImage, SceneError> {
         let image = &self.root.images[index];
         let label = object_label("image", index, image.uri.as_deref(), image.name.as_deref());
         let (bytes, mime): (Cow<[u8]>, Option<String>) = match (&image.buffer_view, &image.uri) {
@@ -160,14 +173,7 @@ impl Loader<'_> {
                 return Err(self.invalid(format!("{label}: unsupported image format; Chiaro reads PNG, JPEG and WebP")));
             }
         };
-        let decoded = image::load_from_memory_with_format(&bytes, format)
-            .map_err(|e| self.invalid(format!("{label}: cannot decode: {e}")))?;
-        let rgba = decoded.into_rgba8();
-        let name = image
-            .name
-            .clone()
-            .or_else(|| image.uri.clone().filter(|u| !u.starts_with("data:")))
-            .unwrap_or_else(|| format!("image {index}"));
-        Ok(Image { name, width: rgba.width(), height: rgba.height(), rgba8: rgba.into_raw(), color_space })
+        image::load_from_memory_with_format(&bytes, format)
+            .map_err(|e| self.invalid(format!("{label}: cannot decode: {e}")))
     }
 }

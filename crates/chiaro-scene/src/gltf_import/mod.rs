@@ -23,6 +23,7 @@ mod animation;
 mod document;
 mod extras;
 pub mod glb;
+mod image_based_light;
 mod images;
 mod lights_cameras;
 mod materials;
@@ -52,8 +53,9 @@ use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 8] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 9] = [
     "KHR_lights_punctual",
+    "EXT_lights_image_based",
     "KHR_materials_emissive_strength",
     "KHR_materials_unlit",
     "KHR_texture_transform",
@@ -170,6 +172,7 @@ impl<'a> Loader<'a> {
         let animation = self.animation(&placements, &mut instances, &mut meshes)?;
         let image_uses = images::image_uses(&materials, &meshes);
         let images = self.decode_images(&image_uses, &mut materials, &mut lights)?;
+        let environment = self.scene_environment(self.scene_index())?;
         self.note_tally();
         let mut scene = Scene {
             source: None,
@@ -184,6 +187,7 @@ impl<'a> Loader<'a> {
             baked: None,
             nodes: self.node_table(&placements),
             animation: animation.map(Box::new),
+            environment,
         };
         // Skinned and morphed meshes at rest: joints at their rest transforms, the rest
         // weights applied. The rest time is always a valid pose.

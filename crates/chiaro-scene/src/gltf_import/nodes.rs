@@ -16,13 +16,19 @@ pub(super) struct Placement {
 }
 
 impl Loader<'_> {
+    /// The scene shown: the default scene, else scene 0; `None` for a file without scenes.
+    pub(super) fn scene_index(&self) -> Option<usize> {
+        let root = self.root;
+        root.scene.map(|s| s.value()).or(if root.scenes.is_empty() { None } else { Some(0) })
+    }
+
     /// World transforms of the nodes of the default scene (else scene 0), parents before
     /// children. A file without scenes, or a scene without nodes, is empty, with a note
     /// that says so. A node reached twice (a cycle, or a child shared by two parents) is an
     /// error, as glTF requires disjoint trees.
     pub(super) fn walk_scene(&mut self) -> Result<Vec<Placement>, SceneError> {
         let root = self.root;
-        let scene = root.scene.map(|s| s.value()).or(if root.scenes.is_empty() { None } else { Some(0) });
+        let scene = self.scene_index();
         let roots: Vec<usize> = match scene {
             Some(scene) => root.scenes[scene].nodes.iter().map(|n| n.value()).collect(),
             None => Vec::new(),

@@ -11,9 +11,11 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct EnvironmentSettings {
-    /// "none" (the constant ambient term of `render.ambient`, the default), "neutral"
-    /// (a studio environment), "sky" (a daylight sky from the first directional light),
-    /// or the path of an equirectangular `.hdr` or `.exr` image.
+    /// "none" (the default: the environment the glTF file carries with
+    /// EXT_lights_image_based, else the constant ambient term of `render.ambient`),
+    /// "ambient" (the constant ambient term even for such a file), "neutral" (a studio
+    /// environment), "sky" (a daylight sky from the first directional light), or the path
+    /// of an equirectangular `.hdr` or `.exr` image.
     pub source: EnvironmentSource,
     /// A multiplier of the environment's radiance.
     pub intensity: f32,
@@ -42,9 +44,12 @@ impl Default for EnvironmentSettings {
 #[derive(Clone, Debug, Default, PartialEq, Eq, Hash, Deserialize, Serialize)]
 #[serde(try_from = "String", into = "String")]
 pub enum EnvironmentSource {
-    /// No environment: the constant ambient term.
+    /// None of its own: the glTF file's EXT_lights_image_based environment where it
+    /// carries one, else the constant ambient term.
     #[default]
     None,
+    /// The constant ambient term, even for a file that carries an environment.
+    Ambient,
     /// A studio-like environment Chiaro makes: soft boxes over a grey room.
     Neutral,
     /// An analytic clear daylight sky for the first directional light's direction.
@@ -54,7 +59,7 @@ pub enum EnvironmentSource {
 }
 
 /// The names `source` takes besides a path, for messages and the viewer.
-pub const SOURCE_NAMES: [&str; 3] = ["none", "neutral", "sky"];
+pub const SOURCE_NAMES: [&str; 4] = ["none", "ambient", "neutral", "sky"];
 
 impl EnvironmentSource {
     /// The source a settings value or `--environment` argument names: one of
@@ -62,13 +67,16 @@ impl EnvironmentSource {
     pub fn parse(text: &str) -> Result<EnvironmentSource, String> {
         match text {
             "none" => Ok(EnvironmentSource::None),
+            "ambient" => Ok(EnvironmentSource::Ambient),
             "neutral" => Ok(EnvironmentSource::Neutral),
             "sky" => Ok(EnvironmentSource::Sky),
             path => {
                 let extension = Path::new(path).extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
                 match extension.as_deref() {
                     Some("hdr" | "exr") => Ok(EnvironmentSource::File(PathBuf::from(path))),
-                    _ => Err(format!("\"{path}\" is not none, neutral, sky or the path of a .hdr or .exr image")),
+                    _ => Err(format!(
+                        "\"{path}\" is not none, ambient, neutral, sky or the path of a .hdr or .exr image"
+                    )),
                 }
             }
         }
@@ -78,6 +86,7 @@ impl EnvironmentSource {
     pub fn name(&self) -> String {
         match self {
             EnvironmentSource::None => "none".into(),
+            EnvironmentSource::Ambient => "ambient".into(),
             EnvironmentSource::Neutral => "neutral".into(),
             EnvironmentSource::Sky => "sky".into(),
             EnvironmentSource::File(path) => path.display().to_string(),
@@ -132,8 +141,22 @@ impl EnvironmentSettings {
         ROTATION_DEG.check(self.rotation_deg)
     }
 
-    /// Whether frames are lit by an environment rather than the constant ambient term.
-    pub fn enabled(&self) -> bool {
-        self.source != EnvironmentSource::None
+    /// Whether frames of `scene` are lit by an environment rather than the constant
+    /// ambient term.
+    pub fn enabled_for(&self, scene: &crate::types::Scene) -> bool {
+        match self.source {
+            EnvironmentSource::None => scene.environment.is_some(),
+            EnvironmentSource::Ambient => false,
+            _ => true,
+        }
+    }
+
+    /// The environment `scene` is lit by, for messages: the source's name, or the file's
+    /// own environment's label.
+    pub fn describe(&self, scene: &crate::types::Scene) -> String {
+        match (&self.source, &scene.environment) {
+            (EnvironmentSource::None, Some(own)) => own.label.clone(),
+            (source, _) => source.name(),
+        }
     }
 }

@@ -1,7 +1,10 @@
 //! Parsing, defaults, validation and messages of the whole settings file.
 
 use super::*;
+use crate::environment::{EnvironmentMap, SceneEnvironment};
+use crate::types::Scene;
 use chiaro_math::shadow::ShadowFilter;
+use glam::Vec3;
 
 #[test]
 fn empty_file_gives_defaults() {
@@ -142,11 +145,21 @@ fn environment_sources_parse_and_bad_ones_name_the_key() {
     let s = Settings::parse("[environment]\nsource = \"sky\"\nintensity = 2.5\nrotation_deg = -90\n").unwrap();
     assert_eq!(s.environment.source, EnvironmentSource::Sky);
     assert_eq!((s.environment.intensity, s.environment.rotation_deg), (2.5, -90.0));
-    assert!(s.environment.enabled() && s.environment.background);
+    assert!(s.environment.enabled_for(&Scene::default()) && s.environment.background);
     let s = Settings::parse("[environment]\nsource = \"maps/Studio.HDR\"\nmode = \"baked\"\n").unwrap();
     assert_eq!(s.environment.source, EnvironmentSource::File("maps/Studio.HDR".into()));
     assert_eq!(s.environment.mode, EnvironmentMode::Baked);
-    assert!(!Settings::default().environment.enabled());
+    assert!(!Settings::default().environment.enabled_for(&Scene::default()));
+    // A file's own environment lights it under `none`; `ambient` keeps the constant term.
+    let own = SceneEnvironment::new("EXT_lights_image_based light 0".into(), EnvironmentMap::uniform(Vec3::ONE));
+    let carrying = Scene { environment: Some(own), ..Scene::default() };
+    let default = Settings::default().environment;
+    assert!(default.enabled_for(&carrying));
+    assert_eq!(default.describe(&carrying), "EXT_lights_image_based light 0");
+    let ambient = Settings::parse("[environment]\nsource = \"ambient\"\n").unwrap().environment;
+    assert_eq!(ambient.source, EnvironmentSource::Ambient);
+    assert!(!ambient.enabled_for(&carrying));
+    assert_eq!(ambient.describe(&carrying), "ambient");
     for (text, expected) in [
         ("[environment]\nsource = \"studio.png\"\n", "environment.source (line 2): \"studio.png\" is not none"),
         ("[environment]\nintensity = -1\n", "environment.intensity (line 2): -1 is out of range (0 to 1000000)"),

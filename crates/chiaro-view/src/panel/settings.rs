@@ -191,7 +191,8 @@ fn cascade_ratios(ui: &mut Ui, count: u32, ratios: &mut Option<Vec<f32>>) {
 fn environment_section(ui: &mut Ui, s: &mut Settings) {
     ui.heading("[environment]");
     let e = &mut s.environment;
-    let mut sources = vec![EnvironmentSource::None, EnvironmentSource::Neutral, EnvironmentSource::Sky];
+    let mut sources =
+        vec![EnvironmentSource::None, EnvironmentSource::Ambient, EnvironmentSource::Neutral, EnvironmentSource::Sky];
     if let EnvironmentSource::File(_) = &e.source {
         sources.push(e.source.clone());
     }

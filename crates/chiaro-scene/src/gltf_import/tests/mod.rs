@@ -6,6 +6,7 @@
 mod animation;
 mod conformance;
 mod geometry;
+mod image_based_light;
 mod invalid_files;
 mod lights_cameras;
 mod materials;
