@@ -74,7 +74,7 @@ impl Loader<'_> {
                 .map(|i| i as usize)
                 .filter(|&i| i < self.root.images.len())
                 .ok_or_else(|| self.invalid(format!("{face_path}: {image} is not an image of the file")))?;
-            let pixels = self.decode_pixels(image).map_err(|e| self.in_context(&face_path, e))?;
+            let pixels = self.decode_pixels(image, Some(MAX_FACE_SIZE)).map_err(|e| self.in_context(&face_path, e))?;
             let (width, height) = (pixels.width(), pixels.height());
             let expected = if face == 0 { width } else { cube.size };
             if width != height || width != expected || width == 0 || width > MAX_FACE_SIZE {

@@ -121,7 +121,7 @@ impl Loader<'_> {
     }
 
     fn decode_image(&self, index: usize, color_space: ColorSpace) -> Result<Image, SceneError> {
-        let rgba = self.decode_pixels(index)?.into_rgba8();
+        let rgba = self.decode_pixels(index, None)?.into_rgba8();
         let image = &self.root.images[index];
         let name = image
             .name
@@ -132,8 +132,9 @@ impl Loader<'_> {
     }
 
     /// The pixels of image `index` as the file stores them (channels and bit depth kept),
-    /// read from its buffer view or URI; an error names the image.
-    pub(super) fn decode_pixels(&self, index: usize) -> Result<image::DynamicImage, SceneError> {
+    /// read from its buffer view or URI; an error names the image. An image wider or
+    /// taller than `max_side` is refused from its header, before it is decoded.
+    pub(super) fn decode_pixels(&self, index: usize, max_side: Option<u32>) -> Result<image::DynamicImage, SceneError> {
         let image = &self.root.images[index];
         let label = object_label("image", index, image.uri.as_deref(), image.name.as_deref());
         let (bytes, mime): (Cow<[u8]>, Option<String>) = match (&image.buffer_view, &image.uri) {
@@ -173,7 +174,16 @@ impl Loader<'_> {
                 return Err(self.invalid(format!("{label}: unsupported image format; Chiaro reads PNG, JPEG and WebP")));
             }
         };
-        image::load_from_memory_with_format(&bytes, format)
-            .map_err(|e| self.invalid(format!("{label}: cannot decode: {e}")))
+        let cannot_decode = |e: image::ImageError| self.invalid(format!("{label}: cannot decode: {e}"));
+        if let Some(max_side) = max_side {
+            let reader = image::ImageReader::with_format(std::io::Cursor::new(&bytes), format);
+            let (width, height) = reader.into_dimensions().map_err(cannot_decode)?;
+            if width.max(height) > max_side {
+                return Err(self.invalid(format!(
+                    "{label} is {width} x {height}, larger than the {max_side} x {max_side} allowed here"
+                )));
+            }
+        }
+        image::load_from_memory_with_format(&bytes, format).map_err(cannot_decode)
     }
 }

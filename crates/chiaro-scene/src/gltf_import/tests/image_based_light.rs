@@ -89,6 +89,36 @@ fn a_scene_that_names_no_light_has_no_environment_and_says_so() {
     assert!(load_doc(&triangle_doc()).unwrap().environment.is_none());
 }
 
+/// The signature and header of an RGBA PNG of `width` x `height`, then an empty data
+/// chunk: no pixels.
+fn png_header(width: u32, height: u32) -> Vec<u8> {
+    let mut ihdr = b"IHDR".to_vec();
+    ihdr.extend(width.to_be_bytes());
+    ihdr.extend(height.to_be_bytes());
+    ihdr.extend([8, 6, 0, 0, 0]);
+    let crc = crc32(&ihdr);
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(13u32.to_be_bytes());
+    png.extend(ihdr);
+    png.extend(crc.to_be_bytes());
+    png.extend(0u32.to_be_bytes());
+    png.extend(b"IDAT");
+    png.extend(crc32(b"IDAT").to_be_bytes());
+    png
+}
+
+/// The CRC-32 PNG chunks carry.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for &b in bytes {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 { (crc >> 1) ^ 0xEDB8_8320 } else { crc >> 1 };
+        }
+    }
+    !crc
+}
+
 /// A change to a good document that breaks it.
 type Edit = dyn Fn(&mut Value);
 
@@ -131,6 +161,14 @@ fn bad_image_based_lights_name_the_file_and_the_path() {
         (
             Box::new(move |d| d["images"][0] = uri(oblong.clone())),
             format!("{light}.specularImages[0][0]: image 0 is 4 x 2"),
+        ),
+        (
+            // A face over the limit is refused from its PNG header: this one's pixels are
+            // not even there to decode.
+            Box::new(
+                |d| d["images"][2] = json!({ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(png_header(20000, 20000))) }),
+            ),
+            format!("{light}.specularImages[0][2]: image 2 is 20000 x 20000, larger than the 2048 x 2048 allowed here"),
         ),
         (
             Box::new(|d| d["images"][1] = json!({ "uri": "missing-face.png" })),
