@@ -3,7 +3,9 @@ a known angle and a camera, with every number the tests check against kept here.
 
 import base64
 import json
+import math
 import struct
+import zlib
 
 import numpy as np
 
@@ -100,8 +102,33 @@ def embed_meshes(parts):
             "buffers": [{"byteLength": len(blob), "uri": uri}]}
 
 
-def write_scene(path, box_label=BOX_LABEL, sun_lux=5.0):
-    """Writes the floor-box-sun-camera scene as one self-contained .gltf at `path`."""
+def rgbd_png(size, radiance):
+    """A `size` x `size` PNG data URI of one RGBD pixel (gamma 2.2, as EXT_lights_image_based
+    writers encode): the radiance `radiance` (three floats) everywhere."""
+    scale = min(max(math.floor(255 / max(max(radiance), 1e-6)), 1), 255) / 255
+    pixel = bytes([min(255, round(255 * (c * scale) ** (1 / 2.2))) for c in radiance] + [round(255 * scale)])
+    raw = b"".join(b"\x00" + pixel * size for _ in range(size))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 6, 0, 0, 0))
+           + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+    return "data:image/png;base64," + base64.b64encode(png).decode()
+
+
+def image_based_light(radiance, size=8):
+    """The parts of a document that give its scene an EXT_lights_image_based light whose six
+    faces all hold `radiance`: (root extension, scene extension, images)."""
+    light = {"name": "grey studio", "intensity": 1.0, "rotation": [0, 0, 0, 1],
+             "irradianceCoefficients": [[0, 0, 0]] * 9, "specularImageSize": size,
+             "specularImages": [[0, 1, 2, 3, 4, 5]]}
+    images = [{"uri": rgbd_png(size, radiance)} for _ in range(6)]
+    return {"lights": [light]}, {"light": 0}, images
+
+
+def write_scene(path, box_label=BOX_LABEL, sun_lux=5.0, environment=None):
+    """Writes the floor-box-sun-camera scene as one self-contained .gltf at `path`; with
+    `environment` (a radiance, three floats), an EXT_lights_image_based light of it too."""
     mesh_data = embed_meshes([("floor", _floor_geometry(), 0), ("box", box_geometry(BOX_MIN, BOX_MAX), 0)])
     box_node = {"name": "box", "mesh": 1}
     if box_label is not None:
@@ -127,6 +154,12 @@ def write_scene(path, box_label=BOX_LABEL, sun_lux=5.0):
                                                                  "metallicFactor": 0.0, "roughnessFactor": 1.0}}],
         **mesh_data,
     }
+    if environment is not None:
+        root, scene, images = image_based_light(environment)
+        doc["extensionsUsed"].append("EXT_lights_image_based")
+        doc["extensions"]["EXT_lights_image_based"] = root
+        doc["scenes"][0]["extensions"] = {"EXT_lights_image_based": scene}
+        doc["images"] = images
     with open(path, "w") as f:
         json.dump(doc, f)
     return path

@@ -253,6 +253,24 @@ def test_an_environment_lights_the_scene_and_fills_the_background(scene, tmp_pat
     assert np.abs(other["hdr"] - lit["hdr"]).max() > 0.1
 
 
+def test_a_files_image_based_light_lights_it_unless_the_settings_say_ambient(scene, tmp_path):
+    own = chiaro.load(scenes.write_scene(str(tmp_path / "studio.gltf"), environment=(2.0, 2.0, 2.0)))
+    assert own.environment == "EXT_lights_image_based light 0 (grey studio)"
+    assert scene.environment is None
+    camera = overview()
+    settings = {"render": {"ambient": [0, 0, 0], "msaa": 1}}
+    lit = chiaro.Renderer(settings=settings).render(own, camera=camera, width=W, height=H, outputs=("hdr", "depth"))
+    sky = ~np.isfinite(lit["depth"])
+    assert sky.any()
+    # The background is the file's environment: 2 nits through 8-bit RGBD.
+    np.testing.assert_allclose(lit["hdr"][sky], 2.0, rtol=0.02)
+    plain = chiaro.Renderer(settings={**settings, "environment": {"source": "ambient"}})
+    dark = plain.render(own, camera=camera, width=W, height=H, outputs=("hdr",))
+    assert dark["hdr"][sky].max() == 0.0
+    # The environment lights the surfaces too.
+    assert (lit["hdr"][~sky].sum(axis=-1) > dark["hdr"][~sky].sum(axis=-1) + 0.05).mean() > 0.99
+
+
 def test_a_bad_environment_is_an_error_naming_it(scene, tmp_path):
     with pytest.raises(chiaro.SettingsError, match="environment.source"):
         chiaro.Renderer(settings={"environment": {"source": "studio.png"}})

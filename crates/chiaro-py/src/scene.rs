@@ -175,6 +175,13 @@ impl Scene {
         reading(&self.state, |s| s.scene.ignored.clone())
     }
 
+    /// The environment the file carries (EXT_lights_image_based), by name, or None. It
+    /// lights the scene unless the settings' `environment.source` names another.
+    #[getter]
+    fn environment(&self) -> Option<String> {
+        reading(&self.state, |s| s.scene.environment.as_ref().map(|own| own.label.clone()))
+    }
+
     /// Triangles drawn.
     #[getter]
     fn triangle_count(&self) -> usize {
