@@ -82,7 +82,6 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let mut settings = load_settings(args.settings.as_deref())?;
     args.shadow.apply(&mut settings)?;
     args.environment.apply(&mut settings)?;
-    let told_environment = args.environment.environment.is_some() || args.settings.is_some();
     args.path.apply(&mut settings)?;
     // The view's size is render.width and height, so that saved settings keep it.
     settings.render.width = args.width.unwrap_or(settings.render.width);
@@ -90,11 +89,6 @@ pub fn run(args: ViewArgs) -> Result<()> {
     settings.validate().map_err(|e| anyhow!("--width/--height: {e}"))?;
     let (width, height) = (settings.render.width, settings.render.height);
     let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
-    // The viewer opens in the studio, as other model viewers do, unless told otherwise or
-    // the file carries an environment of its own.
-    if !told_environment && scene.environment.is_none() {
-        settings.environment.source = chiaro_scene::settings::EnvironmentSource::Neutral;
-    }
     args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
     args.time.apply(&mut scene)?;
     let start_view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
@@ -121,6 +115,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
         script,
         load_scene,
         time: args.time.time,
+        // Unless told otherwise, files open under their own environment or the studio.
+        viewer_picks_environment: args.environment.environment.is_none() && args.settings.is_none(),
         ..ViewerConfig::new(scene, settings, start_view)
     })
 }

@@ -23,7 +23,7 @@ pub struct ShaderFeatures {
     pub soft_cascades: bool,
     /// A realtime shadow is contact-hardening (`"shadows": "pcss"`).
     pub pcss: bool,
-    /// An environment lights the frame (`[environment] source` is not "none").
+    /// An environment lights the frame (`EnvironmentSettings::enabled_for` the scene).
     pub environment: bool,
 }
 

@@ -3,9 +3,13 @@
 //! turn from world directions to the cube's flow in; an `EnvironmentMap` flows out.
 //! Also the pixel encodings the extension uses: RGBD (HDR in an 8-bit PNG) and LDR.
 
-use super::{EnvironmentMap, MAX_WIDTH};
+use super::EnvironmentMap;
 use chiaro_math::cube_map::cube_map_uv;
 use glam::{Quat, Vec2, Vec3, Vec4};
+
+/// The widest map made from a cube: what the renderer keeps on the device (a 2048-texel
+/// cube would make a 400 MB map only to be averaged down).
+pub const MAX_EQUIRECT_WIDTH: u32 = 4096;
 
 /// Six square faces of linear radiance in the order +X, -X, +Y, -Y, +Z, -Z, each row by
 /// row from the top, laid out as `chiaro_math::cube_map` says.
@@ -41,20 +45,19 @@ impl CubeFaces {
 
     /// The equirectangular map of the cube read at `to_cube(d)` for each world direction
     /// `d`: four texels across per face texel (as fine as the cube at the equator), at
-    /// most `MAX_WIDTH`.
+    /// most `MAX_EQUIRECT_WIDTH`.
     pub fn to_equirect(&self, to_cube: impl Fn(Vec3) -> Vec3) -> EnvironmentMap {
-        let width = (4 * self.size).clamp(8, MAX_WIDTH);
+        let width = (4 * self.size).clamp(8, MAX_EQUIRECT_WIDTH);
         EnvironmentMap::from_fn(width, |d| self.radiance(to_cube(d)))
     }
 }
 
 /// Where an EXT_lights_image_based cube keeps world direction `d`, for a light with
-/// `rotation`: as Babylon.js (the extension's reference loader) reads it, the direction is
-/// turned by the rotation and then mirrored in x, from glTF's right-handed frame into the
-/// cube's left-handed one.
+/// `rotation`: as Babylon.js (the extension's reference loader) reads it in its default
+/// left-handed scene, the direction is mirrored in x (glTF's right-handed frame into the
+/// scene's) and then turned by the inverse of the rotation's components as written.
 pub fn image_based_light_direction(d: Vec3, rotation: Quat) -> Vec3 {
-    let turned = rotation * d;
-    Vec3::new(-turned.x, turned.y, turned.z)
+    rotation.inverse() * Vec3::new(-d.x, d.y, d.z)
 }
 
 /// The gamma the extension's PNG and JPEG faces are encoded with (Babylon.js's).
@@ -105,9 +108,13 @@ mod tests {
         assert_eq!(cube_map_uv(image_based_light_direction(Vec3::X, Quat::IDENTITY)).0, 1);
         assert_eq!(cube_map_uv(image_based_light_direction(Vec3::Z, Quat::IDENTITY)).0, 4);
         assert_eq!(cube_map_uv(image_based_light_direction(Vec3::Y, Quat::IDENTITY)).0, 2);
-        // A quarter turn about +Y takes world +Z to +X before the mirror.
+        // A quarter turn about +Y: world +Z reads the cube towards -X.
         let quarter = Quat::from_rotation_y(std::f32::consts::FRAC_PI_2);
         assert_eq!(cube_map_uv(image_based_light_direction(Vec3::Z, quarter)).0, 1);
+        // About +X the mirror does not commute with the turn: world +Y reads towards -Z,
+        // as in Babylon.js (turning first and mirroring after would read +Z).
+        let quarter = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+        assert_eq!(cube_map_uv(image_based_light_direction(Vec3::Y, quarter)).0, 5);
     }
 
     #[test]

@@ -10,7 +10,9 @@ mod image_file;
 mod neutral;
 mod sky;
 
-pub use cube_faces::{CubeFaces, image_based_light_direction, ldr_radiance, rgbd_encode, rgbd_radiance};
+pub use cube_faces::{
+    CubeFaces, MAX_EQUIRECT_WIDTH, image_based_light_direction, ldr_radiance, rgbd_encode, rgbd_radiance,
+};
 pub use image_file::{MAX_HEIGHT, MAX_WIDTH, check_image, load_image};
 pub use neutral::neutral;
 pub use sky::{SKY_TO_SUN_ILLUMINANCE, sky};
@@ -130,7 +132,8 @@ pub struct EnvironmentLight {
 }
 
 impl EnvironmentLight {
-    /// The environment the settings name for `scene`, or `None` for `none`.
+    /// The environment the settings give `scene` (its own under `none`), or `None` where
+    /// the constant ambient term lights it.
     pub fn from_settings(
         settings: &crate::settings::EnvironmentSettings,
         scene: &Scene,

@@ -7,7 +7,7 @@
 //! irradiance from it, so the supplied mips and spherical harmonics (whose convention the
 //! extension leaves open) are not needed. Faces with an alpha channel are RGBD, the others
 //! low dynamic range, both gamma 2.2 (as the writers encode them); the cube is read as
-//! Babylon.js reads it (`chiaro_math::cube_map`'s layout, mirrored in x after the turn).
+//! Babylon.js reads it (mirrored in x, turned, in `chiaro_math::cube_map`'s layout).
 
 use super::Loader;
 use crate::environment::{
@@ -19,8 +19,11 @@ use serde_json::Value;
 
 /// The extension's name, as files spell it.
 pub const EXTENSION: &str = "EXT_lights_image_based";
-/// The largest face accepted: four texels across per face texel makes the widest map.
+/// The largest face accepted: four texels across per face texel makes the widest map an
+/// environment image may be.
 const MAX_FACE_SIZE: u32 = MAX_WIDTH / 4;
+/// The brightest multiplier accepted, as for `environment.intensity`.
+const MAX_INTENSITY: f64 = 1.0e6;
 
 impl Loader<'_> {
     /// The environment the displayed scene (`scene`, a valid index) names, if any.
@@ -49,11 +52,9 @@ impl Loader<'_> {
         let field = |key: &str| light.get(key);
         let intensity = match field("intensity") {
             None => 1.0,
-            Some(v) => v
-                .as_f64()
-                .filter(|i| i.is_finite() && *i >= 0.0)
-                .ok_or_else(|| self.invalid(format!("{path}.intensity: {v} is not a number of at least 0")))?
-                as f32,
+            Some(v) => v.as_f64().filter(|i| (0.0..=MAX_INTENSITY).contains(i)).ok_or_else(|| {
+                self.invalid(format!("{path}.intensity: {v} is not a number from 0 to {MAX_INTENSITY}"))
+            })? as f32,
         };
         let rotation = match field("rotation") {
             None => Quat::IDENTITY,

@@ -55,7 +55,7 @@ use std::path::{Path, PathBuf};
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
 pub const SUPPORTED_EXTENSIONS: [&str; 9] = [
     "KHR_lights_punctual",
-    "EXT_lights_image_based",
+    image_based_light::EXTENSION,
     "KHR_materials_emissive_strength",
     "KHR_materials_unlit",
     "KHR_texture_transform",

@@ -13,15 +13,16 @@ const ATLAS_SIZES: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
 /// Default far ends of the cascades, x max_distance (docs/settings.md).
 const DEFAULT_RATIOS: [f32; 3] = [0.1, 0.25, 0.5];
 
-/// Draws the settings; asks for the edited settings when they changed.
-pub fn settings_panel(ui: &mut Ui, settings: &Settings) -> Option<Action> {
+/// Draws the settings; asks for the edited settings when they changed. `own_environment`
+/// names the open file's EXT_lights_image_based light, if it has one.
+pub fn settings_panel(ui: &mut Ui, settings: &Settings, own_environment: Option<&str>) -> Option<Action> {
     let mut edited = settings.clone();
     // Narrow sliders leave room for the keys' long names.
     ui.spacing_mut().slider_width = 100.0;
     render_section(ui, &mut edited);
     lights_section(ui, &mut edited);
     shadows_section(ui, &mut edited);
-    environment_section(ui, &mut edited);
+    environment_section(ui, &mut edited, own_environment);
     lighting_and_bake_section(ui, &mut edited);
     // Cascade ratios must match the count; unset, the defaults for it apply.
     if edited.shadows.directional.cascade_count != settings.shadows.directional.cascade_count {
@@ -188,7 +189,7 @@ fn cascade_ratios(ui: &mut Ui, count: u32, ratios: &mut Option<Vec<f32>>) {
 
 /// The environment: a source (an image is dropped on the window or named in the file),
 /// its intensity, turn, background and mode.
-fn environment_section(ui: &mut Ui, s: &mut Settings) {
+fn environment_section(ui: &mut Ui, s: &mut Settings, own_environment: Option<&str>) {
     ui.heading("[environment]");
     let e = &mut s.environment;
     let mut sources =
@@ -202,6 +203,9 @@ fn environment_section(ui: &mut Ui, s: &mut Settings) {
             ui.selectable_value(&mut e.source, source, name);
         }
     });
+    if let (EnvironmentSource::None, Some(own)) = (&e.source, own_environment) {
+        ui.label(format!("(none: the file's own, {own})"));
+    }
     ui.label("(drop an .hdr or .exr on the window to use it)");
     ui.add(Slider::new(&mut e.intensity, 0.0..=1.0e6).logarithmic(true).text("environment.intensity"));
     ui.add(Slider::new(&mut e.rotation_deg, -180.0..=180.0).text("environment.rotation_deg"));

@@ -62,6 +62,13 @@ fn the_lights_rotation_turns_world_directions_into_the_cube() {
     assert!(close(own.map.radiance(Vec3::NEG_X), FACES[4]), "{}", own.map.radiance(Vec3::NEG_X));
     assert!(close(own.map.radiance(Vec3::Z), FACES[1]), "{}", own.map.radiance(Vec3::Z));
     assert!(close(own.map.radiance(Vec3::Y), FACES[2]));
+    // A quarter turn about +X, written at twice unit length (it is normalised): world +Y
+    // reads the cube's -Z face, as Babylon.js reads it.
+    let q = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2) * 2.0;
+    let doc = image_based_light_gltf(8, |i, _| FACES[i], json!({ "rotation": q.to_array() }));
+    let own = load_doc(&doc).unwrap().environment.unwrap();
+    assert!(close(own.map.radiance(Vec3::Y), FACES[5]), "{}", own.map.radiance(Vec3::Y));
+    assert!(close(own.map.radiance(Vec3::X), FACES[1]), "{}", own.map.radiance(Vec3::X));
 }
 
 #[test]
@@ -136,7 +143,11 @@ fn bad_image_based_lights_name_the_file_and_the_path() {
         ),
         (
             Box::new(|d| d["extensions"]["EXT_lights_image_based"]["lights"][0]["intensity"] = json!(-1.0)),
-            format!("{light}.intensity: -1 is not a number of at least 0"),
+            format!("{light}.intensity: -1 is not a number from 0 to 1000000"),
+        ),
+        (
+            Box::new(|d| d["extensions"]["EXT_lights_image_based"]["lights"][0]["intensity"] = json!(1e39)),
+            format!("{light}.intensity: 1e+39 is not a number from 0 to 1000000"),
         ),
         (
             Box::new(|d| d["extensions"]["EXT_lights_image_based"]["lights"][0]["rotation"] = json!([0, 0, 0])),
