@@ -17,12 +17,17 @@ use std::path::PathBuf;
 
 const SIZE: u32 = 256;
 
+/// This test run's folder for the files it writes.
+fn scratch_dir() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("chiaro-environment-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// Writes a `width` x `width / 2` equirectangular .hdr with radiance `f(direction)`.
 fn write_hdr(name: &str, width: u32, f: impl Fn(Vec3) -> Vec3) -> PathBuf {
     let map = chiaro_scene::environment::EnvironmentMap::from_fn(width, f);
-    let dir = std::env::temp_dir().join(format!("chiaro-environment-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
+    let path = scratch_dir().join(name);
     write_environment_hdr(&path, &map);
     path
 }
@@ -226,9 +231,7 @@ fn file_environment(intensity: f32) -> chiaro_scene::environment::SceneEnvironme
         |_, _| Vec3::splat(FURNACE),
         serde_json::json!({ "intensity": intensity }),
     );
-    let dir = std::env::temp_dir().join(format!("chiaro-environment-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(format!("image-based-{intensity}.gltf"));
+    let path = scratch_dir().join(format!("image-based-{intensity}.gltf"));
     std::fs::write(&path, doc.to_string()).unwrap();
     chiaro_scene::load_gltf(&path).unwrap().environment.expect("the file's environment")
 }

@@ -38,3 +38,16 @@ pub enum SceneError {
         message: String,
     },
 }
+
+impl SceneError {
+    /// The error with `context` (what used the failing object, such as a JSON path) before
+    /// an `Invalid` message; other kinds already say all they know.
+    pub(crate) fn in_context(self, context: &str) -> SceneError {
+        match self {
+            SceneError::Invalid { path, message } => {
+                SceneError::Invalid { path, message: format!("{context}: {message}") }
+            }
+            other => other,
+        }
+    }
+}

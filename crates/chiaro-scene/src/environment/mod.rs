@@ -21,6 +21,7 @@ use crate::settings::EnvironmentSource;
 use crate::types::{LightKind, Scene};
 use chiaro_math::environment::{environment_direction, equirect_direction, equirect_texel_solid_angle, equirect_uv};
 use glam::{Vec2, Vec3};
+use std::borrow::Cow;
 use std::hash::{Hash, Hasher};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -139,7 +140,7 @@ impl EnvironmentLight {
         scene: &Scene,
     ) -> Result<Option<EnvironmentLight>, EnvironmentError> {
         Ok(environment_map(&settings.source, scene)?.map(|map| EnvironmentLight {
-            map,
+            map: map.into_owned(),
             intensity: settings.intensity,
             rotation_deg: settings.rotation_deg,
         }))
@@ -185,13 +186,17 @@ impl SceneEnvironment {
 }
 
 /// The map a source names for `scene`, or `None` where the constant ambient term lights
-/// it (`ambient`, or `none` for a scene without an environment of its own).
-pub fn environment_map(source: &EnvironmentSource, scene: &Scene) -> Result<Option<EnvironmentMap>, EnvironmentError> {
+/// it (`ambient`, or `none` for a scene without an environment of its own). The scene's
+/// own map is lent, not copied.
+pub fn environment_map<'a>(
+    source: &EnvironmentSource,
+    scene: &'a Scene,
+) -> Result<Option<Cow<'a, EnvironmentMap>>, EnvironmentError> {
     Ok(match source {
-        EnvironmentSource::None => scene.environment.as_ref().map(|own| (*own.map).clone()),
+        EnvironmentSource::None => scene.environment.as_ref().map(|own| Cow::Borrowed(&*own.map)),
         EnvironmentSource::Ambient => None,
-        EnvironmentSource::Neutral => Some(neutral()),
-        EnvironmentSource::Sky => Some(sky(scene_sun(scene))),
-        EnvironmentSource::File(path) => Some(load_image(path)?),
+        EnvironmentSource::Neutral => Some(Cow::Owned(neutral())),
+        EnvironmentSource::Sky => Some(Cow::Owned(sky(scene_sun(scene)))),
+        EnvironmentSource::File(path) => Some(Cow::Owned(load_image(path)?)),
     })
 }

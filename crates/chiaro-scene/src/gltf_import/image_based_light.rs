@@ -75,13 +75,14 @@ impl Loader<'_> {
                 .map(|i| i as usize)
                 .filter(|&i| i < self.root.images.len())
                 .ok_or_else(|| self.invalid(format!("{face_path}: {image} is not an image of the file")))?;
-            let pixels = self.decode_pixels(image, Some(MAX_FACE_SIZE)).map_err(|e| self.in_context(&face_path, e))?;
+            let pixels = self.decode_pixels(image, Some(MAX_FACE_SIZE)).map_err(|e| e.in_context(&face_path))?;
             let (width, height) = (pixels.width(), pixels.height());
             let expected = if face == 0 { width } else { cube.size };
-            if width != height || width != expected || width == 0 || width > MAX_FACE_SIZE {
+            // (Faces over MAX_FACE_SIZE were refused from their headers.)
+            if width != height || width != expected || width == 0 {
                 return Err(self.invalid(format!(
-                    "{face_path}: image {image} is {width} x {height}; each face must be square, as large as the first \
-                     ({expected}), and at most {MAX_FACE_SIZE} x {MAX_FACE_SIZE}"
+                    "{face_path}: image {image} is {width} x {height}; each face must be square and as large as the \
+                     first ({expected})"
                 )));
             }
             cube.size = width;
@@ -106,16 +107,6 @@ impl Loader<'_> {
             None => format!("{EXTENSION} light {index}"),
         };
         Ok(Some(SceneEnvironment::new(label, map)))
-    }
-
-    /// `error` about an image, prefixed with the JSON path that uses it.
-    fn in_context(&self, json_path: &str, error: SceneError) -> SceneError {
-        match error {
-            SceneError::Invalid { path, message } => {
-                SceneError::Invalid { path, message: format!("{json_path}: {message}") }
-            }
-            other => other,
-        }
     }
 }
 

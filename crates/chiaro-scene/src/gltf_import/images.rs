@@ -67,13 +67,11 @@ impl Loader<'_> {
         for (index, color_space) in uses.iter().enumerate() {
             if let Some(color_space) = color_space {
                 scene_index[index] = images.len();
-                let decoded = self.decode_image(index, *color_space).map_err(|e| match (&cookie_user[index], e) {
-                    (Some(light), SceneError::Invalid { path, message })
-                        if material_uses.get(index).copied().flatten().is_none() =>
-                    {
-                        SceneError::Invalid { path, message: format!("{light}: extras.cookie: {message}") }
+                let decoded = self.decode_image(index, *color_space).map_err(|e| match &cookie_user[index] {
+                    Some(light) if material_uses.get(index).copied().flatten().is_none() => {
+                        e.in_context(&format!("{light}: extras.cookie"))
                     }
-                    (_, e) => e,
+                    _ => e,
                 })?;
                 images.push(decoded);
             }

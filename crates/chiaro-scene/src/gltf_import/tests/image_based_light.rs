@@ -75,7 +75,7 @@ fn the_lights_rotation_turns_world_directions_into_the_cube() {
 fn faces_without_alpha_are_low_dynamic_range() {
     let mut doc = image_based_light_gltf(4, |i, _| FACES[i], json!({}));
     let grey = image::DynamicImage::ImageRgb8(image::RgbImage::from_pixel(4, 4, image::Rgb([128, 128, 128])));
-    doc["images"][5] = json!({ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(png_bytes(grey))) });
+    doc["images"][5] = json!({ "uri": data_uri(&png_bytes(grey)) });
     let own = load_doc(&doc).unwrap().environment.unwrap();
     let got = own.map.radiance(Vec3::NEG_Z);
     assert!(close(got, Vec3::splat((128.0f32 / 255.0).powf(2.2))), "{got}");
@@ -134,7 +134,7 @@ fn bad_image_based_lights_name_the_file_and_the_path() {
     let base = || image_based_light_gltf(4, |i, _| FACES[i], json!({}));
     let small = image::DynamicImage::ImageRgba8(image::RgbaImage::new(2, 2));
     let oblong = image::DynamicImage::ImageRgba8(image::RgbaImage::new(4, 2));
-    let uri = |image| json!({ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(png_bytes(image))) });
+    let uri = |image| json!({ "uri": data_uri(&png_bytes(image)) });
     let light = "extensions.EXT_lights_image_based.lights[0]";
     let cases: Vec<(Box<Edit>, String)> = vec![
         (
@@ -166,7 +166,7 @@ fn bad_image_based_lights_name_the_file_and_the_path() {
         (
             Box::new(move |d| d["images"][3] = uri(small.clone())),
             format!(
-                "{light}.specularImages[0][3]: image 3 is 2 x 2; each face must be square, as large as the first (4)"
+                "{light}.specularImages[0][3]: image 3 is 2 x 2; each face must be square and as large as the first (4)"
             ),
         ),
         (
@@ -176,9 +176,7 @@ fn bad_image_based_lights_name_the_file_and_the_path() {
         (
             // A face over the limit is refused from its PNG header: this one's pixels are
             // not even there to decode.
-            Box::new(
-                |d| d["images"][2] = json!({ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(png_header(20000, 20000))) }),
-            ),
+            Box::new(|d| d["images"][2] = json!({ "uri": data_uri(&png_header(20000, 20000)) })),
             format!("{light}.specularImages[0][2]: image 2 is 20000 x 20000, larger than the 2048 x 2048 allowed here"),
         ),
         (
