@@ -92,12 +92,15 @@ pub struct ClusterGrid {
     pub far: f32,
 }
 
-/// A grid's slices as `assign` reads them, computed once per frame.
-struct Slices {
+/// What `assign` reads of a grid for every light, computed once per frame (thousands of
+/// lights each take a few slices: a division or `powf` saved per slice counts).
+struct FrameConstants {
     /// `ClusterGrid::slice_params`.
-    params: (f32, f32),
+    slice_params: (f32, f32),
     /// `slice_start` of every slice and of `CLUSTER_SLICES`.
-    starts: Vec<f32>,
+    slice_starts: Vec<f32>,
+    /// The image's width and height in tiles (fractional where a tile is cut off).
+    tiles_across: (f32, f32),
 }
 
 /// One light's clusters in one slice: a rectangle of tiles.
@@ -172,53 +175,57 @@ impl ClusterGrid {
     pub fn assign(&self, clip_from_view: &Mat4, lights: &[CullLight]) -> LightLists {
         let mut covers = Vec::new();
         let perspective = Perspective::of(clip_from_view);
-        let slices =
-            Slices { params: self.slice_params(), starts: (0..=CLUSTER_SLICES).map(|s| self.slice_start(s)).collect() };
+        let constants = FrameConstants {
+            slice_params: self.slice_params(),
+            slice_starts: (0..=CLUSTER_SLICES).map(|s| self.slice_start(s)).collect(),
+            tiles_across: (self.width as f32 / self.tile_width as f32, self.height as f32 / self.tile_height as f32),
+        };
         // Shadowed lights first, so that they lead every list they are in.
         for shadowed in [true, false] {
             for (i, light) in lights.iter().enumerate().filter(|(_, l)| l.shadowed == shadowed) {
-                self.cover(perspective, &slices, i as u32, &light.sphere, &mut covers);
+                self.cover(perspective, &constants, i as u32, &light.sphere, &mut covers);
             }
         }
-        let clusters = self.cluster_count();
-        // Count each list's lights, then turn the counts into each list's next free place.
-        let mut next = vec![0u32; clusters];
-        for c in &covers {
-            self.for_each_cluster(c, |k| next[k] += 1);
-        }
-        let mut records = Vec::with_capacity(clusters);
-        let mut offset = 0u32;
-        for place in &mut next {
-            records.push(ListRecord { offset, count: *place as u16, shadowed: 0 });
-            (*place, offset) = (offset, offset + *place);
-        }
-        let mut indices = vec![0u32; offset as usize];
-        let fill = |covers: &[SliceCover], next: &mut [u32], indices: &mut [u32]| {
-            for c in covers {
-                self.for_each_cluster(c, |k| {
-                    indices[next[k] as usize] = c.light;
-                    next[k] += 1;
-                });
-            }
-        };
-        // The covers come shadowed first: what the shadowed ones fill is each list's lead.
+        // A counting sort of the light-cluster pairs: count each list (and its shadowed
+        // lead), place each list's end, then fill every list backwards from its end, so
+        // that the records alone serve as the cursors and each list keeps the covers'
+        // order (shadowed lights first, then ascending).
+        let mut records = vec![ListRecord::default(); self.cluster_count()];
         let shadowed_covers = covers.partition_point(|c| lights[c.light as usize].shadowed);
-        fill(&covers[..shadowed_covers], &mut next, &mut indices);
-        if shadowed_covers > 0 {
-            for (r, &place) in records.iter_mut().zip(&next) {
-                r.shadowed = (place - r.offset) as u16;
-            }
+        for c in &covers[..shadowed_covers] {
+            self.for_each_cluster(c, |k| {
+                records[k].count += 1;
+                records[k].shadowed += 1;
+            });
         }
-        fill(&covers[shadowed_covers..], &mut next, &mut indices);
+        for c in &covers[shadowed_covers..] {
+            self.for_each_cluster(c, |k| records[k].count += 1);
+        }
+        let mut end = 0u32;
+        for r in &mut records {
+            end += u32::from(r.count);
+            r.offset = end;
+        }
+        let mut indices = vec![0u32; end as usize];
+        for c in covers.iter().rev() {
+            self.for_each_cluster(c, |k| {
+                records[k].offset -= 1;
+                indices[records[k].offset as usize] = c.light;
+            });
+        }
         LightLists { records, indices }
     }
 
     /// Calls `f` with each cluster of one cover, row by row.
     #[inline]
     fn for_each_cluster(&self, c: &SliceCover, mut f: impl FnMut(usize)) {
-        for ty in c.tiles_y.0..=c.tiles_y.1 {
-            let row = self.index(0, ty, c.slice);
-            for k in row + c.tiles_x.0 as usize..=row + c.tiles_x.1 as usize {
+        // Half-open ranges: an inclusive range's iterator checks more per step, and these
+        // loops run once per light-cluster pair.
+        let first_row = self.index(c.tiles_x.0, c.tiles_y.0, c.slice);
+        let width = (c.tiles_x.1 - c.tiles_x.0) as usize + 1;
+        for row in 0..(c.tiles_y.1 - c.tiles_y.0) as usize + 1 {
+            let start = first_row + row * self.tiles_x as usize;
+            for k in start..start + width {
                 f(k);
             }
         }
@@ -229,7 +236,7 @@ impl ClusterGrid {
     fn cover(
         &self,
         perspective: Option<Perspective>,
-        slices: &Slices,
+        constants: &FrameConstants,
         light: u32,
         sphere: &Sphere,
         out: &mut Vec<SliceCover>,
@@ -241,8 +248,8 @@ impl ClusterGrid {
         }
         let all_x = (0, self.tiles_x - 1);
         let all_y = (0, self.tiles_y - 1);
-        let slice_starts = &slices.starts;
-        for slice in self.slice_with(slices.params, depth - radius)..=self.slice_with(slices.params, depth + radius) {
+        let (slice_starts, params) = (&constants.slice_starts, constants.slice_params);
+        for slice in self.slice_with(params, depth - radius)..=self.slice_with(params, depth + radius) {
             // The slice's depths; the first and last take in what lies before and beyond.
             let z0 = if slice == 0 { 0.0 } else { slice_starts[slice as usize] };
             let z1 = if slice == CLUSTER_SLICES - 1 { f32::INFINITY } else { slice_starts[slice as usize + 1] };
@@ -255,28 +262,22 @@ impl ClusterGrid {
             let r = (radius * radius - gap * gap).max(0.0).sqrt();
             let (tiles_x, tiles_y) = match perspective {
                 Some(p) if d0 > 1e-4 => {
-                    let (x0, x1) = p.ndc_range(p.scale_x, p.offset_x, center.x - r, center.x + r, d0, d1);
-                    let (y0, y1) = p.ndc_range(p.scale_y, p.offset_y, center.y - r, center.y + r, d0, d1);
+                    let inverse_depths = (1.0 / d0, 1.0 / d1);
+                    let (x0, x1) = p.ndc_range(p.scale_x, p.offset_x, center.x - r, center.x + r, inverse_depths);
+                    let (y0, y1) = p.ndc_range(p.scale_y, p.offset_y, center.y - r, center.y + r, inverse_depths);
                     if x0 > 1.0 || x1 < -1.0 || y0 > 1.0 || y1 < -1.0 {
                         continue;
                     }
+                    let (across, down) = constants.tiles_across;
                     // Screen y grows downwards while NDC y grows upwards.
-                    ((self.tile_x(x0), self.tile_x(x1)), (self.tile_y(y1), self.tile_y(y0)))
+                    let tile_x = |ndc: f32| Self::tile_of((ndc * 0.5 + 0.5) * across, self.tiles_x);
+                    let tile_y = |ndc: f32| Self::tile_of((0.5 - ndc * 0.5) * down, self.tiles_y);
+                    ((tile_x(x0), tile_x(x1)), (tile_y(y1), tile_y(y0)))
                 }
                 _ => (all_x, all_y),
             };
             out.push(SliceCover { light, slice, tiles_x, tiles_y });
         }
-    }
-
-    fn tile_x(&self, ndc_x: f32) -> u32 {
-        let px = (ndc_x * 0.5 + 0.5) * self.width as f32;
-        Self::tile_of(px / self.tile_width as f32, self.tiles_x)
-    }
-
-    fn tile_y(&self, ndc_y: f32) -> u32 {
-        let py = (0.5 - ndc_y * 0.5) * self.height as f32;
-        Self::tile_of(py / self.tile_height as f32, self.tiles_y)
     }
 
     /// The tile at `position` (in tiles) among `tiles`, clamped to the grid; truncating
@@ -312,10 +313,10 @@ impl Perspective {
     }
 
     /// The NDC interval of `scale * v / d - offset` over `v` in `[v0, v1]` and `d` in
-    /// `[d0, d1]` (d0 > 0).
-    fn ndc_range(&self, scale: f32, offset: f32, v0: f32, v1: f32, d0: f32, d1: f32) -> (f32, f32) {
-        let low = if v0 >= 0.0 { v0 / d1 } else { v0 / d0 };
-        let high = if v1 >= 0.0 { v1 / d0 } else { v1 / d1 };
+    /// `[d0, d1]` (0 < d0 <= d1), given as `(1 / d0, 1 / d1)`.
+    fn ndc_range(&self, scale: f32, offset: f32, v0: f32, v1: f32, (inv_d0, inv_d1): (f32, f32)) -> (f32, f32) {
+        let low = if v0 >= 0.0 { v0 * inv_d1 } else { v0 * inv_d0 };
+        let high = if v1 >= 0.0 { v1 * inv_d0 } else { v1 * inv_d1 };
         (scale * low - offset, scale * high - offset)
     }
 }

@@ -122,23 +122,30 @@ pub fn select_other_lights(
     max_lights: usize,
 ) -> LightSelection {
     let mut culled = 0;
-    let mut scored: Vec<(usize, f32)> = Vec::with_capacity(lights.len());
+    // One sort key per light: importance (positive, so its bits order as the number does)
+    // inverted for most important first, then the index; integer keys sort several times
+    // faster than comparing pairs, which counts with thousands of lights a frame.
+    let mut keyed: Vec<u64> = Vec::with_capacity(lights.len());
     for (index, light) in lights.iter().enumerate() {
         let inside = match light.spot {
             Some((axis, outer)) => frustum.intersects_cone(light.position, axis, outer, light.range),
             None => frustum.intersects_sphere(&Sphere { center: light.position, radius: light.range }),
         };
         if inside && light.peak_intensity > 0.0 {
-            scored.push((index, importance(light, eye)));
+            let rank = !importance(light, eye).to_bits();
+            keyed.push(u64::from(rank) << 32 | index as u64);
         } else {
             culled += 1;
         }
     }
-    // The order is total (ties broken by index), so an unstable sort gives the same one.
-    scored.sort_unstable_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
-    let dropped = scored.len().saturating_sub(max_lights);
-    scored.truncate(max_lights);
-    LightSelection { visible: scored.into_iter().map(|(i, _)| i).collect(), dropped, culled }
+    keyed.sort_unstable();
+    let dropped = keyed.len().saturating_sub(max_lights);
+    keyed.truncate(max_lights);
+    LightSelection {
+        visible: keyed.into_iter().map(|key| (key & u64::from(u32::MAX)) as usize).collect(),
+        dropped,
+        culled,
+    }
 }
 
 #[cfg(test)]

@@ -61,9 +61,31 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
     let id = |i: usize| LightId(i as u32);
     // With a bake applied, baked lights live in the lightmaps and probes alone.
     let skip_baked = scene.skips_baked_lights();
-    let realtime = |i: &usize| !(skip_baked && scene.lights[*i].mode == LightMode::Baked);
-    let all_directional: Vec<usize> =
-        (0..scene.lights.len()).filter(realtime).filter(|&i| scene.lights[i].kind == LightKind::Directional).collect();
+    // One pass over the scene's lights (thousands, in some scenes): the directional ones
+    // apart, and the bounds of each point and spot light.
+    let mut all_directional = Vec::new();
+    let mut others = Vec::with_capacity(scene.lights.len());
+    let mut bounds = Vec::with_capacity(scene.lights.len());
+    for (i, l) in scene.lights.iter().enumerate() {
+        if skip_baked && l.mode == LightMode::Baked {
+            continue;
+        }
+        let spot = match l.kind {
+            LightKind::Directional => {
+                all_directional.push(i);
+                continue;
+            }
+            LightKind::Spot { outer_cone_rad, .. } => Some((l.direction(), outer_cone_rad)),
+            LightKind::Point => None,
+        };
+        others.push(i);
+        bounds.push(OtherLightBounds {
+            position: l.position(),
+            range: l.shaded_range(settings.lights.range_threshold_lux),
+            peak_intensity: l.intensity * l.color.max_element(),
+            spot,
+        });
+    }
     let dropped_directional = all_directional.len().saturating_sub(MAX_DIRECTIONAL_LIGHTS);
     if dropped_directional > 0 {
         tracing::warn!(
@@ -72,23 +94,6 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
     }
     let directional = all_directional.iter().take(MAX_DIRECTIONAL_LIGHTS).map(|&i| id(i)).collect();
 
-    let others: Vec<usize> =
-        (0..scene.lights.len()).filter(realtime).filter(|&i| scene.lights[i].kind != LightKind::Directional).collect();
-    let bounds: Vec<OtherLightBounds> = others
-        .iter()
-        .map(|&i| {
-            let l = &scene.lights[i];
-            OtherLightBounds {
-                position: l.position(),
-                range: l.shaded_range(settings.lights.range_threshold_lux),
-                peak_intensity: l.intensity * l.color.max_element(),
-                spot: match l.kind {
-                    LightKind::Spot { outer_cone_rad, .. } => Some((l.direction(), outer_cone_rad)),
-                    _ => None,
-                },
-            }
-        })
-        .collect();
     let selection = select_other_lights(
         &bounds,
         &Frustum::from_clip_from_world(&view.clip_from_world()),
