@@ -19,8 +19,11 @@ use glam::{Mat4, Vec3};
 /// that reach none of its pixels.
 pub const CLUSTER_TILE_PX: u32 = 32;
 pub const MAX_TILES_ACROSS: u32 = 48;
-/// Depth slices, spread exponentially over the depths where surfaces are.
-pub const CLUSTER_SLICES: u32 = 64;
+/// Depth slices, spread exponentially over the depths where surfaces are: at least
+/// `MIN_CLUSTER_SLICES`, more where the frame's lights are small for their depth
+/// (`ClusterGrid::fitted_to`), up to `MAX_CLUSTER_SLICES`.
+pub const MIN_CLUSTER_SLICES: u32 = 64;
+pub const MAX_CLUSTER_SLICES: u32 = 128;
 /// Most lights one object is shaded with under per-object culling.
 pub const MAX_LIGHTS_PER_OBJECT: usize = 8;
 
@@ -90,6 +93,8 @@ pub struct ClusterGrid {
     /// before `near` in the first.
     pub near: f32,
     pub far: f32,
+    /// Depth slices between `near` and `far`.
+    pub slices: u32,
 }
 
 /// What `assign` reads of a grid for every light, computed once per frame (thousands of
@@ -97,10 +102,16 @@ pub struct ClusterGrid {
 struct FrameConstants {
     /// `ClusterGrid::slice_params`.
     slice_params: (f32, f32),
-    /// `slice_start` of every slice and of `CLUSTER_SLICES`.
+    /// `slice_start` of every slice and of the last one's end.
     slice_starts: Vec<f32>,
     /// The image's width and height in tiles (fractional where a tile is cut off).
     tiles_across: (f32, f32),
+}
+
+/// Memory `ClusterGrid::assign_into` keeps from one frame to the next.
+#[derive(Clone, Debug, Default)]
+pub struct AssignScratch {
+    covers: Vec<SliceCover>,
 }
 
 /// One light's clusters in one slice: a rectangle of tiles.
@@ -127,16 +138,43 @@ impl ClusterGrid {
             tile_height,
             near,
             far: far.max(near * 1.01),
+            slices: MIN_CLUSTER_SLICES,
         }
     }
 
+    /// The grid with as many slices (from `MIN_CLUSTER_SLICES` to `MAX_CLUSTER_SLICES`) as
+    /// keep a slice no deeper than half the radius of the frame's typical light (view-space
+    /// spheres) at its depth. Many small lights otherwise share far slices metres deep,
+    /// whose pixels each light reaches few of; a slice costs every frame a record per
+    /// tile, so large lights keep the fewest.
+    pub fn fitted_to(mut self, lights: &[CullLight]) -> ClusterGrid {
+        let mut relative_radii: Vec<f32> = lights
+            .iter()
+            .filter(|l| -l.sphere.center.z > 0.0)
+            .map(|l| l.sphere.radius / (-l.sphere.center.z).max(self.near))
+            .collect();
+        if relative_radii.is_empty() {
+            return self;
+        }
+        let middle = relative_radii.len() / 2;
+        let (_, &mut median, _) = relative_radii.select_nth_unstable_by(middle, f32::total_cmp);
+        // Slice k spans depths d to d * ratio with ratio = (far / near)^(1 / slices).
+        let wanted = (self.far / self.near).ln() / (0.5 * median).ln_1p();
+        self.slices = if wanted.is_finite() {
+            (wanted.ceil() as u32).clamp(MIN_CLUSTER_SLICES, MAX_CLUSTER_SLICES)
+        } else {
+            MIN_CLUSTER_SLICES
+        };
+        self
+    }
+
     pub fn cluster_count(&self) -> usize {
-        (self.tiles_x * self.tiles_y * CLUSTER_SLICES) as usize
+        (self.tiles_x * self.tiles_y * self.slices) as usize
     }
 
     /// `(scale, bias)` with `slice = floor(log2(depth) * scale + bias)`.
     pub fn slice_params(&self) -> (f32, f32) {
-        let scale = CLUSTER_SLICES as f32 / (self.far / self.near).log2();
+        let scale = self.slices as f32 / (self.far / self.near).log2();
         (scale, -self.near.log2() * scale)
     }
 
@@ -148,12 +186,12 @@ impl ClusterGrid {
     /// `slice_of` with `slice_params` computed once by the caller.
     fn slice_with(&self, (scale, bias): (f32, f32), depth: f32) -> u32 {
         // Clamped to non-negative first, truncation floors.
-        (depth.max(self.near).log2() * scale + bias).clamp(0.0, (CLUSTER_SLICES - 1) as f32) as u32
+        (depth.max(self.near).log2() * scale + bias).clamp(0.0, (self.slices - 1) as f32) as u32
     }
 
-    /// View depth where slice `s` begins (`s = CLUSTER_SLICES` gives `far`).
+    /// View depth where slice `s` begins (`s = slices` gives `far`).
     pub fn slice_start(&self, s: u32) -> f32 {
-        self.near * (self.far / self.near).powf(s as f32 / CLUSTER_SLICES as f32)
+        self.near * (self.far / self.near).powf(s as f32 / self.slices as f32)
     }
 
     /// The cluster of pixel `(x, y)` at view depth `depth`, as the shader finds it.
@@ -173,24 +211,44 @@ impl ClusterGrid {
     /// projected to the screen and covers a rectangle of tiles. Built by counting, in time
     /// linear in the clusters plus the light-cluster pairs; shadowed lights lead each list.
     pub fn assign(&self, clip_from_view: &Mat4, lights: &[CullLight]) -> LightLists {
-        let mut covers = Vec::new();
+        let mut lists = LightLists::default();
+        self.assign_into(clip_from_view, lights, 0, &mut lists, &mut AssignScratch::default());
+        lists
+    }
+
+    /// `assign` into `lists`, reusing its memory and `scratch`'s, with `first_index`
+    /// added to every light index. A frame of thousands of small lights lists a megabyte;
+    /// on a busy machine, fresh memory (zeroed and faulted in page by page) cost as much
+    /// as building the lists.
+    pub fn assign_into(
+        &self,
+        clip_from_view: &Mat4,
+        lights: &[CullLight],
+        first_index: u32,
+        lists: &mut LightLists,
+        scratch: &mut AssignScratch,
+    ) {
+        let covers = &mut scratch.covers;
+        covers.clear();
         let perspective = Perspective::of(clip_from_view);
         let constants = FrameConstants {
             slice_params: self.slice_params(),
-            slice_starts: (0..=CLUSTER_SLICES).map(|s| self.slice_start(s)).collect(),
+            slice_starts: (0..=self.slices).map(|s| self.slice_start(s)).collect(),
             tiles_across: (self.width as f32 / self.tile_width as f32, self.height as f32 / self.tile_height as f32),
         };
         // Shadowed lights first, so that they lead every list they are in.
         for shadowed in [true, false] {
             for (i, light) in lights.iter().enumerate().filter(|(_, l)| l.shadowed == shadowed) {
-                self.cover(perspective, &constants, i as u32, &light.sphere, &mut covers);
+                self.cover(perspective, &constants, i as u32, &light.sphere, covers);
             }
         }
         // A counting sort of the light-cluster pairs: count each list (and its shadowed
         // lead), place each list's end, then fill every list backwards from its end, so
         // that the records alone serve as the cursors and each list keeps the covers'
         // order (shadowed lights first, then ascending).
-        let mut records = vec![ListRecord::default(); self.cluster_count()];
+        let records = &mut lists.records;
+        records.clear();
+        records.resize(self.cluster_count(), ListRecord::default());
         let shadowed_covers = covers.partition_point(|c| lights[c.light as usize].shadowed);
         for c in &covers[..shadowed_covers] {
             self.for_each_cluster(c, |k| {
@@ -202,18 +260,20 @@ impl ClusterGrid {
             self.for_each_cluster(c, |k| records[k].count += 1);
         }
         let mut end = 0u32;
-        for r in &mut records {
+        for r in records.iter_mut() {
             end += u32::from(r.count);
             r.offset = end;
         }
-        let mut indices = vec![0u32; end as usize];
+        let indices = &mut lists.indices;
+        indices.clear();
+        indices.resize(end as usize, 0);
         for c in covers.iter().rev() {
+            let light = c.light + first_index;
             self.for_each_cluster(c, |k| {
                 records[k].offset -= 1;
-                indices[records[k].offset as usize] = c.light;
+                indices[records[k].offset as usize] = light;
             });
         }
-        LightLists { records, indices }
     }
 
     /// Calls `f` with each cluster of one cover, row by row.
@@ -252,7 +312,7 @@ impl ClusterGrid {
         for slice in self.slice_with(params, depth - radius)..=self.slice_with(params, depth + radius) {
             // The slice's depths; the first and last take in what lies before and beyond.
             let z0 = if slice == 0 { 0.0 } else { slice_starts[slice as usize] };
-            let z1 = if slice == CLUSTER_SLICES - 1 { f32::INFINITY } else { slice_starts[slice as usize + 1] };
+            let z1 = if slice == self.slices - 1 { f32::INFINITY } else { slice_starts[slice as usize + 1] };
             let (d0, d1) = ((depth - radius).max(z0), (depth + radius).min(z1));
             if d0 > d1 {
                 continue;
@@ -403,7 +463,7 @@ mod tests {
         }
         let ray = |tx: u32, ty: u32| rays[(ty * (grid.tiles_x + 1) + tx) as usize];
         let mut bounds = Vec::with_capacity(grid.cluster_count());
-        for s in 0..CLUSTER_SLICES {
+        for s in 0..grid.slices {
             let (z0, z1) = (grid.slice_start(s), grid.slice_start(s + 1));
             for ty in 0..grid.tiles_y {
                 for tx in 0..grid.tiles_x {
@@ -431,13 +491,13 @@ mod tests {
         let grid = ClusterGrid::new(1280, 720, 0.1, 100.0);
         assert_eq!(grid.slice_of(0.05), 0);
         assert_eq!(grid.slice_of(0.1001), 0);
-        assert_eq!(grid.slice_of(99.9), CLUSTER_SLICES - 1);
-        assert_eq!(grid.slice_of(1e6), CLUSTER_SLICES - 1);
-        for s in 0..CLUSTER_SLICES {
+        assert_eq!(grid.slice_of(99.9), grid.slices - 1);
+        assert_eq!(grid.slice_of(1e6), grid.slices - 1);
+        for s in 0..grid.slices {
             let mid = (grid.slice_start(s) * grid.slice_start(s + 1)).sqrt();
             assert_eq!(grid.slice_of(mid), s);
         }
-        assert!((grid.slice_start(CLUSTER_SLICES) - 100.0).abs() < 1e-3);
+        assert!((grid.slice_start(grid.slices) - 100.0).abs() < 1e-3);
     }
 
     #[test]
@@ -471,6 +531,76 @@ mod tests {
             }
         }
         assert!(checked > 1000, "the lights must cover many samples ({checked})");
+    }
+
+    #[test]
+    fn small_lights_get_finer_slices_that_still_list_every_light_where_it_reaches() {
+        let proj = projection();
+        let grid = ClusterGrid::new(320, 180, 0.5, 60.0);
+        // Lights wide for their depth (radius 0.3 of it) keep the fewest slices.
+        let large: Vec<CullLight> =
+            (1..40).map(|k| light(Vec3::new(0.0, -1.0, -1.5 * k as f32), 0.45 * k as f32, false)).collect();
+        assert_eq!(grid.fitted_to(&large).slices, MIN_CLUSTER_SLICES);
+        assert_eq!(grid.fitted_to(&[]).slices, MIN_CLUSTER_SLICES, "no lights, no change");
+        // Lights a hundredth of their depth wide take more, at most the most.
+        let small: Vec<CullLight> = (0..400)
+            .map(|k| {
+                let depth = 2.0 + (k % 40) as f32 * 1.4;
+                let x = ((k * 37) % 41) as f32 / 41.0 - 0.5;
+                light(Vec3::new(x * depth, -0.3 * depth * 0.56, -depth), 0.01 * depth, k % 9 == 0)
+            })
+            .collect();
+        let fine = grid.fitted_to(&small);
+        assert!(fine.slices > MIN_CLUSTER_SLICES && fine.slices <= MAX_CLUSTER_SLICES, "{} slices", fine.slices);
+        let tiny = [light(Vec3::new(0.0, 0.0, -10.0), 1e-4, false)];
+        assert_eq!(grid.fitted_to(&tiny).slices, MAX_CLUSTER_SLICES);
+        // Brute force, as for the fewest slices: every sampled point inside a light lies in
+        // a cluster that lists it; shadowed lights lead each list.
+        let lists = fine.assign(&proj, &small);
+        assert_eq!(lists.records.len(), fine.cluster_count());
+        let mut checked = 0;
+        for y in (0..180).step_by(3) {
+            for x in (0..320).step_by(3) {
+                for k in 0..200 {
+                    let depth = 2.0 * 1.02f32.powi(k);
+                    let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+                    let p = point_at(&fine, &proj, px, py, depth);
+                    let cluster = fine.cluster_at(px, py, depth);
+                    for (i, l) in small.iter().enumerate() {
+                        if p.distance(l.sphere.center) < l.sphere.radius {
+                            assert!(
+                                lists.list(cluster).contains(&(i as u32)),
+                                "light {i} missing at ({x}, {y}, {depth})"
+                            );
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 200, "the lights must cover many samples ({checked})");
+        for (k, r) in lists.records.iter().enumerate() {
+            let (lead, rest) = lists.list(k).split_at(r.shadowed as usize);
+            assert!(lead.iter().all(|&i| small[i as usize].shadowed));
+            assert!(rest.iter().all(|&i| !small[i as usize].shadowed));
+        }
+    }
+
+    #[test]
+    fn assigning_into_reused_lists_gives_the_same_lists() {
+        let proj = projection();
+        let grid = ClusterGrid::new(320, 180, 0.1, 40.0);
+        let few = [light(Vec3::new(0.0, 0.0, -5.0), 1.0, true), light(Vec3::new(1.0, 0.0, -8.0), 2.0, false)];
+        let many: Vec<CullLight> = (0..50)
+            .map(|k| light(Vec3::new(k as f32 * 0.3 - 7.0, -1.0, -3.0 - k as f32 * 0.5), 1.5, k % 4 == 0))
+            .collect();
+        let (mut reused, mut scratch) = (LightLists::default(), AssignScratch::default());
+        for lights in [&many[..], &few[..], &many[..]] {
+            grid.assign_into(&proj, lights, 3, &mut reused, &mut scratch);
+            let mut fresh = grid.assign(&proj, lights);
+            fresh.indices.iter_mut().for_each(|i| *i += 3);
+            assert_eq!(reused, fresh);
+        }
     }
 
     #[test]

@@ -1,10 +1,12 @@
 //! Light culling on the GPU: with no limit reached, clustered, per-object and no culling
 //! give the same image; a thousand lights under clustered culling add up to the sum of
-//! renders of fifty lights at a time without culling; per-object lists keep the most
+//! renders of fifty lights at a time without culling (also with lights small enough to
+//! take finer depth slices); per-object lists keep the most
 //! important lights of each object.
 
 mod common;
 
+use chiaro_math::culling::MIN_CLUSTER_SLICES;
 use chiaro_render::plan::FramePlan;
 use chiaro_render::plan::draws::{GeometryLayout, scene_draws};
 use chiaro_render::plan::shadows::ShadowAtlasTiles;
@@ -102,7 +104,9 @@ fn the_three_culling_modes_give_the_same_image() {
 
 /// A floor with boxes under `count` small coloured point lights, none casting shadows,
 /// spread over the floor, and two shadowed spots.
-fn many_lights_scene(count: usize) -> Scene {
+/// `count` point lights over a floor with boxes (and two shadowed spots); `scale` sizes the
+/// point lights' ranges and heights.
+fn many_lights_scene(count: usize, scale: f32) -> Scene {
     let mut lights = Vec::new();
     for k in 0..2 {
         lights.push(chiaro_scene::Light {
@@ -123,8 +127,8 @@ fn many_lights_scene(count: usize) -> Scene {
     for i in 0..count {
         let u = (i as f32 * phi).fract();
         let v = (i as f32 + 0.5) / count as f32;
-        let position = Vec3::new(u * 18.0 - 9.0, 0.2 + (i % 7) as f32 * 0.2, v * 18.0 - 9.0);
-        let mut l = point_light(position, 2.0 + (i % 5) as f32, Some(1.5 + (i % 4) as f32 * 0.5));
+        let position = Vec3::new(u * 18.0 - 9.0, (0.2 + (i % 7) as f32 * 0.2) * scale, v * 18.0 - 9.0);
+        let mut l = point_light(position, 2.0 + (i % 5) as f32, Some((1.5 + (i % 4) as f32 * 0.5) * scale));
         l.color = Vec3::new(0.3 + 0.7 * u, 0.3 + 0.7 * v, 1.0 - 0.6 * u);
         l.shadow.mode = ShadowMode::None;
         lights.push(l);
@@ -138,16 +142,34 @@ fn many_lights_scene(count: usize) -> Scene {
 
 #[test]
 fn a_thousand_clustered_lights_add_up_to_fifty_at_a_time_without_culling() {
-    let scene = many_lights_scene(1000);
+    let scene = many_lights_scene(1000, 1.0);
+    let (all, lit) = clustered_equals_the_sum_of_groups(&scene);
+    assert!(all.other_lights_shaded() > 990, "{} lights shaded", all.other_lights_shaded());
+    assert!(lit > all.hdr.len(), "most pixels are lit ({lit} channels)");
+}
+
+#[test]
+fn lights_small_for_their_depth_get_finer_slices_and_still_add_up() {
+    // Ranges of 15 to 30 cm seen from 15 m: the grid takes more than the fewest slices.
+    let scene = many_lights_scene(600, 0.1);
+    let (all, lit) = clustered_equals_the_sum_of_groups(&scene);
+    let slices = all.plan.culled.grid.expect("clustered").slices;
+    assert!(slices > MIN_CLUSTER_SLICES, "{slices} slices");
+    assert!(all.other_lights_shaded() > 590, "{} lights shaded", all.other_lights_shaded());
+    assert!(lit > all.hdr.len() / 8, "the small lights light the floor ({lit} channels)");
+}
+
+/// Renders `scene` under clustered culling and checks it against the sum of renders of
+/// its lights fifty at a time without culling; returns the clustered frame and how many
+/// channels are lit.
+fn clustered_equals_the_sum_of_groups(scene: &Scene) -> (FrameOutput, usize) {
     let mut r = renderer();
     let mut settings = forward(LightCulling::Clustered);
     settings.render.msaa = 1;
-    let all = render_hdr(&mut r, &scene, &settings);
-    // Every light in view is shaded (one of the thousand lies outside it).
+    let all = render_hdr(&mut r, scene, &settings);
+    // Every light in view is shaded.
     assert_eq!(all.other_lights_dropped(), 0);
-    assert!(all.other_lights_shaded() > 990, "{} lights shaded", all.other_lights_shaded());
-    assert!(all.plan.lights_in_table(), "a thousand lights are read from their texel table");
-
+    assert!(all.plan.lights_in_table(), "hundreds of lights are read from their texel table");
     // The sum of renders of groups of 50 lights, with no culling; the two shadowed spots
     // share the first group, so their shadow tiles are laid out as in the full frame.
     let mut sum = vec![[0.0f32; 3]; all.hdr.len()];
@@ -175,10 +197,10 @@ fn a_thousand_clustered_lights_add_up_to_fifty_at_a_time_without_culling() {
             }
         }
     }
-    println!("1000 lights: {lit} lit channels, worst relative difference {worst:e}");
-    assert!(lit > all.hdr.len(), "most pixels are lit ({lit} channels)");
+    println!("{} lights: {lit} lit channels, worst relative difference {worst:e}", scene.lights.len());
     // Each group's half floats round by 2^-11 of its part; their sum stays within 0.3%.
     assert!(worst < 3e-3, "clustered render differs from the sum of groups by {worst}");
+    (all, lit)
 }
 
 #[test]

@@ -5,9 +5,12 @@
 use super::draws::Draw;
 use super::lights::FrameLight;
 use crate::view::View;
-use chiaro_math::culling::{ClusterGrid, CullLight, LightLists, lights_per_object, spot_bounding_sphere};
+use chiaro_math::culling::{
+    AssignScratch, ClusterGrid, CullLight, LightLists, lights_per_object, spot_bounding_sphere,
+};
 use chiaro_math::{Aabb, Sphere};
 use chiaro_scene::{LightCulling, LightKind, Scene};
+use std::sync::Arc;
 
 /// The forward pass's culled light lists: the cluster grid (if clustered) and the lists.
 #[derive(Clone, Debug, Default)]
@@ -15,7 +18,42 @@ pub struct CulledLights {
     /// The froxel grid, under clustered culling.
     pub grid: Option<ClusterGrid>,
     /// One list per cluster (clustered) or per object (per-object); empty without culling.
-    pub lists: LightLists,
+    /// Shared with `ListBuffers`, which refills it once no plan holds it.
+    pub lists: Arc<LightLists>,
+}
+
+/// Light-list memory a renderer hands from one frame's plan to a later one. At thousands
+/// of small lights a frame lists about a megabyte; taking it fresh every frame (zeroed and
+/// faulted in page by page) cost as much CPU time as building the lists.
+#[derive(Debug, Default)]
+pub struct ListBuffers {
+    /// The lists of the last few plans; one that no plan holds any more is refilled.
+    recent: Vec<Arc<LightLists>>,
+    scratch: AssignScratch,
+}
+
+impl ListBuffers {
+    /// Plans kept: a frame's plan lives until its output is dropped, and a few frames may
+    /// be in flight.
+    const KEPT: usize = 4;
+
+    /// Lists no plan holds any more (their memory), or new ones.
+    fn take(&mut self) -> LightLists {
+        match self.recent.iter().position(|lists| Arc::strong_count(lists) == 1) {
+            Some(k) => Arc::try_unwrap(self.recent.swap_remove(k)).unwrap_or_default(),
+            None => LightLists::default(),
+        }
+    }
+
+    /// Shares `lists` with a plan, keeping them to refill later.
+    fn keep(&mut self, lists: LightLists) -> Arc<LightLists> {
+        let shared = Arc::new(lists);
+        if self.recent.len() == Self::KEPT {
+            self.recent.remove(0);
+        }
+        self.recent.push(Arc::clone(&shared));
+        shared
+    }
 }
 
 /// Builds the lists `culling` asks for, for the forward pass's draws (`order`, indices
@@ -31,9 +69,10 @@ pub fn cull_lights(
     lights: &[FrameLight],
     first_other: usize,
     shadowed: &[bool],
+    buffers: &mut ListBuffers,
 ) -> CulledLights {
     // Culling sees the point and spot lights alone; list indices are moved back into
-    // `lights` at the end.
+    // `lights` (by `first_other`).
     let others = &lights[first_other..];
     // Spots are bounded by the sphere around their cone, in world space.
     let cull_light = |(k, l): (usize, &FrameLight)| {
@@ -50,8 +89,8 @@ pub fn cull_lights(
             peak_intensity: light.intensity * light.color.max_element(),
         }
     };
-    let mut culled = match culling {
-        LightCulling::None => return CulledLights::default(),
+    match culling {
+        LightCulling::None => CulledLights::default(),
         LightCulling::Clustered => {
             let view_from_world = view.view_from_world();
             let cull: Vec<CullLight> = others
@@ -66,9 +105,11 @@ pub fn cull_lights(
             // The slices span the depths of the pass's surfaces, as far as a light reaches.
             let light_far = cull.iter().map(|c| -c.sphere.center.z + c.sphere.radius).fold(view.znear, f32::max);
             let (near, far) = surface_depths(draws, order, &view_from_world, view.znear);
-            let grid = ClusterGrid::new(view.width, view.height, near, far.min(light_far));
-            let lists = grid.assign(&view.clip_from_view, &cull);
-            CulledLights { grid: Some(grid), lists }
+            let grid = ClusterGrid::new(view.width, view.height, near, far.min(light_far)).fitted_to(&cull);
+            let mut lists = buffers.take();
+            // List indices are moved back into `lights` as they are written.
+            grid.assign_into(&view.clip_from_view, &cull, first_other as u32, &mut lists, &mut buffers.scratch);
+            CulledLights { grid: Some(grid), lists: buffers.keep(lists) }
         }
         LightCulling::PerObject => {
             // Records are indexed by object; objects the pass does not draw get none.
@@ -79,13 +120,13 @@ pub fn cull_lights(
                 bounds[d.object as usize] = bounds[d.object as usize].union(&d.bounds_ws);
             }
             let cull: Vec<CullLight> = others.iter().enumerate().map(cull_light).collect();
-            CulledLights { grid: None, lists: lights_per_object(&bounds, &cull) }
+            let mut lists = lights_per_object(&bounds, &cull);
+            for i in &mut lists.indices {
+                *i += first_other as u32;
+            }
+            CulledLights { grid: None, lists: Arc::new(lists) }
         }
-    };
-    for i in &mut culled.lists.indices {
-        *i += first_other as u32;
     }
-    culled
 }
 
 /// The view depths (nearest and farthest, no nearer than `znear`) of the bounds of the
