@@ -36,44 +36,63 @@ pub struct CullLight {
     pub peak_intensity: f32,
 }
 
-/// Lists of light indices, one per cluster or object.
+/// Lists of light indices, one per cluster or object, laid end to end: list `k` is
+/// `indices[starts[k]..starts[k + 1]]`. Its shadowed lights come first, each marked with
+/// `SHADOWED_ENTRY`, so the shader runs the loop with the shadow lookup while the mark is
+/// set. One `u32` per list, uploaded as built: a frame has up to a hundred thousand
+/// clusters.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LightLists {
-    /// Per list: where it starts in `indices`, how many shadowed lights lead it, and its
-    /// length.
-    pub records: Vec<ListRecord>,
+    /// Where each list starts in `indices`, then where the last one ends (empty for no
+    /// lists).
+    pub starts: Vec<u32>,
+    /// Light indices, the shadowed ones with `SHADOWED_ENTRY` added.
     pub indices: Vec<u32>,
 }
 
-/// One list, 8 bytes as the shaders read it (`vec2<u32>`: the offset, then the count in
-/// the low and the shadowed lights in the high 16 bits), so that the records are uploaded
-/// as they are: a frame has tens of thousands of clusters.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct ListRecord {
-    /// Where the list starts in `LightLists::indices`.
-    pub offset: u32,
-    /// Its length (a list never holds more than the frame's few thousand lights).
-    pub count: u16,
-    /// How many shadowed lights lead it.
-    pub shadowed: u16,
-}
+/// The mark of a shadowed light's entry in `LightLists::indices` (a frame has a few
+/// thousand lights, so the index never reaches this bit).
+pub const SHADOWED_ENTRY: u32 = 1 << 31;
 
 impl LightLists {
-    /// The light indices of list `k`.
-    pub fn list(&self, k: usize) -> &[u32] {
-        let r = self.records[k];
-        &self.indices[r.offset as usize..r.offset as usize + r.count as usize]
+    /// How many lists there are.
+    pub fn len(&self) -> usize {
+        self.starts.len().saturating_sub(1)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The entries of list `k`, marks included.
+    pub fn entries(&self, k: usize) -> &[u32] {
+        &self.indices[self.starts[k] as usize..self.starts[k + 1] as usize]
+    }
+
+    /// The light indices of list `k`, in order (shadowed lights first), without marks.
+    pub fn list(&self, k: usize) -> Vec<u32> {
+        self.entries(k).iter().map(|&e| e & !SHADOWED_ENTRY).collect()
+    }
+
+    /// How many lights list `k` holds.
+    pub fn count(&self, k: usize) -> usize {
+        (self.starts[k + 1] - self.starts[k]) as usize
+    }
+
+    /// How many shadowed lights lead list `k`.
+    pub fn shadowed(&self, k: usize) -> usize {
+        self.entries(k).iter().take_while(|&&e| e & SHADOWED_ENTRY != 0).count()
     }
 
     /// Appends a list: the shadowed lights of `lights` (indices into `all`) first.
     fn push(&mut self, lights: &[u32], all: &[CullLight]) {
-        let offset = self.indices.len() as u32;
+        if self.starts.is_empty() {
+            self.starts.push(0);
+        }
         let shadowed = lights.iter().filter(|&&i| all[i as usize].shadowed);
-        self.indices.extend(shadowed);
-        let shadowed_count = self.indices.len() as u32 - offset;
+        self.indices.extend(shadowed.map(|&i| i | SHADOWED_ENTRY));
         self.indices.extend(lights.iter().filter(|&&i| !all[i as usize].shadowed));
-        self.records.push(ListRecord { offset, count: lights.len() as u16, shadowed: shadowed_count as u16 });
+        self.starts.push(self.indices.len() as u32);
     }
 }
 
@@ -242,36 +261,32 @@ impl ClusterGrid {
                 self.cover(perspective, &constants, i as u32, &light.sphere, covers);
             }
         }
-        // A counting sort of the light-cluster pairs: count each list (and its shadowed
-        // lead), place each list's end, then fill every list backwards from its end, so
-        // that the records alone serve as the cursors and each list keeps the covers'
-        // order (shadowed lights first, then ascending).
-        let records = &mut lists.records;
-        records.clear();
-        records.resize(self.cluster_count(), ListRecord::default());
-        let shadowed_covers = covers.partition_point(|c| lights[c.light as usize].shadowed);
-        for c in &covers[..shadowed_covers] {
-            self.for_each_cluster(c, |k| {
-                records[k].count += 1;
-                records[k].shadowed += 1;
-            });
-        }
-        for c in &covers[shadowed_covers..] {
-            self.for_each_cluster(c, |k| records[k].count += 1);
+        // A counting sort of the light-cluster pairs: count each list, turn the counts
+        // into each list's end, then fill every list backwards from its end, so that the
+        // starts alone serve as the cursors and each list keeps the covers' order
+        // (shadowed lights first, then ascending).
+        let clusters = self.cluster_count();
+        let starts = &mut lists.starts;
+        starts.clear();
+        starts.resize(clusters + 1, 0);
+        for c in covers.iter() {
+            self.for_each_cluster(c, |k| starts[k] += 1);
         }
         let mut end = 0u32;
-        for r in records.iter_mut() {
-            end += u32::from(r.count);
-            r.offset = end;
+        for place in &mut starts[..clusters] {
+            end += *place;
+            *place = end;
         }
+        starts[clusters] = end;
         let indices = &mut lists.indices;
         indices.clear();
         indices.resize(end as usize, 0);
         for c in covers.iter().rev() {
-            let light = c.light + first_index;
+            let mark = if lights[c.light as usize].shadowed { SHADOWED_ENTRY } else { 0 };
+            let entry = (c.light + first_index) | mark;
             self.for_each_cluster(c, |k| {
-                records[k].offset -= 1;
-                indices[records[k].offset as usize] = light;
+                starts[k] -= 1;
+                indices[starts[k] as usize] = entry;
             });
         }
     }
@@ -557,7 +572,7 @@ mod tests {
         // Brute force, as for the fewest slices: every sampled point inside a light lies in
         // a cluster that lists it; shadowed lights lead each list.
         let lists = fine.assign(&proj, &small);
-        assert_eq!(lists.records.len(), fine.cluster_count());
+        assert_eq!(lists.len(), fine.cluster_count());
         let mut checked = 0;
         for y in (0..180).step_by(3) {
             for x in (0..320).step_by(3) {
@@ -579,8 +594,9 @@ mod tests {
             }
         }
         assert!(checked > 200, "the lights must cover many samples ({checked})");
-        for (k, r) in lists.records.iter().enumerate() {
-            let (lead, rest) = lists.list(k).split_at(r.shadowed as usize);
+        for k in 0..lists.len() {
+            let list = lists.list(k);
+            let (lead, rest) = list.split_at(lists.shadowed(k));
             assert!(lead.iter().all(|&i| small[i as usize].shadowed));
             assert!(rest.iter().all(|&i| !small[i as usize].shadowed));
         }
@@ -608,7 +624,7 @@ mod tests {
         let proj = projection();
         let grid = ClusterGrid::new(320, 180, 0.1, 40.0);
         let lists = grid.assign(&proj, &[light(Vec3::new(0.0, 0.0, -5.0), 0.5, false)]);
-        let listed = lists.records.iter().filter(|r| r.count > 0).count();
+        let listed = (0..lists.len()).filter(|&k| lists.count(k) > 0).count();
         assert!(listed > 0 && listed < 40, "a small light touches a few clusters, not {listed}");
         // A light behind the camera touches none.
         let behind = grid.assign(&proj, &[light(Vec3::new(0.0, 0.0, 5.0), 1.0, false)]);
@@ -641,15 +657,15 @@ mod tests {
                     .count()
             })
             .sum();
-        let longest = lists.records.iter().map(|r| r.count).max().unwrap();
+        let longest = (0..lists.len()).map(|k| lists.count(k)).max().unwrap();
         println!("{} light-cluster pairs, {boxed} by the boxes; longest list {longest}", lists.indices.len());
         assert!(lists.indices.len() <= boxed, "{} > {boxed}", lists.indices.len());
         assert!(longest < 64, "a cluster lists {longest} of {} lights", lights.len());
-        // Every list is in order: shadowed lights first, each list's records consistent.
-        for (k, r) in lists.records.iter().enumerate() {
+        // Every list is in order: the shadowed lights, marked, first.
+        for k in 0..lists.len() {
             let list = lists.list(k);
-            assert!(list[..r.shadowed as usize].iter().all(|&i| lights[i as usize].shadowed));
-            assert!(list[r.shadowed as usize..].iter().all(|&i| !lights[i as usize].shadowed));
+            assert!(list[..lists.shadowed(k)].iter().all(|&i| lights[i as usize].shadowed));
+            assert!(list[lists.shadowed(k)..].iter().all(|&i| !lights[i as usize].shadowed));
         }
     }
 
@@ -665,7 +681,7 @@ mod tests {
         let lists = grid.assign(&proj, &lights);
         let k = grid.cluster_at(32.0, 32.0, 5.0);
         assert_eq!(lists.list(k), &[1, 0, 2]);
-        assert_eq!(lists.records[k].shadowed, 1);
+        assert_eq!(lists.shadowed(k), 1);
     }
 
     #[test]
@@ -705,7 +721,7 @@ mod tests {
         let lists = lights_per_object(&[object, far_object], &lights);
         // Light 7 is brightest at the object; 5 is shadowed, so it leads; then by distance.
         assert_eq!(lists.list(0), &[5, 7, 0, 1, 2, 3, 4, 6]);
-        assert_eq!(lists.records[0].shadowed, 1);
+        assert_eq!(lists.shadowed(0), 1);
         assert!(lists.list(1).is_empty(), "no light reaches the far object");
     }
 }

@@ -17,7 +17,6 @@ use crate::plan::FramePlan;
 use crate::scene::GpuScene;
 use crate::shader_constants::{MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS};
 use crate::texel_table::TexelTable;
-use chiaro_math::culling::ListRecord;
 use chiaro_scene::{Scene, Settings};
 
 /// The frame's bind group 0: its layout and the buffers and samplers behind it, written
@@ -34,7 +33,7 @@ pub struct FrameData {
     /// there are too many for the uniform, and the culled lists; grown when a frame needs
     /// more.
     all_lights: TexelTable,
-    list_records: GrowingBuffer,
+    list_starts: GrowingBuffer,
     list_indices: GrowingBuffer,
     /// The frame's lights as uploaded, kept from frame to frame: thousands of lights
     /// written into fresh memory each frame cost more in page faults than in writing.
@@ -181,7 +180,7 @@ impl FrameData {
             ),
             shadows: uniform_buffer("shadows uniform", size_of::<GpuShadows>() as u64),
             all_lights: TexelTable::new(device, "frame lights"),
-            list_records: GrowingBuffer::new(device, "light list records", size_of::<ListRecord>() as u64 * 64),
+            list_starts: GrowingBuffer::new(device, "light list starts", 4 * 64),
             list_indices: GrowingBuffer::new(device, "light list indices", 4 * 1024),
             gpu_lights: Vec::new(),
             shadow_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
@@ -212,14 +211,14 @@ impl FrameData {
         let culled = &plan.culled.lists;
         // Every light only where culled lists read them from their table; else the
         // uniform's.
-        let in_table = !culled.records.is_empty() && plan.lights_in_table();
+        let in_table = !culled.is_empty() && plan.lights_in_table();
         let count = if in_table { plan.lights.len() } else { MAX_UNIFORM_LIGHTS as usize };
         plan.write_gpu_lights(scene, count, &mut self.gpu_lights);
-        if !culled.records.is_empty() {
+        if !culled.is_empty() {
             if in_table {
                 self.all_lights.write(device, queue, bytemuck::cast_slice(&self.gpu_lights))?;
             }
-            self.list_records.write(device, queue, bytemuck::cast_slice(&culled.records));
+            self.list_starts.write(device, queue, bytemuck::cast_slice(&culled.starts));
             self.list_indices.write(device, queue, bytemuck::cast_slice(&culled.indices));
         }
         let lights = &self.gpu_lights[..self.gpu_lights.len().min(MAX_UNIFORM_LIGHTS as usize)];
@@ -249,7 +248,7 @@ impl FrameData {
             buffers: [
                 &scene.objects,
                 &scene.baked.probes,
-                &self.list_records.buffer,
+                &self.list_starts.buffer,
                 &self.list_indices.buffer,
                 &environment.uniform,
             ]
@@ -316,7 +315,7 @@ impl FrameData {
                     binding: 15,
                     resource: wgpu::BindingResource::TextureView(self.all_lights.view()),
                 },
-                wgpu::BindGroupEntry { binding: 16, resource: self.list_records.buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 16, resource: self.list_starts.buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 17, resource: self.list_indices.buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 18, resource: environment.uniform.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 19, resource: texture(&environment.specular) },

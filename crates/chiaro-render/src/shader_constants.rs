@@ -106,6 +106,8 @@ pub const LIGHT_CULLING_CLUSTERED: u32 = 1;
 /// `light_culling`: each draw reads its object's list.
 pub const LIGHT_CULLING_PER_OBJECT: u32 = 2;
 
+/// The mark of a shadowed light's entry in a culled light list.
+pub const SHADOWED_ENTRY: u32 = chiaro_math::culling::SHADOWED_ENTRY;
 /// Records a row of a texel table (`crate::texel_table`); a power of two, so that the
 /// shaders' `%` and `/` are a mask and a shift.
 pub const TEXEL_TABLE_WIDTH: u32 = 4096;
@@ -156,6 +158,7 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("LIGHT_CULLING_CLUSTERED", LIGHT_CULLING_CLUSTERED),
     ("LIGHT_CULLING_PER_OBJECT", LIGHT_CULLING_PER_OBJECT),
     ("TEXEL_TABLE_WIDTH", TEXEL_TABLE_WIDTH),
+    ("SHADOWED_ENTRY", SHADOWED_ENTRY),
     ("LIGHT_RECORDS", LIGHT_RECORDS),
     ("NO_COOKIE", NO_COOKIE),
     ("NO_MASK_CHANNEL", NO_MASK_CHANNEL),

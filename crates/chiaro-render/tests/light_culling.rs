@@ -226,7 +226,7 @@ fn per_object_lists_keep_each_objects_most_important_lights() {
         Default::default(),
     );
     let lists = &plan.culled.lists;
-    assert_eq!(lists.records.len(), 2, "one list per object: the floor and the box");
+    assert_eq!(lists.len(), 2, "one list per object: the floor and the box");
     for k in 0..2 {
         let list = lists.list(k);
         assert_eq!(list.len(), 8, "object {k} keeps eight of twelve lights");

@@ -164,7 +164,7 @@ pub fn cluster_image(grid: &ClusterGrid, lists: &LightLists, depth: &[f32], most
             }
             let (x, y) = ((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
             let cluster = grid.cluster_at(x, y, d);
-            heat(lists.records.get(cluster).map_or(0, |r| r.count as u32), most)
+            heat(if cluster < lists.len() { lists.count(cluster) as u32 } else { 0 }, most)
         })
         .collect()
 }
@@ -187,7 +187,6 @@ pub fn atlas_image(grey: &[u8], size: usize, max_side: usize) -> (usize, Vec<[u8
 #[cfg(test)]
 mod tests {
     use super::*;
-    use chiaro_math::culling::ListRecord;
 
     #[test]
     fn atlas_images_are_sampled_down() {
@@ -207,10 +206,10 @@ mod tests {
         let grid = ClusterGrid::new(64, 32, 0.1, 100.0);
         let clusters = grid.cluster_count();
         // Cluster k lists k % 5 lights.
-        let mut lists = LightLists::default();
+        let mut lists = LightLists { starts: vec![0], indices: Vec::new() };
         for k in 0..clusters {
-            let count = (k % 5) as u16;
-            lists.records.push(ListRecord { offset: 0, shadowed: 0, count });
+            lists.indices.extend(std::iter::repeat_n(7, k % 5));
+            lists.starts.push(lists.indices.len() as u32);
         }
         let depth: Vec<f32> = (0..64 * 32).map(|i| if i == 0 { f32::INFINITY } else { 1.0 + (i % 7) as f32 }).collect();
         let image = cluster_image(&grid, &lists, &depth, 4);

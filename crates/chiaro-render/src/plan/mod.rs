@@ -432,14 +432,14 @@ impl fmt::Display for FramePlan {
             )?;
         }
         let lists = &self.culled.lists;
-        if !lists.records.is_empty() {
-            let longest = lists.records.iter().map(|r| r.count).max().unwrap_or(0);
-            let used = lists.records.iter().filter(|r| r.count > 0).count();
+        if !lists.is_empty() {
+            let longest = (0..lists.len()).map(|k| lists.count(k)).max().unwrap_or(0);
+            let used = (0..lists.len()).filter(|&k| lists.count(k) > 0).count();
             writeln!(
                 f,
                 "  {:?} light culling: {} lists ({} not empty), {} entries, longest {}",
                 self.culling,
-                lists.records.len(),
+                lists.len(),
                 used,
                 lists.indices.len(),
                 longest
