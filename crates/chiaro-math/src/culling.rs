@@ -127,12 +127,6 @@ struct FrameConstants {
     tiles_across: (f32, f32),
 }
 
-/// Memory `ClusterGrid::assign_into` keeps from one frame to the next.
-#[derive(Clone, Debug, Default)]
-pub struct AssignScratch {
-    covers: Vec<SliceCover>,
-}
-
 /// One light's clusters in one slice: a rectangle of tiles.
 #[derive(Clone, Copy, Debug)]
 struct SliceCover {
@@ -230,25 +224,14 @@ impl ClusterGrid {
     /// projected to the screen and covers a rectangle of tiles. Built by counting, in time
     /// linear in the clusters plus the light-cluster pairs; shadowed lights lead each list.
     pub fn assign(&self, clip_from_view: &Mat4, lights: &[CullLight]) -> LightLists {
-        let mut lists = LightLists::default();
-        self.assign_into(clip_from_view, lights, 0, &mut lists, &mut AssignScratch::default());
-        lists
+        self.assign_numbered(clip_from_view, lights, 0)
     }
 
-    /// `assign` into `lists`, reusing its memory and `scratch`'s, with `first_index`
-    /// added to every light index. A frame of thousands of small lights lists a megabyte;
-    /// on a busy machine, fresh memory (zeroed and faulted in page by page) cost as much
-    /// as building the lists.
-    pub fn assign_into(
-        &self,
-        clip_from_view: &Mat4,
-        lights: &[CullLight],
-        first_index: u32,
-        lists: &mut LightLists,
-        scratch: &mut AssignScratch,
-    ) {
-        let covers = &mut scratch.covers;
-        covers.clear();
+    /// `assign` with `first_index` added to every light index (where `lights` start in
+    /// the frame's list of lights), as the lists are written.
+    pub fn assign_numbered(&self, clip_from_view: &Mat4, lights: &[CullLight], first_index: u32) -> LightLists {
+        // Most small lights span a few slices; reserving spares the copies of growing.
+        let mut covers = Vec::with_capacity(lights.len() * 4);
         let perspective = Perspective::of(clip_from_view);
         let constants = FrameConstants {
             slice_params: self.slice_params(),
@@ -258,7 +241,7 @@ impl ClusterGrid {
         // Shadowed lights first, so that they lead every list they are in.
         for shadowed in [true, false] {
             for (i, light) in lights.iter().enumerate().filter(|(_, l)| l.shadowed == shadowed) {
-                self.cover(perspective, &constants, i as u32, &light.sphere, covers);
+                self.cover(perspective, &constants, i as u32, &light.sphere, &mut covers);
             }
         }
         // A counting sort of the light-cluster pairs: count each list, turn the counts
@@ -266,9 +249,7 @@ impl ClusterGrid {
         // starts alone serve as the cursors and each list keeps the covers' order
         // (shadowed lights first, then ascending).
         let clusters = self.cluster_count();
-        let starts = &mut lists.starts;
-        starts.clear();
-        starts.resize(clusters + 1, 0);
+        let mut starts = vec![0u32; clusters + 1];
         for c in covers.iter() {
             self.for_each_cluster(c, |k| starts[k] += 1);
         }
@@ -278,9 +259,7 @@ impl ClusterGrid {
             *place = end;
         }
         starts[clusters] = end;
-        let indices = &mut lists.indices;
-        indices.clear();
-        indices.resize(end as usize, 0);
+        let mut indices = vec![0u32; end as usize];
         for c in covers.iter().rev() {
             let mark = if lights[c.light as usize].shadowed { SHADOWED_ENTRY } else { 0 };
             let entry = (c.light + first_index) | mark;
@@ -289,6 +268,7 @@ impl ClusterGrid {
                 indices[starts[k] as usize] = entry;
             });
         }
+        LightLists { starts, indices }
     }
 
     /// Calls `f` with each cluster of one cover, row by row.
@@ -603,19 +583,20 @@ mod tests {
     }
 
     #[test]
-    fn assigning_into_reused_lists_gives_the_same_lists() {
+    fn numbered_lists_are_the_lists_moved_along() {
         let proj = projection();
         let grid = ClusterGrid::new(320, 180, 0.1, 40.0);
-        let few = [light(Vec3::new(0.0, 0.0, -5.0), 1.0, true), light(Vec3::new(1.0, 0.0, -8.0), 2.0, false)];
-        let many: Vec<CullLight> = (0..50)
+        let lights: Vec<CullLight> = (0..50)
             .map(|k| light(Vec3::new(k as f32 * 0.3 - 7.0, -1.0, -3.0 - k as f32 * 0.5), 1.5, k % 4 == 0))
             .collect();
-        let (mut reused, mut scratch) = (LightLists::default(), AssignScratch::default());
-        for lights in [&many[..], &few[..], &many[..]] {
-            grid.assign_into(&proj, lights, 3, &mut reused, &mut scratch);
-            let mut fresh = grid.assign(&proj, lights);
-            fresh.indices.iter_mut().for_each(|i| *i += 3);
-            assert_eq!(reused, fresh);
+        let plain = grid.assign(&proj, &lights);
+        let numbered = grid.assign_numbered(&proj, &lights, 3);
+        assert_eq!(numbered.starts, plain.starts);
+        assert!(plain.indices.iter().any(|&e| e & SHADOWED_ENTRY != 0), "some entries are marked");
+        // The marks stay; the indices move by 3.
+        assert!(numbered.indices.iter().zip(&plain.indices).all(|(&n, &p)| n == p + 3));
+        for k in 0..plain.len() {
+            assert_eq!(numbered.shadowed(k), plain.shadowed(k));
         }
     }
 

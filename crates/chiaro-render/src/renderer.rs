@@ -15,7 +15,7 @@ use crate::output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes};
 use crate::passes::forward::HDR;
 use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
 use crate::plan::shadows::{ShadowAtlas, ShadowAtlasTiles};
-use crate::plan::{FramePlan, ListBuffers, PlanRequest};
+use crate::plan::{FramePlan, PlanRequest};
 use crate::readback::{PendingCopy, copy_texture, finish_copies_of};
 use crate::scene::{GpuScene, material_layout};
 use crate::thread_clock::thread_cpu_ms;
@@ -64,8 +64,6 @@ pub struct Renderer {
     targets: Targets,
     timer: Option<GpuTimer>,
     atlas_tiles: ShadowAtlasTiles,
-    /// Light-list memory handed from frame to frame.
-    list_buffers: ListBuffers,
     /// Submitted frames (frame number, submission) not known to be finished, oldest first.
     in_flight: VecDeque<(u64, wgpu::SubmissionIndex)>,
     next_frame: u64,
@@ -96,7 +94,6 @@ impl Renderer {
             targets: Targets::default(),
             timer,
             atlas_tiles: ShadowAtlasTiles::default(),
-            list_buffers: ListBuffers::default(),
             in_flight: VecDeque::new(),
             next_frame: 0,
             gpu_times: VecDeque::new(),
@@ -128,8 +125,7 @@ impl Renderer {
             shadow_aovs: options.shadow_aovs,
             ids: options.ids,
         };
-        let (draws, atlases, buffers) = (&prepared.gpu.draws, &mut self.atlas_tiles, &mut self.list_buffers);
-        FramePlan::new_reusing(scene, draws, view, settings, atlases, buffers, request)
+        FramePlan::new(scene, &prepared.gpu.draws, view, settings, &mut self.atlas_tiles, request)
     }
 
     /// Renders one frame of `scene` (already `prepare`d) from `view` into a texture of

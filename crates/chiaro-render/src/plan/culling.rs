@@ -5,12 +5,9 @@
 use super::draws::Draw;
 use super::lights::FrameLight;
 use crate::view::View;
-use chiaro_math::culling::{
-    AssignScratch, ClusterGrid, CullLight, LightLists, lights_per_object, spot_bounding_sphere,
-};
+use chiaro_math::culling::{ClusterGrid, CullLight, LightLists, lights_per_object, spot_bounding_sphere};
 use chiaro_math::{Aabb, Sphere};
 use chiaro_scene::{LightCulling, LightKind, Scene};
-use std::sync::Arc;
 
 /// The forward pass's culled light lists: the cluster grid (if clustered) and the lists.
 #[derive(Clone, Debug, Default)]
@@ -18,42 +15,7 @@ pub struct CulledLights {
     /// The froxel grid, under clustered culling.
     pub grid: Option<ClusterGrid>,
     /// One list per cluster (clustered) or per object (per-object); empty without culling.
-    /// Shared with `ListBuffers`, which refills it once no plan holds it.
-    pub lists: Arc<LightLists>,
-}
-
-/// Light-list memory a renderer hands from one frame's plan to a later one. At thousands
-/// of small lights a frame lists about a megabyte; taking it fresh every frame (zeroed and
-/// faulted in page by page) cost as much CPU time as building the lists.
-#[derive(Debug, Default)]
-pub struct ListBuffers {
-    /// The lists of the last few plans; one that no plan holds any more is refilled.
-    recent: Vec<Arc<LightLists>>,
-    scratch: AssignScratch,
-}
-
-impl ListBuffers {
-    /// Plans kept: a frame's plan lives until its output is dropped, and a few frames may
-    /// be in flight.
-    const KEPT: usize = 4;
-
-    /// Lists no plan holds any more (their memory), or new ones.
-    fn take(&mut self) -> LightLists {
-        match self.recent.iter().position(|lists| Arc::strong_count(lists) == 1) {
-            Some(k) => Arc::try_unwrap(self.recent.swap_remove(k)).unwrap_or_default(),
-            None => LightLists::default(),
-        }
-    }
-
-    /// Shares `lists` with a plan, keeping them to refill later.
-    fn keep(&mut self, lists: LightLists) -> Arc<LightLists> {
-        let shared = Arc::new(lists);
-        if self.recent.len() == Self::KEPT {
-            self.recent.remove(0);
-        }
-        self.recent.push(Arc::clone(&shared));
-        shared
-    }
+    pub lists: LightLists,
 }
 
 /// Builds the lists `culling` asks for, for the forward pass's draws (`order`, indices
@@ -69,7 +31,6 @@ pub fn cull_lights(
     lights: &[FrameLight],
     first_other: usize,
     shadowed: &[bool],
-    buffers: &mut ListBuffers,
 ) -> CulledLights {
     // Culling sees the point and spot lights alone; list indices are moved back into
     // `lights` (by `first_other`).
@@ -106,10 +67,9 @@ pub fn cull_lights(
             let light_far = cull.iter().map(|c| -c.sphere.center.z + c.sphere.radius).fold(view.znear, f32::max);
             let (near, far) = surface_depths(draws, order, &view_from_world, view.znear);
             let grid = ClusterGrid::new(view.width, view.height, near, far.min(light_far)).fitted_to(&cull);
-            let mut lists = buffers.take();
             // List indices are moved back into `lights` as they are written.
-            grid.assign_into(&view.clip_from_view, &cull, first_other as u32, &mut lists, &mut buffers.scratch);
-            CulledLights { grid: Some(grid), lists: buffers.keep(lists) }
+            let lists = grid.assign_numbered(&view.clip_from_view, &cull, first_other as u32);
+            CulledLights { grid: Some(grid), lists }
         }
         LightCulling::PerObject => {
             // Records are indexed by object; objects the pass does not draw get none.
@@ -124,7 +84,7 @@ pub fn cull_lights(
             for i in &mut lists.indices {
                 *i += first_other as u32;
             }
-            CulledLights { grid: None, lists: Arc::new(lists) }
+            CulledLights { grid: None, lists }
         }
     }
 }

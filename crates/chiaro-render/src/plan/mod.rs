@@ -28,7 +28,6 @@ use chiaro_scene::{
     AlphaMode, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Scene, Settings,
 };
 use cookies::cookie_slots;
-pub use culling::ListBuffers;
 use culling::{CulledLights, cull_lights};
 use draws::{Draw, camera_draw_order};
 use glam::Vec3;
@@ -151,20 +150,6 @@ impl FramePlan {
         atlases: &mut ShadowAtlasTiles,
         request: PlanRequest,
     ) -> FramePlan {
-        Self::new_reusing(scene, draws, view, settings, atlases, &mut ListBuffers::default(), request)
-    }
-
-    /// `new`, building the culled light lists in memory of earlier plans that `buffers`
-    /// kept and no plan holds any more (what a renderer does from frame to frame).
-    pub fn new_reusing(
-        scene: &Scene,
-        draws: &[Draw],
-        view: &View,
-        settings: &Settings,
-        atlases: &mut ShadowAtlasTiles,
-        buffers: &mut ListBuffers,
-        request: PlanRequest,
-    ) -> FramePlan {
         let choice = choose_lights(scene, view, settings);
         let mask_channels: Vec<Option<u8>> = (0..scene.lights.len())
             .map(|i| {
@@ -236,7 +221,7 @@ impl FramePlan {
             CulledLights::default()
         } else {
             let first_other = lists.directional.len();
-            cull_lights(culling, scene, draws, forward_draws, view, &lights, first_other, &shadowed, buffers)
+            cull_lights(culling, scene, draws, forward_draws, view, &lights, first_other, &shadowed)
         };
         // AOVs and ids test against single-sampled depth, and the G-buffer has one sample.
         let pixel_exact = request.aovs || request.shadow_aovs || request.ids;
