@@ -47,13 +47,27 @@ pub struct FrameData {
 }
 
 /// A storage buffer that is made again, twice as large, when a frame needs more.
-/// The resources a frame bind group binds that can change from frame to frame: while
-/// they stay the same the last group is used again, as making one costs some 40-60 us of
-/// CPU time a frame on lavapipe.
+/// The resources a frame bind group binds that can change from frame to frame (the
+/// uniform buffers and samplers are the frame data's own for good). The group is made
+/// from these, and while they stay the same the last group is used again: making one
+/// costs some 40-60 us of CPU time a frame on lavapipe.
 #[derive(PartialEq)]
 struct BoundResources {
-    buffers: [wgpu::Buffer; 5],
-    views: [wgpu::TextureView; 10],
+    objects: wgpu::Buffer,
+    directional_atlas: wgpu::TextureView,
+    other_atlas: wgpu::TextureView,
+    cookies_flat: wgpu::TextureView,
+    cookies_cube: wgpu::TextureView,
+    lightmaps: wgpu::TextureView,
+    probes: wgpu::Buffer,
+    shadow_masks: wgpu::TextureView,
+    all_lights: wgpu::TextureView,
+    list_starts: wgpu::Buffer,
+    list_indices: wgpu::Buffer,
+    environment_uniform: wgpu::Buffer,
+    environment_specular: wgpu::TextureView,
+    environment_brdf_table: wgpu::TextureView,
+    environment_image: wgpu::TextureView,
 }
 
 struct GrowingBuffer {
@@ -242,86 +256,71 @@ impl FrameData {
         environment: &GpuEnvironmentMaps,
         targets: &Targets,
     ) -> wgpu::BindGroup {
-        // What the group binds that can change between frames (the samplers and the
-        // uniform buffers are the frame data's own for good).
         let bound = BoundResources {
-            buffers: [
-                &scene.objects,
-                &scene.baked.probes,
-                &self.list_starts.buffer,
-                &self.list_indices.buffer,
-                &environment.uniform,
-            ]
-            .map(Clone::clone),
-            views: [
-                targets.view(DIRECTIONAL_ATLAS),
-                targets.view(OTHER_ATLAS),
-                &scene.cookies.flat,
-                &scene.cookies.cube,
-                &scene.baked.lightmaps,
-                &scene.baked.shadow_masks,
-                self.all_lights.view(),
-                &environment.specular,
-                &environment.brdf_table,
-                &environment.image,
-            ]
-            .map(Clone::clone),
+            objects: scene.objects.clone(),
+            directional_atlas: targets.view(DIRECTIONAL_ATLAS).clone(),
+            other_atlas: targets.view(OTHER_ATLAS).clone(),
+            cookies_flat: scene.cookies.flat.clone(),
+            cookies_cube: scene.cookies.cube.clone(),
+            lightmaps: scene.baked.lightmaps.clone(),
+            probes: scene.baked.probes.clone(),
+            shadow_masks: scene.baked.shadow_masks.clone(),
+            all_lights: self.all_lights.view().clone(),
+            list_starts: self.list_starts.buffer.clone(),
+            list_indices: self.list_indices.buffer.clone(),
+            environment_uniform: environment.uniform.clone(),
+            environment_specular: environment.specular.clone(),
+            environment_brdf_table: environment.brdf_table.clone(),
+            environment_image: environment.image.clone(),
         };
         if let Some((last, group)) = &self.last_bind_group
             && *last == bound
         {
             return group.clone();
         }
-        let group = self.make_bind_group(device, scene, environment, targets);
+        let group = self.make_bind_group(device, &bound);
         self.last_bind_group = Some((bound, group.clone()));
         group
     }
 
-    fn make_bind_group(
-        &self,
-        device: &wgpu::Device,
-        scene: &GpuScene,
-        environment: &GpuEnvironmentMaps,
-        targets: &Targets,
-    ) -> wgpu::BindGroup {
-        let texture = |view| wgpu::BindingResource::TextureView(view);
-        let view = |r| wgpu::BindingResource::TextureView(targets.view(r));
+    /// The frame bind group: the frame data's own buffers and samplers, and `bound`.
+    fn make_bind_group(&self, device: &wgpu::Device, bound: &BoundResources) -> wgpu::BindGroup {
+        let view = |view| wgpu::BindingResource::TextureView(view);
+        let sampler = |sampler| wgpu::BindingResource::Sampler(sampler);
+        // In binding order: an entry's place is its binding (the layout in `new`).
+        let entries = [
+            self.frame.as_entire_binding(),
+            self.lights.as_entire_binding(),
+            self.light_list.as_entire_binding(),
+            bound.objects.as_entire_binding(),
+            self.shadows.as_entire_binding(),
+            view(&bound.directional_atlas),
+            sampler(&self.shadow_sampler),
+            view(&bound.other_atlas),
+            view(&bound.cookies_flat),
+            view(&bound.cookies_cube),
+            sampler(&self.cookie_repeat),
+            sampler(&self.cookie_clamp),
+            view(&bound.lightmaps),
+            bound.probes.as_entire_binding(),
+            view(&bound.shadow_masks),
+            view(&bound.all_lights),
+            bound.list_starts.as_entire_binding(),
+            bound.list_indices.as_entire_binding(),
+            bound.environment_uniform.as_entire_binding(),
+            view(&bound.environment_specular),
+            view(&bound.environment_brdf_table),
+            view(&bound.environment_image),
+        ];
+        let entries: Vec<wgpu::BindGroupEntry> = entries
+            .into_iter()
+            .enumerate()
+            .map(|(binding, resource)| wgpu::BindGroupEntry { binding: binding as u32, resource })
+            .collect();
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame bind group"),
             layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: self.frame.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: self.lights.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: self.light_list.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: scene.objects.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: self.shadows.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 5, resource: view(DIRECTIONAL_ATLAS) },
-                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
-                wgpu::BindGroupEntry { binding: 7, resource: view(OTHER_ATLAS) },
-                wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&scene.cookies.flat) },
-                wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&scene.cookies.cube) },
-                wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::Sampler(&self.cookie_repeat) },
-                wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::Sampler(&self.cookie_clamp) },
-                wgpu::BindGroupEntry {
-                    binding: 12,
-                    resource: wgpu::BindingResource::TextureView(&scene.baked.lightmaps),
-                },
-                wgpu::BindGroupEntry { binding: 13, resource: scene.baked.probes.as_entire_binding() },
-                wgpu::BindGroupEntry {
-                    binding: 14,
-                    resource: wgpu::BindingResource::TextureView(&scene.baked.shadow_masks),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 15,
-                    resource: wgpu::BindingResource::TextureView(self.all_lights.view()),
-                },
-                wgpu::BindGroupEntry { binding: 16, resource: self.list_starts.buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 17, resource: self.list_indices.buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 18, resource: environment.uniform.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 19, resource: texture(&environment.specular) },
-                wgpu::BindGroupEntry { binding: 20, resource: texture(&environment.brdf_table) },
-                wgpu::BindGroupEntry { binding: 21, resource: texture(&environment.image) },
-            ],
+            entries: &entries,
         })
     }
 }
