@@ -158,7 +158,7 @@ impl ClusterGrid {
     /// The grid with as many slices (from `MIN_CLUSTER_SLICES` to `MAX_CLUSTER_SLICES`) as
     /// keep a slice no deeper than half the radius of the frame's typical light (view-space
     /// spheres) at its depth. Many small lights otherwise share far slices metres deep,
-    /// whose pixels each light reaches few of; a slice costs every frame a record per
+    /// whose pixels each light reaches few of; a slice costs every frame a list per
     /// tile, so large lights keep the fewest.
     pub fn fitted_to(mut self, lights: &[CullLight]) -> ClusterGrid {
         let mut relative_radii: Vec<f32> = lights
@@ -250,7 +250,7 @@ impl ClusterGrid {
         // (shadowed lights first, then ascending).
         let clusters = self.cluster_count();
         let mut starts = vec![0u32; clusters + 1];
-        for c in covers.iter() {
+        for c in &covers {
             self.for_each_cluster(c, |k| starts[k] += 1);
         }
         let mut end = 0u32;
@@ -274,13 +274,9 @@ impl ClusterGrid {
     /// Calls `f` with each cluster of one cover, row by row.
     #[inline]
     fn for_each_cluster(&self, c: &SliceCover, mut f: impl FnMut(usize)) {
-        // Half-open ranges: an inclusive range's iterator checks more per step, and these
-        // loops run once per light-cluster pair.
-        let first_row = self.index(c.tiles_x.0, c.tiles_y.0, c.slice);
-        let width = (c.tiles_x.1 - c.tiles_x.0) as usize + 1;
-        for row in 0..(c.tiles_y.1 - c.tiles_y.0) as usize + 1 {
-            let start = first_row + row * self.tiles_x as usize;
-            for k in start..start + width {
+        for ty in c.tiles_y.0..=c.tiles_y.1 {
+            let row = self.index(0, ty, c.slice);
+            for k in row + c.tiles_x.0 as usize..=row + c.tiles_x.1 as usize {
                 f(k);
             }
         }
