@@ -303,3 +303,19 @@ fn an_atlas_too_small_for_any_light_gives_no_tiles_and_no_panic() {
     assert_eq!(slot_of(&plan, 0), ShadowSlot::BakedOnly);
     assert!(plan.shadows.tiles.is_empty());
 }
+
+#[test]
+fn shadow_loops_for_point_and_spot_lights_compile_in_only_where_a_light_needs_them() {
+    let scene = demo_scene(8);
+    let view = View::from_camera(&scene, 0, 320, 180);
+    let shadowed = plan(&scene, &view, &mut ShadowAtlasTiles::default(), PlanRequest::default());
+    assert!(shadowed.features.other_shadows, "the demo's spots and points cast shadows");
+    // Every point and spot light unshadowed: the sun's shadow alone does not count.
+    let mut unshadowed = scene.clone();
+    for light in unshadowed.lights.iter_mut().filter(|l| l.kind != LightKind::Directional) {
+        light.shadow.mode = ShadowMode::None;
+    }
+    let plan = plan(&unshadowed, &view, &mut ShadowAtlasTiles::default(), PlanRequest::default());
+    assert!(!plan.features.other_shadows);
+    assert!(plan.lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { .. })), "the sun keeps its shadow");
+}

@@ -239,7 +239,7 @@ impl FramePlan {
         } else {
             atlases.cache.redraws(&shadows, draws, settings.shadows.cache)
         };
-        let features = features::ShaderFeatures::of(scene, settings, &lights);
+        let features = features::ShaderFeatures::of(scene, settings, &lights, &shadowed[lists.directional.len()..]);
         FramePlan {
             view: *view,
             request,
