@@ -11,11 +11,22 @@ use chiaro_render::plan::FramePlan;
 use chiaro_render::plan::draws::{GeometryLayout, scene_draws};
 use chiaro_render::plan::shadows::ShadowAtlasTiles;
 use chiaro_render::{FrameOptions, FrameOutput, Renderer, View};
-use chiaro_scene::{CastShadows, LightCulling, LightKind, RenderPath, Scene, Settings, ShadowMode, load_gltf};
+use chiaro_scene::{
+    CastShadows, ColorSpace, Cookie, Image, LightCulling, LightKind, RenderPath, Scene, Settings, ShadowMode, load_gltf,
+};
 use common::*;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 const SIZE: u32 = 128;
+
+/// An opaque linear RGB8 image of `width` x `height` texels from `rgb(x, y)`.
+fn rgb_image(width: u32, height: u32, rgb: impl Fn(u32, u32) -> [u8; 3]) -> Image {
+    let rgba8 = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).flat_map(|(x, y)| {
+        let [r, g, b] = rgb(x, y);
+        [r, g, b, 255]
+    });
+    Image { name: "cookie".into(), width, height, rgba8: rgba8.collect(), color_space: ColorSpace::Linear }
+}
 
 fn render_hdr(renderer: &mut Renderer, scene: &Scene, settings: &Settings) -> FrameOutput {
     let view = if scene.cameras.is_empty() {
@@ -129,11 +140,33 @@ fn many_lights_scene(count: usize, scale: f32) -> Scene {
         let v = (i as f32 + 0.5) / count as f32;
         let position = Vec3::new(u * 18.0 - 9.0, (0.2 + (i % 7) as f32 * 0.2) * scale, v * 18.0 - 9.0);
         let mut l = point_light(position, 2.0 + (i % 5) as f32, Some((1.5 + (i % 4) as f32 * 0.5) * scale));
+        if i % 9 == 4 {
+            // Unshadowed spots among the points, tilted and of several cones: read from
+            // the texel table, their kind follows from their cone.
+            let down = Vec3::new((i % 5) as f32 * 0.2 - 0.4, -1.0, (i % 3) as f32 * 0.2 - 0.2).normalize();
+            let outer = 0.5 + (i % 4) as f32 * 0.15;
+            let kind = LightKind::Spot { inner_cone_rad: outer * 0.6, outer_cone_rad: outer };
+            let spot = chiaro_scene::Light::new(kind, position + Vec3::Y * scale, down);
+            l = chiaro_scene::Light { intensity: l.intensity * 4.0, range: l.range, ..spot };
+        }
         l.color = Vec3::new(0.3 + 0.7 * u, 0.3 + 0.7 * v, 1.0 - 0.6 * u);
         l.shadow.mode = ShadowMode::None;
         lights.push(l);
     }
+    // An unshadowed spot and point with cookies: from the table, their cookie records are
+    // read, and the spot's kind picks the 2D cookie.
+    let cone = LightKind::Spot { inner_cone_rad: 0.4, outer_cone_rad: 0.7 };
+    let cookie_spot = chiaro_scene::Light::new(cone, Vec3::new(2.0, 3.0, 1.0), Vec3::new(0.2, -1.0, 0.1).normalize());
+    let cookie_point = point_light(Vec3::new(-3.0, 1.5, -2.0), 10.0, Some(4.0));
+    for (image, light) in [cookie_spot, cookie_point].into_iter().enumerate() {
+        let cookie = Some(Cookie { image, size_m: Vec2::ONE });
+        let shadow = chiaro_scene::LightShadow { mode: ShadowMode::None, ..light.shadow };
+        lights.push(chiaro_scene::Light { intensity: 30.0, range: Some(6.0), cookie, shadow, ..light });
+    }
     let mut scene = floor_scene(20.0, Vec3::new(0.0, 14.0, 6.0), lights);
+    // A spot cookie (stripes) and a point cookie (six faces of a gradient).
+    scene.images.push(rgb_image(8, 8, |x, y| [((x % 4) * 60 + 40) as u8, ((y % 2) * 150 + 80) as u8, 200]));
+    scene.images.push(rgb_image(48, 8, |x, y| [(x * 5) as u8, (y * 30 + 20) as u8, 120]));
     for (i, p) in [(-4.0, -3.0), (3.0, 3.5), (5.0, -4.0), (-5.0, 4.0), (0.0, 0.0)].into_iter().enumerate() {
         add_box(&mut scene, Vec3::new(p.0, 0.75, p.1), Vec3::new(1.2, 1.5, 0.9), i as f32 * 0.5, CastShadows::On);
     }

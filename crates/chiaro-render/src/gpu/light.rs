@@ -4,27 +4,30 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec2, Vec3};
 
-/// Directional, point or spot light, as the shading reads it.
+/// Directional, point or spot light, as the shading reads it. What an unshadowed point or
+/// spot light is shaded with comes first, in three 16-byte records (colour, sphere, cone),
+/// so that the culled loops read three texels of it where the lights are in a texel
+/// table (docs/forward.md).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct GpuLight {
     /// Colour times intensity: lux for directional lights, candela for the others.
     pub color: Vec3,
-    /// `LIGHT_KIND_*`.
-    pub kind: u32,
+    /// `(a, b)` of the spot cone `saturate(dot(direction, -l) * a + b)^2`; (0, 1) for
+    /// lights that never fade by angle. A spot's `a` is positive (`spot_angle_params`).
+    pub spot_scale: f32,
     /// World-space position, metres; unused by directional lights.
     pub position_ws: Vec3,
     /// Where the range window reaches zero; unused by directional lights.
     pub range: f32,
     /// Unit vector the light shines along (spot axis, sun direction); unused by points.
     pub direction_ws: Vec3,
-    /// `SHADOW_SLOT_*`.
-    pub shadow_slot: u32,
-    /// `(a, b)` of the spot cone `saturate(dot(direction, -l) * a + b)^2`; (0, 1) for
-    /// lights that never fade by angle.
-    pub spot_scale: f32,
     /// See `spot_scale`.
     pub spot_offset: f32,
+    /// `LIGHT_KIND_*`.
+    pub kind: u32,
+    /// `SHADOW_SLOT_*`.
+    pub shadow_slot: u32,
     /// 0 to 1: how dark its realtime shadow is.
     pub shadow_strength: f32,
     /// First tile of its atlas (directional: one per cascade; spot: one; point: six).

@@ -52,7 +52,7 @@ layouts! {
     GpuObject { world_from_local, normal_from_local, flags, lightmap_layer, node, label }
     GpuProbeGridHeader { origin, lightmap_scale, spacing, counts }
     GpuLight {
-        color, kind, position_ws, range, direction_ws, shadow_slot, spot_scale, spot_offset,
+        color, spot_scale, position_ws, range, direction_ws, spot_offset, kind, shadow_slot,
         shadow_strength, shadow_first_tile, shadow_filter, cookie_layer, cookie_scale, axis_x_ws,
         shadow_mask_channel, axis_y_ws, shadow_light_size,
     }
