@@ -19,11 +19,11 @@ use glam::{Mat4, Vec3};
 /// that reach none of its pixels.
 pub const CLUSTER_TILE_PX: u32 = 32;
 pub const MAX_TILES_ACROSS: u32 = 48;
-/// Depth slices, spread exponentially over the depths where surfaces are: at least
-/// `MIN_CLUSTER_SLICES`, more where the frame's lights are small for their depth
-/// (`ClusterGrid::fitted_to`), up to `MAX_CLUSTER_SLICES`.
-pub const MIN_CLUSTER_SLICES: u32 = 64;
-pub const MAX_CLUSTER_SLICES: u32 = 128;
+/// Depth slices, spread exponentially over the depths where surfaces are. More slices
+/// list fewer lights per cluster, but since the shader tests ranges in a cheap pass
+/// (culled.wesl), 128 measured no faster than 64 on the light-scaling scene while their
+/// lists took the CPU a fifth longer to build (docs/forward.md).
+pub const CLUSTER_SLICES: u32 = 64;
 /// Most lights one object is shaded with under per-object culling.
 pub const MAX_LIGHTS_PER_OBJECT: usize = 8;
 
@@ -151,34 +151,8 @@ impl ClusterGrid {
             tile_height,
             near,
             far: far.max(near * 1.01),
-            slices: MIN_CLUSTER_SLICES,
+            slices: CLUSTER_SLICES,
         }
-    }
-
-    /// The grid with as many slices (from `MIN_CLUSTER_SLICES` to `MAX_CLUSTER_SLICES`) as
-    /// keep a slice no deeper than half the radius of the frame's typical light (view-space
-    /// spheres) at its depth. Many small lights otherwise share far slices metres deep,
-    /// whose pixels each light reaches few of; a slice costs every frame a list per
-    /// tile, so large lights keep the fewest.
-    pub fn fitted_to(mut self, lights: &[CullLight]) -> ClusterGrid {
-        let mut relative_radii: Vec<f32> = lights
-            .iter()
-            .filter(|l| -l.sphere.center.z > 0.0)
-            .map(|l| l.sphere.radius / (-l.sphere.center.z).max(self.near))
-            .collect();
-        if relative_radii.is_empty() {
-            return self;
-        }
-        let middle = relative_radii.len() / 2;
-        let (_, &mut median, _) = relative_radii.select_nth_unstable_by(middle, f32::total_cmp);
-        // Slice k spans depths d to d * ratio with ratio = (far / near)^(1 / slices).
-        let wanted = (self.far / self.near).ln() / (0.5 * median).ln_1p();
-        self.slices = if wanted.is_finite() {
-            (wanted.ceil() as u32).clamp(MIN_CLUSTER_SLICES, MAX_CLUSTER_SLICES)
-        } else {
-            MIN_CLUSTER_SLICES
-        };
-        self
     }
 
     pub fn cluster_count(&self) -> usize {
@@ -525,15 +499,10 @@ mod tests {
     }
 
     #[test]
-    fn small_lights_get_finer_slices_that_still_list_every_light_where_it_reaches() {
+    fn lights_small_for_their_depth_are_listed_wherever_they_reach() {
         let proj = projection();
-        let grid = ClusterGrid::new(320, 180, 0.5, 60.0);
-        // Lights wide for their depth (radius 0.3 of it) keep the fewest slices.
-        let large: Vec<CullLight> =
-            (1..40).map(|k| light(Vec3::new(0.0, -1.0, -1.5 * k as f32), 0.45 * k as f32, false)).collect();
-        assert_eq!(grid.fitted_to(&large).slices, MIN_CLUSTER_SLICES);
-        assert_eq!(grid.fitted_to(&[]).slices, MIN_CLUSTER_SLICES, "no lights, no change");
-        // Lights a hundredth of their depth wide take more, at most the most.
+        let fine = ClusterGrid::new(320, 180, 0.5, 60.0);
+        // Lights a hundredth of their depth wide: far thinner than a slice.
         let small: Vec<CullLight> = (0..400)
             .map(|k| {
                 let depth = 2.0 + (k % 40) as f32 * 1.4;
@@ -541,12 +510,8 @@ mod tests {
                 light(Vec3::new(x * depth, -0.3 * depth * 0.56, -depth), 0.01 * depth, k % 9 == 0)
             })
             .collect();
-        let fine = grid.fitted_to(&small);
-        assert!(fine.slices > MIN_CLUSTER_SLICES && fine.slices <= MAX_CLUSTER_SLICES, "{} slices", fine.slices);
-        let tiny = [light(Vec3::new(0.0, 0.0, -10.0), 1e-4, false)];
-        assert_eq!(grid.fitted_to(&tiny).slices, MAX_CLUSTER_SLICES);
-        // Brute force, as for the fewest slices: every sampled point inside a light lies in
-        // a cluster that lists it; shadowed lights lead each list.
+        // Brute force: every sampled point inside a light lies in a cluster that lists it;
+        // shadowed lights lead each list.
         let lists = fine.assign(&proj, &small);
         assert_eq!(lists.len(), fine.cluster_count());
         let mut checked = 0;

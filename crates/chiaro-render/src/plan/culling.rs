@@ -66,7 +66,7 @@ pub fn cull_lights(
             // The slices span the depths of the pass's surfaces, as far as a light reaches.
             let light_far = cull.iter().map(|c| -c.sphere.center.z + c.sphere.radius).fold(view.znear, f32::max);
             let (near, far) = surface_depths(draws, order, &view_from_world, view.znear);
-            let grid = ClusterGrid::new(view.width, view.height, near, far.min(light_far)).fitted_to(&cull);
+            let grid = ClusterGrid::new(view.width, view.height, near, far.min(light_far));
             // List indices are moved back into `lights` as they are written.
             let lists = grid.assign_numbered(&view.clip_from_view, &cull, first_other as u32);
             CulledLights { grid: Some(grid), lists }
