@@ -112,8 +112,6 @@ pub struct ClusterGrid {
     /// before `near` in the first.
     pub near: f32,
     pub far: f32,
-    /// Depth slices between `near` and `far`.
-    pub slices: u32,
 }
 
 /// What `assign` reads of a grid for every light, computed once per frame (thousands of
@@ -151,17 +149,16 @@ impl ClusterGrid {
             tile_height,
             near,
             far: far.max(near * 1.01),
-            slices: CLUSTER_SLICES,
         }
     }
 
     pub fn cluster_count(&self) -> usize {
-        (self.tiles_x * self.tiles_y * self.slices) as usize
+        (self.tiles_x * self.tiles_y * CLUSTER_SLICES) as usize
     }
 
     /// `(scale, bias)` with `slice = floor(log2(depth) * scale + bias)`.
     pub fn slice_params(&self) -> (f32, f32) {
-        let scale = self.slices as f32 / (self.far / self.near).log2();
+        let scale = CLUSTER_SLICES as f32 / (self.far / self.near).log2();
         (scale, -self.near.log2() * scale)
     }
 
@@ -173,12 +170,12 @@ impl ClusterGrid {
     /// `slice_of` with `slice_params` computed once by the caller.
     fn slice_with(&self, (scale, bias): (f32, f32), depth: f32) -> u32 {
         // Clamped to non-negative first, truncation floors.
-        (depth.max(self.near).log2() * scale + bias).clamp(0.0, (self.slices - 1) as f32) as u32
+        (depth.max(self.near).log2() * scale + bias).clamp(0.0, (CLUSTER_SLICES - 1) as f32) as u32
     }
 
     /// View depth where slice `s` begins (`s = slices` gives `far`).
     pub fn slice_start(&self, s: u32) -> f32 {
-        self.near * (self.far / self.near).powf(s as f32 / self.slices as f32)
+        self.near * (self.far / self.near).powf(s as f32 / CLUSTER_SLICES as f32)
     }
 
     /// The cluster of pixel `(x, y)` at view depth `depth`, as the shader finds it.
@@ -209,7 +206,7 @@ impl ClusterGrid {
         let perspective = Perspective::of(clip_from_view);
         let constants = FrameConstants {
             slice_params: self.slice_params(),
-            slice_starts: (0..=self.slices).map(|s| self.slice_start(s)).collect(),
+            slice_starts: (0..=CLUSTER_SLICES).map(|s| self.slice_start(s)).collect(),
             tiles_across: (self.width as f32 / self.tile_width as f32, self.height as f32 / self.tile_height as f32),
         };
         // Shadowed lights first, so that they lead every list they are in.
@@ -277,7 +274,7 @@ impl ClusterGrid {
         for slice in self.slice_with(params, depth - radius)..=self.slice_with(params, depth + radius) {
             // The slice's depths; the first and last take in what lies before and beyond.
             let z0 = if slice == 0 { 0.0 } else { slice_starts[slice as usize] };
-            let z1 = if slice == self.slices - 1 { f32::INFINITY } else { slice_starts[slice as usize + 1] };
+            let z1 = if slice == CLUSTER_SLICES - 1 { f32::INFINITY } else { slice_starts[slice as usize + 1] };
             let (d0, d1) = ((depth - radius).max(z0), (depth + radius).min(z1));
             if d0 > d1 {
                 continue;
@@ -428,7 +425,7 @@ mod tests {
         }
         let ray = |tx: u32, ty: u32| rays[(ty * (grid.tiles_x + 1) + tx) as usize];
         let mut bounds = Vec::with_capacity(grid.cluster_count());
-        for s in 0..grid.slices {
+        for s in 0..CLUSTER_SLICES {
             let (z0, z1) = (grid.slice_start(s), grid.slice_start(s + 1));
             for ty in 0..grid.tiles_y {
                 for tx in 0..grid.tiles_x {
@@ -456,13 +453,13 @@ mod tests {
         let grid = ClusterGrid::new(1280, 720, 0.1, 100.0);
         assert_eq!(grid.slice_of(0.05), 0);
         assert_eq!(grid.slice_of(0.1001), 0);
-        assert_eq!(grid.slice_of(99.9), grid.slices - 1);
-        assert_eq!(grid.slice_of(1e6), grid.slices - 1);
-        for s in 0..grid.slices {
+        assert_eq!(grid.slice_of(99.9), CLUSTER_SLICES - 1);
+        assert_eq!(grid.slice_of(1e6), CLUSTER_SLICES - 1);
+        for s in 0..CLUSTER_SLICES {
             let mid = (grid.slice_start(s) * grid.slice_start(s + 1)).sqrt();
             assert_eq!(grid.slice_of(mid), s);
         }
-        assert!((grid.slice_start(grid.slices) - 100.0).abs() < 1e-3);
+        assert!((grid.slice_start(CLUSTER_SLICES) - 100.0).abs() < 1e-3);
     }
 
     #[test]

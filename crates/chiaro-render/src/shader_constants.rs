@@ -105,6 +105,9 @@ pub const LIGHT_CULLING_NONE: u32 = 0;
 pub const LIGHT_CULLING_CLUSTERED: u32 = 1;
 /// `light_culling`: each draw reads its object's list.
 pub const LIGHT_CULLING_PER_OBJECT: u32 = 2;
+/// Depth slices of the cluster grid (its tiles across and down follow the image size and
+/// come in the frame uniform).
+pub const CLUSTER_SLICES: u32 = chiaro_math::culling::CLUSTER_SLICES;
 
 /// The mark of a shadowed light's entry in a culled light list.
 pub const SHADOWED_ENTRY: u32 = chiaro_math::culling::SHADOWED_ENTRY;
@@ -157,6 +160,7 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("LIGHT_CULLING_NONE", LIGHT_CULLING_NONE),
     ("LIGHT_CULLING_CLUSTERED", LIGHT_CULLING_CLUSTERED),
     ("LIGHT_CULLING_PER_OBJECT", LIGHT_CULLING_PER_OBJECT),
+    ("CLUSTER_SLICES", CLUSTER_SLICES),
     ("TEXEL_TABLE_WIDTH", TEXEL_TABLE_WIDTH),
     ("SHADOWED_ENTRY", SHADOWED_ENTRY),
     ("LIGHT_RECORDS", LIGHT_RECORDS),

@@ -50,10 +50,6 @@ pub struct GpuFrame {
     pub cluster_tiles_x: u32,
     /// See `cluster_tiles_x`.
     pub cluster_tiles_y: u32,
-    /// Depth slices of the cluster grid (`ClusterGrid::slices`).
-    pub cluster_slices: u32,
-    /// Pads the uniform to a multiple of 16 bytes.
-    pub _pad: [u32; 3],
 }
 
 /// One object (a mesh instance) as `shaders/common/frame.wesl` reads it: its transforms

@@ -369,8 +369,6 @@ impl FramePlan {
             cluster_slice_bias: self.culled.grid.map_or(0.0, |g| g.slice_params().1),
             cluster_tiles_x: self.culled.grid.map_or(1, |g| g.tiles_x),
             cluster_tiles_y: self.culled.grid.map_or(1, |g| g.tiles_y),
-            cluster_slices: self.culled.grid.map_or(1, |g| g.slices),
-            _pad: [0; 3],
         }
     }
 }
