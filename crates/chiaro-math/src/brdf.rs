@@ -4,10 +4,19 @@
 use glam::Vec3;
 use std::f32::consts::PI;
 
+/// For n.h in [0, 1] the denominator's root is at least `a2`; rounding can take it below
+/// (to zero for a mirror lobe seen head-on), so it is held there.
 fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
     let a2 = alpha * alpha;
-    let f = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    let f = (n_dot_h * n_dot_h * (a2 - 1.0) + 1.0).max(a2);
     a2 / (PI * f * f)
+}
+
+/// Schlick's Fresnel weight (1 - v.h)^5, with v.h clamped to [0, 1].
+pub fn schlick_weight(v_dot_h: f32) -> f32 {
+    let m = 1.0 - v_dot_h.clamp(0.0, 1.0);
+    let m2 = m * m;
+    m2 * m2 * m
 }
 
 /// The height-correlated Smith visibility term, G / (4 n.v n.l).
@@ -36,20 +45,22 @@ pub fn diffuse_albedo(base_color: Vec3, metallic: f32) -> Vec3 {
 }
 
 /// BRDF times cos(theta_l) for unit `n`, `v` (towards the eye) and `l` (towards the light).
-/// Roughness is clamped to 0.03 as the shader clamps it.
+/// Roughness is clamped to 0.03 as the shader clamps it. Cosines are clamped to [0, 1]
+/// (unit vectors' dot products round past 1) and the half vector of `l = -v` is zero, as
+/// in the shader, so that every term stays finite.
 pub fn brdf_cos(base_color: Vec3, metallic: f32, roughness: f32, n: Vec3, v: Vec3, l: Vec3) -> Vec3 {
-    let n_dot_l = n.dot(l);
+    let n_dot_l = n.dot(l).min(1.0);
     if n_dot_l <= 0.0 {
         return Vec3::ZERO;
     }
     let roughness = roughness.clamp(0.03, 1.0);
-    let n_dot_v = n.dot(v).max(1e-4);
-    let h = (l + v).normalize();
-    let n_dot_h = n.dot(h).max(0.0);
-    let v_dot_h = v.dot(h).max(0.0);
+    let n_dot_v = n.dot(v).clamp(1e-4, 1.0);
+    let h = (l + v).normalize_or_zero();
+    let n_dot_h = n.dot(h).clamp(0.0, 1.0);
+    let v_dot_h = v.dot(h).clamp(0.0, 1.0);
     let alpha = roughness * roughness;
     let f0 = f0_of(base_color, metallic);
-    let f = f0 + (Vec3::ONE - f0) * (1.0 - v_dot_h).powi(5);
+    let f = f0 + (Vec3::ONE - f0) * schlick_weight(v_dot_h);
     let diffuse = (Vec3::ONE - f) * (1.0 - metallic) * base_color / PI;
     let specular = f * d_ggx(n_dot_h, alpha) * v_smith_ggx_correlated(n_dot_v, n_dot_l, alpha);
     (diffuse + specular) * n_dot_l
@@ -81,6 +92,23 @@ mod tests {
             assert!((diffuse - diffuse_albedo(base, metallic)).abs().max_element() < 1e-5, "{metallic}: {diffuse}");
         }
         assert_eq!(diffuse_albedo(Vec3::ONE, 0.0), Vec3::splat(0.96));
+    }
+
+    #[test]
+    fn coinciding_and_opposite_directions_stay_finite() {
+        // A flashlight: view and light along the same unit vector, whose cosines round past
+        // 1; and light arriving exactly against the view, where the half vector vanishes.
+        let n = Vec3::new(0.3, 0.9, 0.1).normalize();
+        for v in [n, Vec3::new(0.21, 0.97, 0.13).normalize(), Vec3::new(-0.7, 0.7, 0.1).normalize()] {
+            for roughness in [0.0, 0.03, 0.5, 1.0] {
+                for l in [v, -v, n] {
+                    let f = brdf_cos(Vec3::new(0.9, 0.5, 0.2), 1.0, roughness, n, v, l);
+                    assert!(f.is_finite() && f.min_element() >= 0.0, "{v} {l} {roughness}: {f}");
+                }
+            }
+        }
+        assert_eq!(schlick_weight(1.0 + 1e-7), 0.0);
+        assert_eq!(schlick_weight(-0.5), 1.0);
     }
 
     #[test]

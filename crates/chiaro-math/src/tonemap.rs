@@ -8,6 +8,13 @@
 
 use glam::Vec3;
 
+/// The largest pre-exposed radiance the renderer stores: the largest finite half float,
+/// the HDR targets' format. Shading clamps to it, so that a light a centimetre away or a
+/// mirror highlight of the sun stores a bright but finite value (it tone-maps to white
+/// either way) instead of overflowing to infinity, which tone mapping and FXAA would turn
+/// into NaN.
+pub const MAX_EXPOSED_RADIANCE: f32 = 65504.0;
+
 /// Relative luminance of linear Rec. 709 RGB: how bright a colour looks, for measuring
 /// light (noise, errors, emitter power) in one number.
 pub fn luminance(linear_rgb: Vec3) -> f32 {

@@ -172,4 +172,14 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
 ];
 
 /// Every `f32` constant the shaders share with chiaro_math.
-pub const F32_CONSTANTS: &[(&str, f32)] = &[("MIN_DISTANCE_SQUARED", chiaro_math::light::MIN_DISTANCE_SQUARED)];
+pub const F32_CONSTANTS: &[(&str, f32)] = &[
+    ("MIN_DISTANCE_SQUARED", chiaro_math::light::MIN_DISTANCE_SQUARED),
+    ("MAX_EXPOSED_RADIANCE", chiaro_math::tonemap::MAX_EXPOSED_RADIANCE),
+    ("MAX_EXPOSED_VOLUME_RADIANCE", MAX_EXPOSED_VOLUME_RADIANCE),
+];
+
+/// The most one deferred light draw adds to a pixel of the light buffer: a sixteenth of
+/// `MAX_EXPOSED_RADIANCE`. Blending sums the draws in half floats, which do not saturate,
+/// so sixteen draws at their brightest still sum to a finite value (radiance this high
+/// tone-maps to white either way).
+pub const MAX_EXPOSED_VOLUME_RADIANCE: f32 = chiaro_math::tonemap::MAX_EXPOSED_RADIANCE / 16.0;
