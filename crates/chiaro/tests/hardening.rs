@@ -133,12 +133,12 @@ fn spec_invalid_gltf_is_refused_with_its_json_path() {
             &["scene.gltf: ", expected],
         );
     }
-    // An index count that is not a multiple of 3: four UNSIGNED_BYTE indices (0, 1, 2, 0)
-    // after the positions.
-    let four_indices = r#"{
+    // The primitive restart value among the indices: four UNSIGNED_BYTE indices (0, 1,
+    // 255, 0) after the positions.
+    let restart_index = r#"{
   "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
   "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
-  "buffers": [{"uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIC/AAECAA==", "byteLength": 40}],
+  "buffers": [{"uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIC/AAH/AA==", "byteLength": 40}],
   "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 4}],
   "accessors": [
     {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, -1], "max": [1, 0, 0]},
@@ -146,10 +146,10 @@ fn spec_invalid_gltf_is_refused_with_its_json_path() {
   ]
 }"#;
     expect_failure(
-        &[("scene.gltf", four_indices.as_bytes())],
+        &[("scene.gltf", restart_index.as_bytes())],
         &["render", "scene.gltf", "-o", "out.png"],
         &[],
-        &["scene.gltf: meshes[0].primitives[0]: 4 indices do not make whole triangles"],
+        &["scene.gltf: meshes[0].primitives[0].indices (accessors[1]): element 2 is 255, the primitive restart value"],
     );
 }
 

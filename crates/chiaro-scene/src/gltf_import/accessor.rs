@@ -16,10 +16,13 @@ const MAX_ACCESSOR_COUNT: usize = 1 << 26;
 
 impl<'a> Loader<'a> {
     /// Buffer `index`'s bytes, read on first use: the GLB's BIN chunk or its URI, checked
-    /// to hold the length the file declares.
+    /// to hold the length the file declares, and cut to that length: a buffer view that
+    /// runs past the declared length is broken even where the data behind it goes on (a
+    /// GLB's chunk padding, a longer .bin).
     fn buffer(&self, index: usize) -> Result<&[u8], SceneError> {
+        let declared = self.root.buffers[index].byte_length.0;
         if let Some(bytes) = self.buffers[index].get() {
-            return Ok(bytes);
+            return Ok(&bytes[..declared as usize]);
         }
         let buffer = &self.root.buffers[index];
         let label = json_label("buffers", index, buffer.uri.as_deref(), None);
@@ -39,11 +42,10 @@ impl<'a> Loader<'a> {
                 Cow::Owned(data.bytes)
             }
         };
-        let declared = buffer.byte_length.0;
         if (data.len() as u64) < declared {
             return Err(self.invalid(format!("{label} is {} bytes but the file says {declared}", data.len())));
         }
-        Ok(self.buffers[index].get_or_init(|| data))
+        Ok(&self.buffers[index].get_or_init(|| data)[..declared as usize])
     }
 
     /// The bytes of a buffer view and its stride, checked to lie inside its buffer; an
@@ -213,7 +215,10 @@ impl<'a> Loader<'a> {
             .collect())
     }
 
-    pub(super) fn read_indices(&self, index: usize, what: &str) -> Result<Vec<u32>, SceneError> {
+    /// Index accessor `index`'s elements widened to `u32`, with its component type's
+    /// largest value: the primitive restart value, which glTF 2.0 §3.7.2.1 forbids in
+    /// indices.
+    pub(super) fn read_indices(&self, index: usize, what: &str) -> Result<(Vec<u32>, u32), SceneError> {
         let packed = self.read_packed(index, 1, what)?;
         if !matches!(packed.component, ComponentType::U8 | ComponentType::U16 | ComponentType::U32) {
             return Err(self.invalid(format!(
@@ -223,7 +228,33 @@ impl<'a> Loader<'a> {
             )));
         }
         let size = packed.component.size();
-        Ok(packed.bytes.chunks_exact(size).filter_map(|b| read_index(packed.component, b)).collect())
+        let restart = match packed.component {
+            ComponentType::U8 => u32::from(u8::MAX),
+            ComponentType::U16 => u32::from(u16::MAX),
+            _ => u32::MAX,
+        };
+        Ok((packed.bytes.chunks_exact(size).filter_map(|b| read_index(packed.component, b)).collect(), restart))
+    }
+
+    /// Checks that accessor `index` (`what` says whose) lies inside its buffer view and the
+    /// view inside its buffer, without converting its elements: for the accessors of a
+    /// drawn primitive that Chiaro reads past (vertex colours, further UV sets, JOINTS
+    /// without WEIGHTS, custom attributes), so that they are as sound as the rest.
+    pub(super) fn check_accessor(&self, index: usize, what: &str) -> Result<(), SceneError> {
+        let accessor = &self.root.accessors[index];
+        let (Checked::Valid(_), Checked::Valid(ty)) = (accessor.component_type, accessor.type_) else {
+            return Err(self.invalid(format!("accessors[{index}] ({what}) has an invalid type")));
+        };
+        let dims = match ty.multiplicity() {
+            16 => 16,
+            d if d <= 4 => d,
+            // MAT2 and MAT3 are read by nothing Chiaro draws: their views are checked as
+            // every view is, by reading them whole.
+            _ => {
+                return accessor.buffer_view.map_or(Ok(()), |view| self.view_bytes(view.value()).map(|_| ()));
+            }
+        };
+        self.read_packed(index, dims, what).map(|_| ())
     }
 }
 

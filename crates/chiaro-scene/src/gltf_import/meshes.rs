@@ -45,19 +45,24 @@ impl Loader<'_> {
     ) -> Result<Option<(Primitive, Option<Deformation>)>, SceneError> {
         use json::mesh::{Mode, Semantic};
 
-        let mode = match primitive.mode {
-            Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => mode,
-            _ => {
-                self.tally.points_or_lines += 1;
-                return Ok(None);
-            }
-        };
         let attribute = |semantic: Semantic| primitive.attributes.get(&Checked::Valid(semantic)).map(|a| a.value());
         let Some(position_accessor) = attribute(Semantic::Positions) else {
             self.tally.without_positions += 1;
             return Ok(None);
         };
+        let mode = match primitive.mode {
+            Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => mode,
+            _ => {
+                // Not drawn (yet), but placed in the scene: its data is checked all the same.
+                self.check_unread_accessors(primitive, label, true)?;
+                let vertex_count = self.read_floats::<3>(position_accessor, &format!("POSITION of {label}"))?.len();
+                self.checked_indices(primitive, vertex_count, label)?;
+                self.tally.points_or_lines += 1;
+                return Ok(None);
+            }
+        };
         self.count_ignored_attributes(primitive);
+        self.check_unread_accessors(primitive, label, false)?;
 
         let mut positions: Vec<Vec3> = self
             .read_floats::<3>(position_accessor, &format!("POSITION of {label}"))?
@@ -68,7 +73,18 @@ impl Loader<'_> {
             return Err(self.invalid(format!("{label}: POSITION {v} is not finite")));
         }
         let vertex_count = positions.len();
-        let mut indices = self.triangle_indices(primitive, mode, vertex_count, label)?;
+        let (mut indices, left_over) = self.triangle_indices(primitive, mode, vertex_count, label)?;
+        if left_over > 0 {
+            let (count, what) = match primitive.indices {
+                Some(_) => (indices.len() + left_over, "indices"),
+                None => (vertex_count, "vertices"),
+            };
+            let drawn = indices.len() / 3;
+            self.ignored.push(format!(
+                "{label}: {count} {what} do not make whole {}; the last {left_over} not drawn ({drawn} triangles drawn)",
+                mode_name(mode)
+            ));
+        }
         if indices.is_empty() {
             return Ok(None);
         }
@@ -174,28 +190,80 @@ impl Loader<'_> {
         Ok(values)
     }
 
-    /// The primitive's triangles as a list: its indices (each checked against
-    /// `vertex_count`) or, without any, the vertices in order.
+    /// The primitive's triangles as a list: its indices (checked by `checked_indices`) or,
+    /// without any, the vertices in order; and how many of those made no whole triangle.
     fn triangle_indices(
         &self,
         primitive: &json::mesh::Primitive,
         mode: json::mesh::Mode,
         vertex_count: usize,
         label: &str,
-    ) -> Result<Vec<u32>, SceneError> {
-        let indices = match primitive.indices {
-            Some(accessor) => {
-                let indices = self.read_indices(accessor.value(), &format!("indices of {label}"))?;
-                if let Some(&bad) = indices.iter().find(|&&i| i as usize >= vertex_count) {
-                    return Err(
-                        self.invalid(format!("{label}: index {bad} is out of range for {vertex_count} vertices"))
-                    );
-                }
-                indices
-            }
+    ) -> Result<(Vec<u32>, usize), SceneError> {
+        let indices = match self.checked_indices(primitive, vertex_count, label)? {
+            Some(indices) => indices,
             None => (0..vertex_count as u32).collect(),
         };
         Ok(triangle_list(mode, indices))
+    }
+
+    /// The primitive's indices, if it has any, each checked to name one of its
+    /// `vertex_count` vertices and not to be the primitive restart value (glTF 2.0
+    /// §3.7.2.1; the validator's ACCESSOR_INDEX_OOB and ACCESSOR_INDEX_PRIMITIVE_RESTART):
+    /// either would draw what the file does not hold.
+    fn checked_indices(
+        &self,
+        primitive: &json::mesh::Primitive,
+        vertex_count: usize,
+        label: &str,
+    ) -> Result<Option<Vec<u32>>, SceneError> {
+        let Some(accessor) = primitive.indices else { return Ok(None) };
+        let (indices, restart) = self.read_indices(accessor.value(), &format!("indices of {label}"))?;
+        // The label's JSON path, without the mesh's name.
+        let primitive_path = label.split_once(" (").map_or(label, |(path, _)| path);
+        let path = format!("{primitive_path}.indices (accessors[{}])", accessor.value());
+        if let Some(at) = indices.iter().position(|&i| i == restart) {
+            return Err(self.invalid(format!(
+                "{path}: element {at} is {restart}, the primitive restart value, which glTF forbids in indices"
+            )));
+        }
+        if let Some(at) = indices.iter().position(|&i| i as usize >= vertex_count) {
+            return Err(self.invalid(format!(
+                "{path}: element {at} is {}, but POSITION has only {vertex_count} vertices",
+                indices[at]
+            )));
+        }
+        Ok(Some(indices))
+    }
+
+    /// Checks the accessors of a drawn primitive that Chiaro does not read (vertex
+    /// colours, UV sets past the second, JOINTS without WEIGHTS, custom attributes; with
+    /// `all`, every one) as those it reads are checked: inside their buffer views, inside
+    /// their buffers.
+    fn check_unread_accessors(
+        &self,
+        primitive: &json::mesh::Primitive,
+        label: &str,
+        all: bool,
+    ) -> Result<(), SceneError> {
+        use json::mesh::Semantic;
+        let has = |semantic: Semantic| primitive.attributes.contains_key(&Checked::Valid(semantic));
+        for (semantic, accessor) in &primitive.attributes {
+            let read = match semantic {
+                Checked::Valid(Semantic::Positions | Semantic::Normals | Semantic::Tangents) => true,
+                Checked::Valid(Semantic::TexCoords(set)) => *set < 2,
+                Checked::Valid(Semantic::Joints(set)) => has(Semantic::Weights(*set)),
+                Checked::Valid(Semantic::Weights(set)) => has(Semantic::Joints(*set)),
+                _ => false,
+            };
+            if all || !read {
+                let name = match semantic {
+                    Checked::Valid(s) => s.to_string(),
+                    Checked::Invalid => "an attribute".into(),
+                };
+                self.check_accessor(accessor.value(), &format!("{name} of {label}"))?;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -213,13 +281,33 @@ fn generated_tangents(
         .unwrap_or_else(|| vertex_gen::perpendicular_tangents(normals))
 }
 
+fn mode_name(mode: json::mesh::Mode) -> &'static str {
+    use json::mesh::Mode;
+    match mode {
+        Mode::Points => "POINTS",
+        Mode::Lines => "LINES",
+        Mode::LineLoop => "LINE_LOOP",
+        Mode::LineStrip => "LINE_STRIP",
+        Mode::Triangles => "TRIANGLES",
+        Mode::TriangleStrip => "TRIANGLE_STRIP",
+        Mode::TriangleFan => "TRIANGLE_FAN",
+    }
+}
+
 /// Strips and fans become lists with the winding glTF 2.0 §3.7.2.1 gives them: strip
 /// triangle `i` is `(i, i+1, i+2)` with odd ones flipped, fan triangle `i` is
-/// `(i+1, i+2, 0)`. Lists arrive whole (`spec::check_spec` refuses the rest).
-fn triangle_list(mode: json::mesh::Mode, indices: Vec<u32>) -> Vec<u32> {
+/// `(i+1, i+2, 0)`. A list whose count is not a multiple of 3 (the validator warns:
+/// MESH_PRIMITIVE_INCOMPATIBLE_MODE) draws its whole triangles, as WebGL and Vulkan
+/// do, and a strip or fan of fewer than 3 draws nothing; the second value counts the
+/// indices left over.
+fn triangle_list(mode: json::mesh::Mode, mut indices: Vec<u32>) -> (Vec<u32>, usize) {
     use json::mesh::Mode;
     let n = indices.len();
-    match mode {
+    if mode == Mode::Triangles {
+        indices.truncate(n - n % 3);
+        return (indices, n % 3);
+    }
+    let list = match mode {
         Mode::TriangleStrip if n >= 3 => (0..n - 2)
             .flat_map(|i| {
                 if i % 2 == 0 {
@@ -230,7 +318,8 @@ fn triangle_list(mode: json::mesh::Mode, indices: Vec<u32>) -> Vec<u32> {
             })
             .collect(),
         Mode::TriangleFan if n >= 3 => (0..n - 2).flat_map(|i| [indices[i + 1], indices[i + 2], indices[0]]).collect(),
-        Mode::Triangles => indices,
         _ => Vec::new(),
-    }
+    };
+    let left_over = if n < 3 { n } else { 0 };
+    (list, left_over)
 }

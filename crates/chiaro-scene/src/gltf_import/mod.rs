@@ -43,6 +43,7 @@ use crate::error::SceneError;
 use crate::types::{Material, Mesh, MeshInstance, Scene};
 use document::Document;
 use gltf::json;
+use json::validation::Checked;
 pub(crate) use lights_cameras::light_frame;
 use nodes::Placement;
 use serde_json::Value;
@@ -174,6 +175,7 @@ impl<'a> Loader<'a> {
         let images = self.decode_images(&image_uses, &mut materials, &mut lights)?;
         let environment = self.scene_environment(self.scene_index())?;
         self.note_tally();
+        self.note_unknown_accessor_types();
         let mut scene = Scene {
             source: None,
             meshes,
@@ -250,6 +252,26 @@ impl<'a> Loader<'a> {
         for name in used.into_iter().flatten().filter_map(Value::as_str) {
             if !SUPPORTED_EXTENSIONS.contains(&name) {
                 self.ignored.push(format!("extension {name}: not supported, ignored"));
+            }
+        }
+    }
+
+    /// Accessors whose `type` or `componentType` glTF does not define (the validator's
+    /// VALUE_NOT_IN_LIST, a warning): nothing drawn read them, or the load would have
+    /// failed naming them, so they are read past with a note.
+    fn note_unknown_accessor_types(&mut self) {
+        for (a, accessor) in self.root.accessors.iter().enumerate() {
+            for (key, valid) in [
+                ("type", matches!(accessor.type_, Checked::Valid(_))),
+                ("componentType", matches!(accessor.component_type, Checked::Valid(_))),
+            ] {
+                if !valid {
+                    let value = self.raw.pointer(&format!("/accessors/{a}/{key}")).map(Value::to_string);
+                    let value = value.unwrap_or_default();
+                    self.ignored.push(format!(
+                        "accessors[{a}].{key}: {value} is not a glTF accessor {key}; nothing drawn reads it"
+                    ));
+                }
             }
         }
     }

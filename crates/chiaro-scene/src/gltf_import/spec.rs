@@ -1,13 +1,12 @@
 //! The glTF 2.0 rules the `gltf` crate's validation leaves out, checked on the typed model
 //! (with the raw JSON for extension data): material factors within their ranges, vertex
 //! attributes and indices of the component types the spec allows (more with
-//! KHR_mesh_quantization), buffer-view strides that hold their elements, triangle lists of
-//! whole triangles, the UV sets that materials ask for, and nodes with either a matrix or
-//! TRS. The first broken rule is returned in words, starting with its JSON path.
+//! KHR_mesh_quantization), buffer-view strides that hold their elements, the UV sets that
+//! materials ask for, and nodes with either a matrix or TRS. The first broken rule is returned in words, starting with its JSON path.
 
 use gltf::json;
 use json::accessor::{ComponentType, Type};
-use json::mesh::{Mode, Semantic};
+use json::mesh::Semantic;
 use json::validation::Checked;
 use serde_json::Value;
 
@@ -141,7 +140,6 @@ fn check_primitives(raw: &Value, root: &json::Root, quantized: bool) -> Result<(
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let here = format!("meshes[{m}].primitives[{p}]");
-            let mut position_count = None;
             for (semantic, accessor_index) in &primitive.attributes {
                 let Checked::Valid(semantic) = semantic else { continue };
                 let accessor = &root.accessors[accessor_index.value()];
@@ -166,41 +164,26 @@ fn check_primitives(raw: &Value, root: &json::Root, quantized: bool) -> Result<(
                         component_name(component.0)
                     ));
                 }
-                if *semantic == Semantic::Positions {
-                    position_count = Some(accessor.count.0);
-                }
             }
-            let vertex_count = match primitive.indices {
-                Some(indices) => {
-                    let accessor = &root.accessors[indices.value()];
-                    let path = format!("{here}.indices");
-                    let component = match accessor.component_type {
-                        Checked::Valid(c) => c.0,
-                        Checked::Invalid => continue,
-                    };
-                    let integer = matches!(component, ComponentType::U8 | ComponentType::U16 | ComponentType::U32);
-                    if !integer || accessor.normalized || accessor.type_ != Checked::Valid(Type::Scalar) {
-                        return Err(format!(
-                            "{path}: accessor {} is not a SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT",
-                            indices.value()
-                        ));
-                    }
-                    if let Some(view) = accessor.buffer_view
-                        && root.buffer_views[view.value()].byte_stride.is_some()
-                    {
-                        return Err(format!("{path}: bufferViews[{}] of indices has a byteStride", view.value()));
-                    }
-                    Some(accessor.count.0)
+            if let Some(indices) = primitive.indices {
+                let accessor = &root.accessors[indices.value()];
+                let path = format!("{here}.indices");
+                let component = match accessor.component_type {
+                    Checked::Valid(c) => c.0,
+                    Checked::Invalid => continue,
+                };
+                let integer = matches!(component, ComponentType::U8 | ComponentType::U16 | ComponentType::U32);
+                if !integer || accessor.normalized || accessor.type_ != Checked::Valid(Type::Scalar) {
+                    return Err(format!(
+                        "{path}: accessor {} is not a SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT",
+                        indices.value()
+                    ));
                 }
-                None => position_count,
-            };
-            if primitive.mode == Checked::Valid(Mode::Triangles)
-                && let Some(count) = vertex_count.filter(|c| c % 3 != 0)
-            {
-                let what = if primitive.indices.is_some() { "indices" } else { "vertices" };
-                return Err(format!(
-                    "{here}: {count} {what} do not make whole triangles (TRIANGLES takes a multiple of 3)"
-                ));
+                if let Some(view) = accessor.buffer_view
+                    && root.buffer_views[view.value()].byte_stride.is_some()
+                {
+                    return Err(format!("{path}: bufferViews[{}] of indices has a byteStride", view.value()));
+                }
             }
             if let Some(material) = primitive.material {
                 check_uv_sets(raw, material.value(), primitive, &here)?;

@@ -59,7 +59,8 @@ pub(super) fn validate(path: &Path, raw: &Value, root: &json::Root) -> Result<()
             || (p.ends_with("attributes[\"POSITION\"]") && error == json::validation::Error::Missing)
             || p.ends_with("attributes[\"POSITION\"].min")
             || p.ends_with("attributes[\"POSITION\"].max")
-            || optional_in_the_spec(p, error);
+            || optional_in_the_spec(p, error)
+            || unknown_accessor_type(p, error);
         if !tolerated {
             problems.push((path, error));
         }
@@ -77,6 +78,18 @@ pub(super) fn validate(path: &Path, raw: &Value, root: &json::Root) -> Result<()
         message += &format!("; and {} more", problems.len() - 3);
     }
     Err(invalid(message))
+}
+
+/// An accessor `type` or `componentType` glTF does not define: the validator warns
+/// (VALUE_NOT_IN_LIST), and the accessor is refused where something drawn reads it
+/// (`Loader::read_packed`), else read past with a note.
+fn unknown_accessor_type(path: &str, error: json::validation::Error) -> bool {
+    error == json::validation::Error::Invalid
+        && path.strip_prefix("accessors[").is_some_and(|rest| {
+            rest.split_once(']').is_some_and(|(index, field)| {
+                index.parse::<usize>().is_ok() && (field == ".type" || field == ".componentType")
+            })
+        })
 }
 
 /// What the `gltf` crate requires and glTF 2.0 does not: an accessor without a buffer view

@@ -133,7 +133,10 @@ fn vertex_index_beyond_vertex_count_is_invalid() {
     ]);
     doc["buffers"] = json!([{ "byteLength": bytes.len(), "uri": data_uri(&bytes) }]);
     let message = invalid_message(load_doc(&dir, &doc));
-    assert!(message.contains("index 5 is out of range for 3 vertices"), "{message}");
+    assert_eq!(
+        message,
+        "meshes[0].primitives[0].indices (accessors[1]): element 2 is 5, but POSITION has only 3 vertices"
+    );
 }
 
 #[test]
@@ -218,17 +221,6 @@ fn spec_violations_are_errors_naming_the_json_path() {
             },
             "meshes[0].primitives[0].attributes[\"POSITION\"]: accessor 0 holds UNSIGNED_BYTE, which POSITION \
              cannot be (without KHR_mesh_quantization)",
-        ),
-        (
-            {
-                let mut d = triangle_doc();
-                let bytes = f32_bytes(&[TRIANGLE.as_slice(), &[0.0, 0.0, 0.0]].concat());
-                d["accessors"][0]["count"] = json!(4);
-                d["bufferViews"][0]["byteLength"] = json!(bytes.len());
-                d["buffers"][0] = json!({ "byteLength": bytes.len(), "uri": data_uri(&bytes) });
-                d
-            },
-            "meshes[0].primitives[0]: 4 vertices do not make whole triangles (TRIANGLES takes a multiple of 3)",
         ),
         (
             {

@@ -11,6 +11,7 @@ mod invalid_files;
 mod lights_cameras;
 mod materials;
 mod test_assets;
+mod validator_rules;
 
 use super::load_gltf;
 use crate::error::SceneError;
