@@ -1,16 +1,37 @@
-//! What the baker needs to know about a point on a surface: its diffuse albedo as the
-//! renderer shades it (`chiaro_math::brdf::diffuse_albedo`, textures included), its
-//! emission, whether its back face reflects, and its shading normal.
+//! What the baker needs to know about a point on a surface: its material as the renderer
+//! shades it (base colour, metallic and roughness, textures included), from which it
+//! reflects bounced light, its emission, whether its back face reflects, and its shading
+//! normal.
 
+use chiaro_math::environment::{SplitSumTable, directional_albedo};
 use chiaro_scene::{ColorSpace, Image, Material, Scene, TextureRef, WrapMode};
 use glam::{Mat3, Vec2, Vec3, Vec4};
 
 pub struct SurfacePoint {
-    pub albedo: Vec3,
+    /// Linear base colour, clamped to 0..1.
+    pub base_color: Vec3,
+    pub metallic: f32,
+    /// Perceptual roughness, clamped as the shader clamps it.
+    pub roughness: f32,
     pub emissive: Vec3,
     pub double_sided: bool,
     /// Interpolated vertex normal in world space (unit; zero where the mesh has none).
     pub shading_normal: Vec3,
+}
+
+/// The shader's least roughness (`common/material.wesl`).
+const MIN_ROUGHNESS: f32 = 0.03;
+
+impl SurfacePoint {
+    /// The share of the light arriving at this point that it reflects towards a direction
+    /// `n_dot_out` from its normal: the material's directional albedo, both lobes
+    /// (`chiaro_math::environment::directional_albedo`). A bounce carries all of it, as
+    /// energy balance asks; it leaves in a cosine-weighted direction (the diffuse lobe's
+    /// shape), which is where lightmaps, storing irradiance, forget direction anyway.
+    pub fn reflectance(&self, n_dot_out: f32) -> Vec3 {
+        let terms = SplitSumTable::shared().terms(n_dot_out, self.roughness);
+        directional_albedo(self.base_color, self.metallic, terms)
+    }
 }
 
 /// Surface lookups over a scene.
@@ -59,12 +80,14 @@ impl<'a> Surfaces<'a> {
             }
         };
         let base = material.base_color * texture(&material.base_color_texture);
-        let metallic = (material.metallic * texture(&material.metallic_roughness_texture).z).clamp(0.0, 1.0);
+        let metallic_roughness = texture(&material.metallic_roughness_texture);
+        let metallic = (material.metallic * metallic_roughness.z).clamp(0.0, 1.0);
+        let roughness = (material.roughness * metallic_roughness.y).clamp(MIN_ROUGHNESS, 1.0);
         let emissive = material.emissive * texture(&material.emissive_texture).truncate();
         SurfacePoint {
-            // The renderer's split between diffuse and specular, so bounced light is what
-            // the lit surface shows.
-            albedo: chiaro_math::brdf::diffuse_albedo(base.truncate().clamp(Vec3::ZERO, Vec3::ONE), metallic),
+            base_color: base.truncate().clamp(Vec3::ZERO, Vec3::ONE),
+            metallic,
+            roughness,
             emissive,
             double_sided: material.double_sided,
             shading_normal,

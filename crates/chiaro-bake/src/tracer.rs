@@ -2,7 +2,9 @@
 //! baked lights directly (next event estimation with the reference's shadow rays), and
 //! along cosine-weighted paths: the sky (the ambient setting, or the environment where
 //! `[environment] mode = "baked"`), emissive surfaces, and the
-//! light of baked and mixed lights reflected diffusely by up to `bounces` surfaces. The
+//! light of baked and mixed lights reflected by up to `bounces` surfaces, each reflecting
+//! its material's whole directional albedo (diffuse and specular lobes) along a
+//! cosine-weighted direction. The
 //! falloff is the runtime's: inverse square times the range window, times the spot cone.
 //! At every vertex a path also aims at one point of an emissive surface; that and a bounce
 //! that hits one are weighed by multiple importance sampling (the power heuristic). Past
@@ -306,14 +308,17 @@ impl<'a> Tracer<'a> {
             if surface.emissive.max_element() > 0.0 {
                 radiance += throughput * surface.emissive * self.emission_weight(came, direction, &hit);
             }
-            if reflected == reflections || surface.albedo.max_element() <= 0.0 {
+            // What the surface reflects back along the path: its whole directional albedo
+            // towards where the path came from.
+            let albedo = surface.reflectance(n.dot(-direction).max(0.0));
+            if reflected == reflections || albedo.max_element() <= 0.0 {
                 break;
             }
             let p = hit.position + side * offset_of(hit.position);
             let e = self.light_irradiance(p, n, side, |l| l.indirect, rays)
                 + self.emitter_irradiance(p, n, side, rng, rays);
-            radiance += throughput * surface.albedo / PI * e;
-            throughput *= surface.albedo;
+            radiance += throughput * albedo / PI * e;
+            throughput *= albedo;
             reflected += 1;
             if reflected >= ROULETTE_AFTER && reflected < reflections {
                 let survive = throughput.max_element().min(0.95);

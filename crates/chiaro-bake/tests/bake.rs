@@ -74,10 +74,11 @@ fn mean_irradiance(result: &chiaro_bake::BakeResult, texels_per_metre: f32) -> (
     ((sum / weight) as f32, (weight / (texels_per_metre as f64).powi(2)) as f32)
 }
 
-/// What a white-ish wall of base colour `rho` reflects diffusely: the renderer's share,
-/// (1 - F0) rho, which the baker uses too.
+/// What a rough grey wall of base colour `rho` reflects of the light it receives: its
+/// hemispherical albedo, both lobes (the diffuse share alone, (1 - F0) rho, is short of
+/// it by the specular lobe's).
 fn reflectance(rho: f32) -> f32 {
-    chiaro_math::brdf::diffuse_albedo(Vec3::splat(rho), 0.0).x
+    chiaro_math::environment::hemispherical_albedo(Vec3::splat(rho), 0.0, 1.0, 256, 4096).x
 }
 
 #[test]

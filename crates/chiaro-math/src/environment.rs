@@ -114,9 +114,106 @@ pub fn ibl_weights(base_color: Vec3, metallic: f32, terms: Vec2) -> IblWeights {
     IblWeights { specular: single, diffuse: multiple * multiple_energy + diffuse_color * left }
 }
 
+/// The albedo of a glTF metallic-roughness surface seen from `n_dot_v`: of light arriving
+/// evenly from every direction, the share it sends towards the eye, diffuse and specular
+/// lobes together (`ibl_weights`' two weights summed, from the split-sum `terms` at that
+/// n.v and roughness). It is what an environment light gives the surface, and what the
+/// baker's bounces carry, so that baked bounced light and the realtime environment agree.
+pub fn directional_albedo(base_color: Vec3, metallic: f32, terms: Vec2) -> Vec3 {
+    let w = ibl_weights(base_color, metallic, terms);
+    w.specular + w.diffuse
+}
+
+/// The hemispherical albedo of a glTF metallic-roughness surface: its `directional_albedo`
+/// averaged over the cosine-weighted directions light leaves in, the split sum integrated
+/// afresh (`samples` GGX samples) at each of `steps` angles. Of all the light a surface
+/// receives, the share it reflects in all, what a closed room's energy balance turns on.
+pub fn hemispherical_albedo(base_color: Vec3, metallic: f32, roughness: f32, steps: u32, samples: u32) -> Vec3 {
+    (0..steps)
+        .map(|k| {
+            let mu = (k as f32 + 0.5) / steps as f32;
+            directional_albedo(base_color, metallic, split_sum(mu, roughness, samples)) * (2.0 * mu / steps as f32)
+        })
+        .sum()
+}
+
+/// `split_sum` tabulated over n.v and roughness (both 0 to 1 in `SIZE` steps, ends
+/// included) and read bilinearly: the baker looks it up at every bounce.
+#[derive(Clone, Debug)]
+pub struct SplitSumTable {
+    terms: Vec<Vec2>,
+}
+
+impl SplitSumTable {
+    /// Grid points along each axis.
+    pub const SIZE: usize = 32;
+    /// GGX samples per grid point.
+    pub const SAMPLES: u32 = 1024;
+
+    /// The table, integrated once per process (about a million GGX samples).
+    pub fn shared() -> &'static SplitSumTable {
+        static TABLE: std::sync::OnceLock<SplitSumTable> = std::sync::OnceLock::new();
+        TABLE.get_or_init(SplitSumTable::new)
+    }
+
+    fn new() -> SplitSumTable {
+        let step = 1.0 / (Self::SIZE - 1) as f32;
+        let terms = (0..Self::SIZE * Self::SIZE)
+            .map(|k| {
+                let (i, j) = (k % Self::SIZE, k / Self::SIZE);
+                split_sum(i as f32 * step, j as f32 * step, Self::SAMPLES)
+            })
+            .collect();
+        SplitSumTable { terms }
+    }
+
+    /// The split-sum terms at `n_dot_v` and perceptual `roughness` (each clamped to 0..1).
+    pub fn terms(&self, n_dot_v: f32, roughness: f32) -> Vec2 {
+        let last = (Self::SIZE - 1) as f32;
+        let x = n_dot_v.clamp(0.0, 1.0) * last;
+        let y = roughness.clamp(0.0, 1.0) * last;
+        let (i, j) = ((x as usize).min(Self::SIZE - 2), (y as usize).min(Self::SIZE - 2));
+        let (fx, fy) = (x - i as f32, y - j as f32);
+        let at = |i: usize, j: usize| self.terms[j * Self::SIZE + i];
+        let top = at(i, j).lerp(at(i + 1, j), fx);
+        let bottom = at(i, j + 1).lerp(at(i + 1, j + 1), fx);
+        top.lerp(bottom, fy)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_table_reads_the_split_sum_between_its_grid_points() {
+        let table = SplitSumTable::shared();
+        for (n_dot_v, roughness) in [(0.05, 0.1), (0.5, 0.5), (0.93, 0.77), (1.0, 1.0), (0.2, 0.97)] {
+            let direct = split_sum(n_dot_v, roughness, 4096);
+            let read = table.terms(n_dot_v, roughness);
+            assert!((direct - read).abs().max_element() < 0.01, "{n_dot_v} {roughness}: {direct} vs {read}");
+        }
+    }
+
+    #[test]
+    fn the_directional_albedo_conserves_energy_and_whites_reflect_all() {
+        let table = SplitSumTable::shared();
+        for n_dot_v in [0.02, 0.3, 0.7, 1.0] {
+            for roughness in [0.03, 0.4, 1.0] {
+                let terms = table.terms(n_dot_v, roughness);
+                // A white dielectric loses nothing: what the specular lobe leaves, the
+                // diffuse lobe sends.
+                let white = directional_albedo(Vec3::ONE, 0.0, terms);
+                assert!((white - Vec3::ONE).abs().max_element() < 1e-4, "{white}");
+                for (base, metallic) in [(Vec3::splat(0.5), 0.0), (Vec3::new(1.0, 0.8, 0.3), 1.0)] {
+                    let a = directional_albedo(base, metallic, terms);
+                    assert!(a.max_element() <= 1.0 + 1e-4 && a.min_element() > 0.0, "{a}");
+                    // More than the diffuse share alone: the specular lobe reflects too.
+                    assert!(a.x > crate::brdf::diffuse_albedo(base, metallic).x, "{a}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn equirect_round_trips_and_centres_on_minus_z() {
