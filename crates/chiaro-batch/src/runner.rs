@@ -227,15 +227,12 @@ impl<'r> BatchRunner<'r> {
             self.uploaded = Some(Uploaded { load: loaded.load, time, gpu });
         }
         let gpu = &self.uploaded.as_ref().expect("uploaded above").gpu;
-        let mut settings = spec.settings.clone();
-        // The first frame after an upload draws every shadow tile: the cache's keys name
-        // meshes by index, which another scene (or pose) reuses for other geometry.
-        if fresh {
-            settings.shadows.cache = false;
-        }
+        // Every tile drawn afresh, placed as on a new renderer: the job renders the same
+        // bytes whatever ran before it, in any order and any front end.
+        self.renderer.forget_history();
         let frame = self
             .renderer
-            .render(scene, gpu, &view, &settings, spec.outputs.frame_options())
+            .render(scene, gpu, &view, &spec.settings, spec.outputs.frame_options())
             .map_err(|e| e.to_string())?;
         let hdr_rgb: Vec<[f32; 3]> = if spec.outputs.wants(Output::Hdr) {
             frame.hdr.iter().map(|p| [p[0], p[1], p[2]]).collect()

@@ -106,18 +106,19 @@ impl RendererCore {
             .collect::<Result<_, _>>()
             .map_err(Failure::Value)?;
         let mut inner = self.lock();
-        let fresh = upload(&mut inner, &guard)?;
+        upload(&mut inner, &guard)?;
         let Inner { renderer, uploaded } = &mut *inner;
         let gpu = &uploaded.as_ref().expect("uploaded").gpu;
         let scene = &guard.scene;
         let options = outputs.frame_options();
         let shadow_nodes: Vec<usize> = scene.lights.iter().map(|l| l.node).collect();
-        let first_settings = first_frame_settings(&self.settings, fresh);
         let mut arrays = Vec::with_capacity(views.len());
         let mut in_flight = None;
-        for (i, view) in views.iter().enumerate() {
-            let settings = if i == 0 { &first_settings } else { &self.settings };
-            let submitted = renderer.submit(scene, gpu, view, settings, options)?;
+        for view in &views {
+            // Each frame as on a new renderer: its arrays do not depend on the frames
+            // before it, in this call or earlier ones.
+            renderer.forget_history();
+            let submitted = renderer.submit(scene, gpu, view, &self.settings, options)?;
             if let Some(previous) = in_flight.replace(submitted) {
                 arrays.push(FrameArrays::new(renderer.finish(previous)?, outputs, shadow_nodes.clone()));
             }
@@ -132,7 +133,7 @@ impl RendererCore {
 impl RendererCore {
     /// Lends the renderer and its settings to `work` (a job list, which uploads its own
     /// scenes) under the lock. The scene this renderer uploaded is forgotten first, so the
-    /// next frame here uploads again and draws every shadow tile (`first_frame_settings`).
+    /// next frame here uploads again.
     pub(crate) fn lend<R>(&self, work: impl FnOnce(&mut Renderer, &Settings) -> R) -> R {
         let mut inner = self.lock();
         inner.uploaded = None;
@@ -158,16 +159,6 @@ fn settings_from_json(json: &str) -> Result<Settings, String> {
     let value: serde_json::Value = serde_json::from_str(json).map_err(|e| format!("settings: {e}"))?;
     let text = toml::to_string(&value).map_err(|e| format!("settings: cannot be written as TOML: {e}"))?;
     Settings::parse(&text).map_err(|e| format!("settings: {e}"))
-}
-
-/// The first frame after an upload draws every shadow tile: the cache's keys name meshes
-/// by index, which a different scene reuses for other geometry.
-fn first_frame_settings(settings: &Settings, fresh_upload: bool) -> Settings {
-    let mut first = settings.clone();
-    if fresh_upload {
-        first.shadows.cache = false;
-    }
-    first
 }
 
 #[pymethods]
@@ -305,8 +296,8 @@ impl RendererCore {
             upload(&mut inner, &guard)?;
             let Inner { renderer, uploaded } = &mut *inner;
             let gpu = &uploaded.as_ref().expect("uploaded").gpu;
-            let settings = first_frame_settings(&self.settings, true);
-            let result = compare_shadows(renderer, &guard.scene, gpu, &view, &settings)?;
+            renderer.forget_history();
+            let result = compare_shadows(renderer, &guard.scene, gpu, &view, &self.settings)?;
             Ok(LightVerdict::all(&guard.scene, &result))
         })?;
         verdicts.into_iter().map(|v| v.into_dict(py)).collect()

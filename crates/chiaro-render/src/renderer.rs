@@ -101,6 +101,15 @@ impl Renderer {
         })
     }
 
+    /// Forgets what earlier frames leave to later ones: where each light's shadow tiles
+    /// sit in the atlases, the coverage tiers' hysteresis and the cache of drawn tiles. The
+    /// next frame then renders exactly as it would on a new renderer, whatever came before:
+    /// what a job needs, since a job's pixels must not depend on the jobs before it. A
+    /// viewer keeps its history instead (tiles stay put and are not drawn again).
+    pub fn forget_history(&mut self) {
+        self.atlas_tiles = ShadowAtlasTiles::default();
+    }
+
     /// Uploads a scene's geometry, objects, materials and textures.
     pub fn prepare(&mut self, scene: &Scene) -> Result<PreparedScene, RenderError> {
         let gpu = GpuScene::upload(&self.ctx.device, &self.ctx.queue, &self.material_layout, scene);

@@ -428,3 +428,70 @@ fn a_usage_error_of_batch_is_not_read_as_two_failed_jobs() {
     assert_eq!(chiaro(&["render", "--bogus"], &[], dir.path()).code, 2);
     assert_eq!(chiaro(&["--version"], &[], dir.path()).code, 0);
 }
+
+/// Jobs on the benchmark scene, each camera near one of its shadowed lights, so that the
+/// lights' importance (which orders their shadow tiles) and their coverage (which sizes
+/// them) change from job to job; every file a light's shadow shows in.
+fn history_jobs(scene: &Path) -> Vec<Value> {
+    let near = [[0.8, -3.7], [-14.4, -16.6], [-17.8, -1.7], [-1.0, 0.3], [-5.9, -0.7], [-12.4, -11.7]];
+    (0..10)
+        .map(|i| {
+            let [x, z] = near[i % near.len()];
+            let eye = [x + 3.0 + 0.3 * i as f64, 8.0 + (i % 3) as f64, z + 4.0];
+            json!({
+                "id": format!("near-{i:02}"), "scene": scene, "width": 80, "height": 60,
+                "camera": {"eye": eye, "target": [x, 0.0, z]},
+                "outputs": ["rgb", "hdr", "shadow"],
+            })
+        })
+        .collect()
+}
+
+/// Every file of every job folder under `out` but meta.json (which holds the wall time).
+fn job_files(out: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    for job in std::fs::read_dir(out).unwrap() {
+        let job = job.unwrap().path();
+        for file in std::fs::read_dir(&job).unwrap() {
+            let file = file.unwrap().path();
+            if file.file_name().unwrap() != "meta.json" {
+                files.insert(file.strip_prefix(out).unwrap().to_path_buf(), std::fs::read(&file).unwrap());
+            }
+        }
+    }
+    files
+}
+
+#[test]
+fn a_job_renders_the_same_bytes_whatever_ran_before_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets/chiaro-bench/shadow-bench.gltf");
+    let jobs = history_jobs(&scene);
+    let mut reversed = jobs.clone();
+    reversed.reverse();
+    let mut outputs = Vec::new();
+    for (name, list) in [("listed", &jobs), ("reversed", &reversed)] {
+        write_jobs(dir.path(), list);
+        let run = batch(&["jobs.jsonl", "--output", name], &[], dir.path());
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        outputs.push(job_files(&dir.path().join(name)));
+    }
+    // Each job alone, in a process of its own: nothing ran before it.
+    for job in &jobs {
+        write_jobs(dir.path(), std::slice::from_ref(job));
+        let run = batch(&["jobs.jsonl", "--output", "alone"], &[], dir.path());
+        assert_eq!(run.code, 0, "{}", run.stderr);
+    }
+    outputs.push(job_files(&dir.path().join("alone")));
+    assert!(outputs[0].len() >= jobs.len() * 3, "{:?}", outputs[0].keys());
+    for (name, other) in ["reversed", "alone"].iter().zip(&outputs[1..]) {
+        assert_eq!(other.keys().collect::<Vec<_>>(), outputs[0].keys().collect::<Vec<_>>());
+        let differing: Vec<&PathBuf> =
+            outputs[0].iter().filter(|(file, bytes)| other[*file] != **bytes).map(|(f, _)| f).collect();
+        assert!(
+            differing.is_empty(),
+            "{name}: {} files differ from the listed order's: {differing:?}",
+            differing.len()
+        );
+    }
+}
