@@ -262,3 +262,45 @@ fn a_files_image_based_light_lights_it_unless_the_settings_name_another() {
     let brightest = surface_pixels(&frame).iter().map(|(.., r)| r.max_element()).fold(0.0, f32::max);
     assert!(brightest < 1e-4, "{brightest}");
 }
+
+#[test]
+fn a_sunlit_floors_shadows_read_under_the_studio() {
+    // A box on a floor under a sun 45 degrees up, at a few lux and at daylight's
+    // 100,000 lux (exposed for it): under the studio, which scales with the sun, the box's
+    // shadow keeps about a fifth of the lit floor's light, whatever the sun's strength.
+    for (lux, ev100) in [(3.0, 0.0), (100_000.0, 15.0)] {
+        let mut sun = chiaro_scene::Light::new(
+            chiaro_scene::LightKind::Directional,
+            Vec3::ZERO,
+            Vec3::new(0.0, -1.0, -1.0).normalize(),
+        );
+        sun.intensity = lux;
+        sun.node = 5;
+        // Steep enough to see the floor behind the box.
+        let mut scene = floor_scene(8.0, Vec3::new(0.0, 9.0, 3.0), vec![sun]);
+        add_box(&mut scene, Vec3::new(0.0, 0.5, 0.0), Vec3::ONE, 0.0, chiaro_scene::CastShadows::On);
+        let mut settings = Settings::default();
+        settings.environment.source = EnvironmentSource::Neutral;
+        settings.render.exposure_ev100 = ev100;
+        settings.render.msaa = 1;
+        let mut renderer = renderer();
+        let frame = render(&mut renderer, &scene, &settings, 128);
+        let aovs = frame.aovs.as_ref().unwrap();
+        let floor = |i: usize| aovs.position_ws[i][1].abs() < 0.02 && aovs.normal_ws[i][1] > 0.99;
+        let luminance = |i: usize| chiaro_math::tonemap::luminance(Vec3::from_slice(&frame.hdr[i][..3]));
+        // The shadow falls towards -z behind the box (the sun shines along -z), to 1.5 m
+        // back: floor 0.9 to 1.4 m back is in it, floor as far in front of the box is lit.
+        let mean = |pick: &dyn Fn(Vec3) -> bool| {
+            let values: Vec<f32> = (0..frame.hdr.len())
+                .filter(|&i| floor(i) && pick(Vec3::from(aovs.position_ws[i])))
+                .map(luminance)
+                .collect();
+            assert!(values.len() > 20, "{} pixels", values.len());
+            values.iter().sum::<f32>() / values.len() as f32
+        };
+        let shadowed = mean(&|p| p.x.abs() < 0.4 && (-1.4..-0.9).contains(&p.z));
+        let lit = mean(&|p| p.x.abs() < 0.4 && (0.9..1.4).contains(&p.z));
+        println!("sun {lux} lux under the studio: shadowed floor {shadowed}, lit floor {lit}, {:.3}", shadowed / lit);
+        assert!((0.08..0.3).contains(&(shadowed / lit)), "shadowed {shadowed} against lit {lit}");
+    }
+}

@@ -114,9 +114,6 @@ impl Viewer {
             self.state.panel.error = Some(e);
             return;
         }
-        // A source the user picks stays, whatever files are opened next.
-        let state = &mut self.state.settings;
-        state.viewer_picks_environment &= settings.environment.source == state.current.environment.source;
         self.state.settings.current = settings;
         self.state.panel.error = None;
         self.follow_view_size();
@@ -224,7 +221,6 @@ impl Viewer {
         gpu.debug_textures.clear();
         let state = &mut self.state;
         let old = std::mem::replace(&mut state.scene.scene, scene);
-        state.settings.follow_scene(&state.scene.scene);
         state.scene.picker.reset();
         // The light list shows the file's lights as they now are.
         state.panel.lights = Default::default();

@@ -260,44 +260,25 @@ fn a_dropped_environment_image_lights_the_scene_and_a_bad_one_is_reported() {
 }
 
 #[test]
-fn the_viewer_opens_each_file_under_its_own_environment_or_the_studio_until_one_is_picked() {
+fn the_viewer_opens_every_file_under_the_default_environment_as_chiaro_render_does() {
     use chiaro_scene::environment::{EnvironmentMap, SceneEnvironment};
     use chiaro_scene::settings::EnvironmentSource;
     let path = asset("ShadowsSpot/glTF/shadows-spot.gltf");
     let plain = chiaro_scene::load_gltf(&path).unwrap();
     let own = SceneEnvironment::new("EXT_lights_image_based light 0".into(), EnvironmentMap::uniform(glam::Vec3::ONE));
     let carrying = Scene { environment: Some(own), ..plain.clone() };
-    let picking = |scene: &Scene| {
+    let opened = |scene: &Scene| {
         let view = View::from_camera(scene, 0, 64, 48);
-        let mut settings = Settings::default();
-        (settings.render.width, settings.render.height) = (64, 48);
-        let config =
-            ViewerConfig { scene_path: Some(path.clone()), ..ViewerConfig::new(scene.clone(), settings, view) };
-        Viewer::new(ViewerConfig { viewer_picks_environment: true, ..config })
+        let config = ViewerConfig {
+            scene_path: Some(path.clone()),
+            ..ViewerConfig::new(scene.clone(), Settings::default(), view)
+        };
+        Viewer::new(config)
     };
     let source = |v: &Viewer| v.state.settings.current.environment.source.clone();
-    assert_eq!(source(&picking(&plain)), EnvironmentSource::Neutral, "a file without its own opens in the studio");
-    let mut viewer = picking(&carrying);
-    assert_eq!(source(&viewer), EnvironmentSource::None, "a file with its own light opens under it");
-    // Each file shown next (show_scene calls follow_scene once it has the scene on the
-    // device, which these tests have none of).
-    viewer.state.settings.follow_scene(&plain);
-    assert_eq!(source(&viewer), EnvironmentSource::Neutral);
-    viewer.state.settings.follow_scene(&carrying);
-    assert_eq!(source(&viewer), EnvironmentSource::None);
-    // A source the user picks stays for the files opened after; other edits keep picking.
-    let mut brighter = viewer.state.settings.current.clone();
-    brighter.environment.intensity = 2.0;
-    viewer.apply(Action::SetSettings(Box::new(brighter)));
-    viewer.state.settings.follow_scene(&plain);
-    assert_eq!(source(&viewer), EnvironmentSource::Neutral);
-    let mut sky = viewer.state.settings.current.clone();
-    sky.environment.source = EnvironmentSource::Sky;
-    viewer.apply(Action::SetSettings(Box::new(sky)));
-    viewer.state.settings.follow_scene(&carrying);
-    assert_eq!(source(&viewer), EnvironmentSource::Sky);
-    // Told a source at the start (here the default none), the viewer never picks.
-    let mut told = spot_viewer();
-    told.state.settings.follow_scene(&plain);
-    assert_eq!(source(&told), EnvironmentSource::None);
+    // `none`: the file's own EXT_lights_image_based light where it has one, else the
+    // ambient term; never a studio the file did not ask for.
+    assert_eq!(source(&opened(&plain)), EnvironmentSource::None);
+    assert_eq!(source(&opened(&carrying)), EnvironmentSource::None);
+    assert_eq!(Settings::default().environment.source, EnvironmentSource::None);
 }

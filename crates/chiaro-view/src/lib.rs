@@ -70,10 +70,6 @@ pub struct ViewerConfig {
     pub load_scene: LoadScene,
     /// `--time`: the moment of the glTF animations to open at (`None`: the rest pose).
     pub time: Option<f32>,
-    /// Whether the viewer picks the environment (neither `--environment` nor `--settings`
-    /// named one): each file opens under its own EXT_lights_image_based light, else the
-    /// neutral studio, until the user picks a source.
-    pub viewer_picks_environment: bool,
 }
 
 impl ViewerConfig {
@@ -93,7 +89,6 @@ impl ViewerConfig {
             script: None,
             load_scene: loader::plain_loader(),
             time: None,
-            viewer_picks_environment: false,
         }
     }
 }

@@ -38,26 +38,9 @@ pub struct SettingsState {
     pub file: Option<PathBuf>,
     /// `--msaa`, when given: a device that cannot render the count names the flag.
     pub msaa_flag: Option<u32>,
-    /// The environment source is the viewer's choice for the open file (see
-    /// `viewer_environment`), not the user's: it follows the files opened.
-    pub viewer_picks_environment: bool,
-}
-
-/// The environment the viewer opens a file under when nobody named one: the file's own
-/// (EXT_lights_image_based), else the neutral studio, as other model viewers do.
-pub fn viewer_environment(scene: &chiaro_scene::Scene) -> chiaro_scene::settings::EnvironmentSource {
-    use chiaro_scene::settings::EnvironmentSource;
-    if scene.environment.is_some() { EnvironmentSource::None } else { EnvironmentSource::Neutral }
 }
 
 impl SettingsState {
-    /// Lights newly shown `scene` as `viewer_environment` says, while the viewer picks.
-    pub fn follow_scene(&mut self, scene: &chiaro_scene::Scene) {
-        if self.viewer_picks_environment {
-            self.current.environment.source = viewer_environment(scene);
-        }
-    }
-
     /// Where "Save settings" writes.
     pub fn save_path(&self) -> PathBuf {
         self.file.clone().unwrap_or_else(|| PathBuf::from("chiaro-view.toml"))
@@ -187,24 +170,20 @@ impl ViewerState {
         let ViewerConfig {
             scene,
             scene_path,
-            mut settings,
+            settings,
             settings_file,
             msaa_flag,
             camera_key,
             start_view,
             time,
-            viewer_picks_environment,
             ..
         } = config;
-        if viewer_picks_environment {
-            settings.environment.source = viewer_environment(&scene);
-        }
         let mut loader = Loader::new(config.load_scene);
         loader.watch(&scene);
         ViewerState {
             camera: CameraState::new(start_view, camera_key, &settings),
             scene: SceneState { scene, path: scene_path, picker: Picker::default() },
-            settings: SettingsState { current: settings, file: settings_file, msaa_flag, viewer_picks_environment },
+            settings: SettingsState { current: settings, file: settings_file, msaa_flag },
             debug: config.debug,
             panel: PanelState::default(),
             stats: FrameStats::default(),

@@ -115,8 +115,6 @@ pub fn run(args: ViewArgs) -> Result<()> {
         script,
         load_scene,
         time: args.time.time,
-        // Unless told otherwise, files open under their own environment or the studio.
-        viewer_picks_environment: args.environment.environment.is_none() && args.settings.is_none(),
         ..ViewerConfig::new(scene, settings, start_view)
     })
 }

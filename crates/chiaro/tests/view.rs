@@ -63,12 +63,8 @@ fn the_viewer_screenshot_and_window_show_what_chiaro_render_writes() {
     );
     assert_eq!(shot.code, 0, "the viewer failed: {}", shot.stderr);
     assert!(shot.stderr.contains("after 3 frames"), "{}", shot.stderr);
-    // The viewer opens in the neutral studio environment.
-    let render = chiaro(
-        &[&["render", scene][..], &size, &["--environment", "neutral", "-o", "render.png"]].concat(),
-        &[],
-        dir.path(),
-    );
+    // The viewer opens under the default environment, as chiaro render does.
+    let render = chiaro(&[&["render", scene][..], &size, &["-o", "render.png"]].concat(), &[], dir.path());
     assert_eq!(render.code, 0, "{}", render.stderr);
     let (shot, reference) = (rgb(&dir.path().join("shot.png")), rgb(&dir.path().join("render.png")));
     assert_eq!(shot.len(), reference.len(), "same size");
@@ -90,6 +86,34 @@ fn the_viewer_screenshot_and_window_show_what_chiaro_render_writes() {
     assert!(greys.len() > 16, "the panel has text on it: {} grey levels", greys.len());
 }
 
+/// Mean absolute difference of two RGB8 images, as a share of full scale.
+fn mean_abs_difference(a: &[u8], b: &[u8]) -> f64 {
+    let sum: u64 = a.iter().zip(b).map(|(x, y)| u64::from(x.abs_diff(*y))).sum();
+    sum as f64 / (a.len() as f64 * 255.0)
+}
+
+#[test]
+fn a_sunlit_scene_in_the_viewer_is_what_chiaro_render_writes() {
+    // Every front end opens under the same default environment: the viewer's screenshot
+    // of a sun scene is chiaro render's image, not one washed out by a studio.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = test_scene("ShadowsDirectional/glTF/shadows-directional.gltf");
+    let scene = scene.to_str().unwrap();
+    let (w, h) = (WIDTH.to_string(), HEIGHT.to_string());
+    let size = ["--width", w.as_str(), "--height", h.as_str()];
+    let shot = view_under_xvfb(
+        &[&[scene][..], &size, &["--screenshot", "shot.png", "--exit-after-frames", "2"]].concat(),
+        dir.path(),
+    );
+    assert_eq!(shot.code, 0, "the viewer failed: {}", shot.stderr);
+    let render = chiaro(&[&["render", scene][..], &size, &["-o", "render.png"]].concat(), &[], dir.path());
+    assert_eq!(render.code, 0, "{}", render.stderr);
+    let (shot, reference) = (rgb(&dir.path().join("shot.png")), rgb(&dir.path().join("render.png")));
+    let difference = mean_abs_difference(&reference, &shot);
+    println!("viewer screenshot of a sun scene against chiaro render: mean absolute difference {difference:.5}");
+    assert!(difference < 0.01, "mean absolute difference {difference}");
+}
+
 #[test]
 fn a_debug_view_screenshot_equals_chiaro_render_with_the_same_debug_view() {
     let dir = tempfile::tempdir().unwrap();
@@ -100,14 +124,10 @@ fn a_debug_view_screenshot_equals_chiaro_render_with_the_same_debug_view() {
         dir.path(),
     );
     assert_eq!(shot.code, 0, "the viewer failed: {}", shot.stderr);
-    let studio = ["--environment", "neutral"];
-    let render = chiaro(
-        &[&["render"][..], &size, &studio, &["--debug", "cascades", "-o", "render.png"]].concat(),
-        &[],
-        dir.path(),
-    );
+    let render =
+        chiaro(&[&["render"][..], &size, &["--debug", "cascades", "-o", "render.png"]].concat(), &[], dir.path());
     assert_eq!(render.code, 0, "{}", render.stderr);
-    let plain = chiaro(&[&["render"][..], &size, &studio, &["-o", "plain.png"]].concat(), &[], dir.path());
+    let plain = chiaro(&[&["render"][..], &size, &["-o", "plain.png"]].concat(), &[], dir.path());
     assert_eq!(plain.code, 0, "{}", plain.stderr);
     let (shot, reference, plain) =
         (rgb(&dir.path().join("shot.png")), rgb(&dir.path().join("render.png")), rgb(&dir.path().join("plain.png")));
@@ -163,7 +183,7 @@ fn the_viewer_reloads_a_scene_whose_file_changes() {
     assert!(status.success(), "the viewer failed: {log}");
     assert!(log.contains(&format!("chiaro: reloaded {}", scene.display())), "no reload: {log}");
     // The screenshot shows the changed file, as chiaro render draws it.
-    let size = ["--width", w.as_str(), "--height", h.as_str(), "--environment", "neutral"];
+    let size = ["--width", w.as_str(), "--height", h.as_str()];
     let render =
         chiaro(&[&["render", scene.to_str().unwrap()][..], &size, &["-o", "render.png"]].concat(), &[], dir.path());
     assert_eq!(render.code, 0, "{}", render.stderr);

@@ -31,7 +31,8 @@ const HALF_HEADROOM: f32 = 16384.0;
 /// What the current maps were made from: a different key makes them again.
 #[derive(Clone, Debug, PartialEq)]
 enum EnvironmentKey {
-    Neutral,
+    /// The sun's illuminance, as bits, which scales the studio.
+    Neutral(Option<u32>),
     /// The sun's direction and illuminance, as bits.
     Sky(Option<([u32; 3], u32)>),
     /// The file, its length and modification time (so the viewer sees an edited file).
@@ -44,7 +45,7 @@ fn key_of(source: &EnvironmentSource, scene: &Scene) -> Option<EnvironmentKey> {
     match source {
         EnvironmentSource::None => scene.environment.as_ref().map(|own| EnvironmentKey::Scene(own.fingerprint)),
         EnvironmentSource::Ambient => None,
-        EnvironmentSource::Neutral => Some(EnvironmentKey::Neutral),
+        EnvironmentSource::Neutral => Some(EnvironmentKey::Neutral(scene_sun(scene).map(|(_, lux)| lux.to_bits()))),
         EnvironmentSource::Sky => {
             Some(EnvironmentKey::Sky(scene_sun(scene).map(|(d, lux)| (d.to_array().map(f32::to_bits), lux.to_bits()))))
         }

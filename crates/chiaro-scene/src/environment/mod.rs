@@ -14,7 +14,7 @@ pub use cube_faces::{
     CubeFaces, MAX_EQUIRECT_WIDTH, image_based_light_direction, ldr_radiance, rgbd_encode, rgbd_radiance,
 };
 pub use image_file::{MAX_HEIGHT, MAX_WIDTH, check_image, load_image};
-pub use neutral::neutral;
+pub use neutral::{STUDIO_TO_SUN_ILLUMINANCE, neutral};
 pub use sky::{SKY_TO_SUN_ILLUMINANCE, sky};
 
 use crate::settings::EnvironmentSource;
@@ -195,7 +195,7 @@ pub fn environment_map<'a>(
     Ok(match source {
         EnvironmentSource::None => scene.environment.as_ref().map(|own| Cow::Borrowed(&*own.map)),
         EnvironmentSource::Ambient => None,
-        EnvironmentSource::Neutral => Some(Cow::Owned(neutral())),
+        EnvironmentSource::Neutral => Some(Cow::Owned(neutral(scene_sun(scene).map(|(_, lux)| lux)))),
         EnvironmentSource::Sky => Some(Cow::Owned(sky(scene_sun(scene)))),
         EnvironmentSource::File(path) => Some(Cow::Owned(load_image(path)?)),
     })
