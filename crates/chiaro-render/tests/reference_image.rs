@@ -15,10 +15,11 @@ const REFERENCE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/de
 const DEFERRED_REFERENCE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/demo_256_deferred.png");
 /// Mean FLIP error allowed against the reference.
 const MAX_MEAN_FLIP: f32 = 0.005;
-/// How far above `MAX_MEAN_FLIP` a spot light moved 2 m must score, so that a change of
-/// that size cannot pass for the rasterizers' differences. Measured on lavapipe: 0.0118,
-/// 2.4 times the limit (the unchanged frame scores 0.0025).
-const MOVED_LIGHT_MARGIN: f32 = 2.0;
+/// How far above `MAX_MEAN_FLIP` the control (every spot light moved 2 m) must score:
+/// ten times, so that the control decides on any machine, whatever its rasterizer adds
+/// (one spot moved 2 m scored between 1.9 and 2.4 times the limit from machine to
+/// machine, which tested the machine rather than the metric).
+const MOVED_LIGHTS_MARGIN: f32 = 10.0;
 
 fn render_rgb(scene: &Scene) -> Vec<u8> {
     render_path(scene, RenderPath::Forward)
@@ -63,11 +64,14 @@ fn demo_matches_the_reference_image_on_each_path() {
 }
 
 #[test]
-fn the_metric_notices_a_moved_light() {
+fn the_metric_notices_moved_lights() {
     let mut scene = demo_scene(DEMO_OTHER_LIGHTS);
-    let spot = scene.lights.iter_mut().find(|l| l.name.starts_with("spot")).unwrap();
-    spot.world_from_light.w_axis.x += 2.0;
+    let spots: Vec<_> = scene.lights.iter_mut().filter(|l| l.name.starts_with("spot")).collect();
+    assert!(spots.len() >= 3, "the demo's spots");
+    for spot in spots {
+        spot.world_from_light.w_axis.x += 2.0;
+    }
     let mean = mean_flip(SIZE, &reference(), &render_rgb(&scene));
-    eprintln!("a spot moved 2 m: mean FLIP {mean}, {:.1} times the limit", mean / MAX_MEAN_FLIP);
-    assert!(mean > MOVED_LIGHT_MARGIN * MAX_MEAN_FLIP, "moving a spot light scored only {mean}");
+    eprintln!("the spots moved 2 m: mean FLIP {mean}, {:.1} times the limit", mean / MAX_MEAN_FLIP);
+    assert!(mean > MOVED_LIGHTS_MARGIN * MAX_MEAN_FLIP, "moving the spot lights scored only {mean}");
 }
