@@ -180,6 +180,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     let frame = renderer.render(&scene, &prepared, &view, &settings, options)?;
     warn_if_clipped(&frame.hdr, settings.render.exposure_ev100);
+    warn_if_not_finite(&frame.hdr);
 
     let rgb: Vec<[f32; 3]> = frame.hdr.iter().map(|p| [p[0], p[1], p[2]]).collect();
     let atlases: Vec<(PathBuf, u32, Vec<u8>)> = frame
@@ -238,11 +239,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// The HDR target holds half floats: pre-exposed radiance stops at 65504. Says so when
-/// pixels reached it, with the exposure that would keep them.
+/// The HDR target holds half floats: shading clamps pre-exposed radiance to
+/// `MAX_EXPOSED_RADIANCE`. Says so when pixels reached it, with the exposure that would
+/// keep them.
 fn warn_if_clipped(hdr: &[[f32; 4]], exposure_ev100: f32) {
-    const HALF_MAX: f32 = 65504.0;
-    let limit = HALF_MAX / chiaro_math::tonemap::exposure_scale(exposure_ev100);
+    let limit = chiaro_math::tonemap::MAX_EXPOSED_RADIANCE / chiaro_math::tonemap::exposure_scale(exposure_ev100);
     let clipped = hdr.iter().filter(|p| p[..3].iter().any(|c| *c >= limit * 0.999)).count();
     if clipped > 0 {
         let brightest = hdr.iter().flat_map(|p| p[..3].iter().copied()).filter(|c| c.is_finite()).fold(0.0, f32::max);
@@ -250,5 +251,34 @@ fn warn_if_clipped(hdr: &[[f32; 4]], exposure_ev100: f32) {
             "{clipped} pixels reached the HDR target's limit ({limit:e} at EV100 {exposure_ev100}): their radiance \
              is clipped there (brightest kept: {brightest:e}); raise --exposure to keep more"
         );
+    }
+}
+
+/// Shading keeps every pixel finite; should a frame hold a NaN or infinite pixel anyway
+/// (a driver's rounding no test met), one warning says how many, so that it is seen and
+/// reported rather than passed on silently into images and datasets.
+fn warn_if_not_finite(hdr: &[[f32; 4]]) {
+    let count = non_finite_pixels(hdr);
+    if count > 0 {
+        tracing::warn!(
+            "{count} pixels of the frame hold a non-finite radiance (NaN or infinity): please report the scene and              settings"
+        );
+    }
+}
+
+/// Pixels with a NaN or infinite colour channel.
+fn non_finite_pixels(hdr: &[[f32; 4]]) -> usize {
+    hdr.iter().filter(|p| !p[..3].iter().all(|c| c.is_finite())).count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::non_finite_pixels;
+
+    #[test]
+    fn non_finite_pixels_are_counted() {
+        let hdr = [[0.0, 1.0, 2.0, 1.0], [f32::NAN, 0.0, 0.0, 1.0], [0.0, f32::INFINITY, 0.0, 1.0], [1.0; 4]];
+        assert_eq!(non_finite_pixels(&hdr), 2);
+        assert_eq!(non_finite_pixels(&hdr[3..]), 0);
     }
 }
