@@ -108,7 +108,8 @@ pub struct NoisyAtlas<'a> {
 /// on tests/denoise.rs's scene, where 0.25 and 1 both measured worse than 0.5.
 const REACH_SHARE: f32 = 0.5;
 
-/// The least reach, in texels.
+/// The least reach, in texels: the texels beside a contact still blend with their
+/// neighbours (a lone firefly there would stay), but not across the contact's gradient.
 const MIN_REACH_TEXELS: f32 = 2.5;
 
 /// B3 spline weights of the 5-tap a-trous kernel.

@@ -30,6 +30,8 @@ pub const MAX_PROBES: u64 = 262_144;
 /// Random stream domains, so texels and probes never share a stream.
 const DOMAIN_TEXEL: u64 = 1;
 const DOMAIN_PROBE: u64 = 2;
+/// The samples a texel takes beyond the first pass's (`texels::more_samples`).
+const DOMAIN_TEXEL_MORE: u64 = 3;
 
 /// Where a long bake reports how far it got.
 pub trait Progress: Sync {
@@ -219,13 +221,71 @@ fn assemble(
     BakeResult { layout, lighting, stats }
 }
 
-/// The `k`th of `n` stratified points of the unit square, jittered, in an order scrambled
-/// by `shift` so that positions and directions are not correlated.
-fn stratum(k: u32, n: u32, shift: u32, rng: &mut Rng) -> (f32, f32) {
-    let m = (n as f32).sqrt().ceil().max(1.0) as u32;
-    let cells = m * m;
+/// The `k`th of `n` stratified points of the unit square, jittered.
+fn stratum(k: u32, n: u32, rng: &mut Rng) -> (f32, f32) {
+    let m = grid_side(n);
     // 7919 is prime and larger than any m, so stepping by it visits every cell once.
-    let cell = (k as u64 * 7919 + shift as u64) % cells as u64;
-    let (i, j) = ((cell % m as u64) as f32, (cell / m as u64) as f32);
+    cell_point((k as u64 * 7919 % (m * m) as u64) as u32, m, rng)
+}
+
+fn grid_side(n: u32) -> u32 {
+    (n as f32).sqrt().ceil().max(1.0) as u32
+}
+
+/// A jittered point of cell `cell` of an `m` x `m` grid over the unit square.
+fn cell_point(cell: u32, m: u32, rng: &mut Rng) -> (f32, f32) {
+    let (i, j) = ((cell % m) as f32, (cell / m) as f32);
     ((i + rng.next_f32()) / m as f32, (j + rng.next_f32()) / m as f32)
+}
+
+/// `n` stratified points of the unit square in a shuffled order: paired with `stratum`'s
+/// points sample by sample, they stratify both and correlate neither. (A fixed pairing,
+/// such as a shifted order, would give the positions in one part of a texel the
+/// directions of one part of the hemisphere: a texel half under a box then misses a band
+/// of directions, a bias no sample count removes.)
+struct ShuffledStrata {
+    side: u32,
+    order: Vec<u32>,
+}
+
+impl ShuffledStrata {
+    fn new(n: u32, rng: &mut Rng) -> ShuffledStrata {
+        let side = grid_side(n);
+        let mut order: Vec<u32> = (0..side * side).collect();
+        // Fisher-Yates.
+        for i in (1..order.len()).rev() {
+            let j = ((rng.next_u32() as u64 * (i as u64 + 1)) >> 32) as usize;
+            order.swap(i, j);
+        }
+        ShuffledStrata { side, order }
+    }
+
+    /// The `k`th point (`k` below the `n` it was made for).
+    fn point(&self, k: u32, rng: &mut Rng) -> (f32, f32) {
+        cell_point(self.order[k as usize], self.side, rng)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shuffled_strata_cover_every_cell_once_in_no_fixed_pairing() {
+        let mut rng = Rng::new(1, DOMAIN_TEXEL, 7);
+        let strata = ShuffledStrata::new(64, &mut rng);
+        let mut cells: Vec<u32> = (0..64).map(|k| strata.order[k]).collect();
+        cells.sort_unstable();
+        assert_eq!(cells, (0..64).collect::<Vec<u32>>());
+        // Positions in the left half of the square (stratum's order) meet directions
+        // from both halves, about evenly.
+        let left_with_left = (0..64)
+            .filter(|&k| {
+                let mut r = Rng::new(0, 0, 0);
+                let (x, _) = stratum(k, 64, &mut r);
+                x < 0.5 && strata.point(k, &mut r).0 < 0.5
+            })
+            .count();
+        assert!((8..=24).contains(&left_with_left), "{left_with_left} of 32");
+    }
 }

@@ -87,7 +87,7 @@ fn trace_probe(tracer: &Tracer, p: Vec3, seed: u64, samples: u32, index: u64, ra
     let mut sh = ShRgb::default();
     let weight = 4.0 * PI / samples as f32;
     for k in 0..samples {
-        let (u, v) = stratum(k, samples, 0, &mut rng);
+        let (u, v) = stratum(k, samples, &mut rng);
         let d = sphere_direction(u, v);
         let (radiance, _) = tracer.incoming(p, d, Came::Unweighted, tracer.bounces(), &mut rng, rays);
         sh.add_sample(d, radiance, weight);

@@ -1,15 +1,18 @@
 //! The texel stage: every lightmap texel traced (irradiance, coverage and shadow mask,
-//! supersampled over the texel), atlas by atlas and row by row in parallel; the noisy
-//! part of the light denoised (direct light from baked lights is left sharp); then
-//! dilated across the gutters. The laid-out atlases flow in; `BakedAtlases` flows out.
+//! supersampled over the texel), atlas by atlas and row by row in parallel; where the
+//! denoiser would leave a texel noisier than `TARGET_FILTERED_NOISE` (near contacts and
+//! in corners, where it may not blend), more samples traced; the noisy part of the light
+//! denoised (direct light from baked lights is left sharp); then dilated across the
+//! gutters. The laid-out atlases flow in; `BakedAtlases` flows out.
 
-use super::{BakeError, BakedAtlases, DOMAIN_TEXEL, Job, stratum};
+use super::{BakeError, BakedAtlases, DOMAIN_TEXEL, DOMAIN_TEXEL_MORE, Job, ShuffledStrata, stratum};
 use crate::denoise::{Halves, NoiseEstimate, NoisyAtlas, TexelGuide, denoise, standard_errors};
 use crate::layout::{AtlasLayout, GUTTER_TEXELS, PlacedTriangle};
 use crate::raster::{TexelTriangles, barycentric, clamp_to_triangle, dilate, inside};
 use crate::rng::Rng;
 use crate::surface::Surfaces;
 use crate::tracer::RayCount;
+use chiaro_math::tonemap::luminance;
 use chiaro_scene::Scene;
 use chiaro_scene::baked::{Lightmap, ShadowMask};
 use glam::{Vec2, Vec3};
@@ -26,6 +29,68 @@ struct BakedTexel {
     coverage: f32,
     mask: [f32; 4],
     guide: Option<TexelGuide>,
+}
+
+/// The relative standard error of a texel's light that the denoised bake aims at: a texel
+/// whose first samples, once filtered, would stay noisier than this gets more samples,
+/// (relative error / target)^2 times as many, up to `MAX_SAMPLE_FACTOR`. Open surfaces
+/// meet it from the filter's blending; texels beside a contact or in a corner, where the
+/// filter keeps the light's gradient and blends little, take the extra samples.
+const TARGET_FILTERED_NOISE: f32 = 0.012;
+
+/// The most samples a texel takes, as a multiple of the bake's samples per texel.
+const MAX_SAMPLE_FACTOR: u32 = 4;
+
+/// What a texel's samples added up to, before they are averaged.
+#[derive(Clone, Copy, Default)]
+struct TexelSums {
+    direct: Vec3,
+    even: Vec3,
+    odd: Vec3,
+    evens: u32,
+    odds: u32,
+    covered: u32,
+    mask: [f32; 4],
+    position: Vec3,
+    inverse_distances: f32,
+    hits: u32,
+    guide: Option<TexelGuide>,
+}
+
+impl TexelSums {
+    fn samples(&self) -> u32 {
+        self.evens + self.odds
+    }
+
+    /// The averaged texel (`EMPTY_TEXEL` where no sample was taken).
+    fn texel(&self, mask_channels: &[(usize, usize, usize)]) -> BakedTexel {
+        let samples = self.samples();
+        if samples == 0 || self.guide.is_none() {
+            return EMPTY_TEXEL;
+        }
+        let n = samples as f32;
+        let even = self.even / self.evens.max(1) as f32;
+        // One sample leaves no odd half: it repeats the even one (and the noise reads 0).
+        let odd = if self.odds > 0 { self.odd / self.odds as f32 } else { even };
+        let mut mask = [1.0f32; 4];
+        for &(channel, _, _) in mask_channels {
+            mask[channel] = self.mask[channel] / n;
+        }
+        let guide = self.guide.map(|g| TexelGuide {
+            position: self.position / n,
+            // The harmonic mean distance to the surfaces the paths met, as irradiance
+            // caching measures it (infinite where every path escaped).
+            reach: if self.hits > 0 { self.hits as f32 / self.inverse_distances } else { f32::INFINITY },
+            ..g
+        });
+        BakedTexel {
+            direct: self.direct / n,
+            noisy: Halves { even, odd },
+            coverage: self.covered as f32 / n,
+            mask,
+            guide,
+        }
+    }
 }
 
 /// Nearer first hits than this (metres) count as this near: a path starting in a corner
@@ -69,52 +134,123 @@ pub(super) fn bake_texels(job: &Job, layout: &AtlasLayout) -> Result<BakedAtlase
         let world: Vec<WorldTriangle> = triangles.iter().map(|t| WorldTriangle::of(job.scene, t)).collect();
         let map = TexelTriangles::build(size, &triangles);
         let atlas = Atlas { layer, size, triangles: &triangles, world: &world, map: &map, surfaces: &surfaces };
-        let rows: Vec<Vec<BakedTexel>> = (0..size).into_par_iter().map(|y| bake_row(job, &atlas, y)).collect();
+        let samples = job.texel_samples;
+        let mut sums: Vec<TexelSums> = (0..size)
+            .into_par_iter()
+            .flat_map_iter(|y| trace_row(job, &atlas, y, |_| (DOMAIN_TEXEL, samples), Vec::new()))
+            .collect();
         if job.cancelled() {
             return Err(BakeError::Cancelled);
         }
-        finish_atlas(job, size, rows.into_iter().flatten().collect(), &mut baked);
+        let more = more_samples(job, size, &sums);
+        if more.iter().any(|&m| m > 0) {
+            let rows: Vec<Vec<TexelSums>> = sums.chunks(size as usize).map(<[TexelSums]>::to_vec).collect();
+            sums = rows
+                .into_par_iter()
+                .enumerate()
+                .flat_map_iter(|(y, row)| {
+                    let more = &more[y * size as usize..(y + 1) * size as usize];
+                    trace_row(job, &atlas, y as u32, |x| (DOMAIN_TEXEL_MORE, more[x as usize]), row)
+                })
+                .collect();
+            if job.cancelled() {
+                return Err(BakeError::Cancelled);
+            }
+        }
+        let texels = sums.iter().map(|s| s.texel(job.channel_lights)).collect();
+        finish_atlas(job, size, texels, &mut baked);
     }
     Ok(baked)
 }
 
-/// One row of texels; empty once the bake is cancelled.
-fn bake_row(job: &Job, atlas: &Atlas, y: u32) -> Vec<BakedTexel> {
+/// Per texel, the samples to add to the `sums` of a first pass: where its light, denoised,
+/// would stay noisier than `TARGET_FILTERED_NOISE`. None without the denoiser (a bake
+/// asked to stay as traced takes its samples evenly) or with an odd sample count (the
+/// halves must stay equal).
+fn more_samples(job: &Job, size: u32, sums: &[TexelSums]) -> Vec<u32> {
+    let base = job.texel_samples;
+    let (Some(strength), true) = (job.denoise, base.is_multiple_of(2)) else {
+        return vec![0; sums.len()];
+    };
+    let texels: Vec<BakedTexel> = sums.iter().map(|s| s.texel(job.channel_lights)).collect();
+    let guides: Vec<Option<TexelGuide>> = texels.iter().map(|t| t.guide).collect();
+    let traced: Vec<Halves> = texels.iter().map(|t| t.noisy).collect();
+    let filtered = denoise(&NoisyAtlas { size, guides: &guides, halves: &traced, even_share: 0.5 }, strength);
+    let errors = standard_errors(size, &guides, &filtered, 0.5);
+    texels
+        .iter()
+        .zip(&filtered)
+        .zip(&errors)
+        .map(|((t, f), &error)| {
+            let light = luminance(t.direct + f.whole(0.5));
+            if t.guide.is_none() || light <= 0.0 {
+                return 0;
+            }
+            let factor = (error / (TARGET_FILTERED_NOISE * light)).powi(2).min(MAX_SAMPLE_FACTOR as f32);
+            // An even number, so that both halves keep the same count.
+            let more = ((factor - 1.0).max(0.0) * base as f32 / 2.0).round() as u32 * 2;
+            more.min((MAX_SAMPLE_FACTOR - 1) * base)
+        })
+        .collect()
+}
+
+/// One row of texels, each adding the samples `plan(x)` gives (its RNG domain and count)
+/// to its sums in `row` (empty: from none); empty once the bake is cancelled.
+fn trace_row(
+    job: &Job,
+    atlas: &Atlas,
+    y: u32,
+    plan: impl Fn(u32) -> (u64, u32),
+    mut row: Vec<TexelSums>,
+) -> Vec<TexelSums> {
     if job.cancelled() {
         return Vec::new();
     }
+    // Progress counts each row once, in the first pass.
+    let first_pass = row.is_empty();
+    row.resize(atlas.size as usize, TexelSums::default());
     let mut row_rays: RayCount = 0;
-    let row = (0..atlas.size).map(|x| bake_texel(job, atlas, x, y, &mut row_rays)).collect();
+    for (x, sums) in row.iter_mut().enumerate() {
+        let (domain, samples) = plan(x as u32);
+        trace_texel(job, atlas, x as u32, y, domain, samples, sums, &mut row_rays);
+    }
     job.rays.fetch_add(row_rays, Ordering::Relaxed);
-    job.progress.advance(1, row_rays);
+    job.progress.advance(u64::from(first_pass), row_rays);
     row
 }
 
-/// One texel: `samples` stratified points over it, each with a stratified direction.
-fn bake_texel(job: &Job, atlas: &Atlas, x: u32, y: u32, rays: &mut RayCount) -> BakedTexel {
+/// Adds `samples` stratified points over one texel, each with a stratified direction
+/// (random numbers from `domain`), to its `sums`.
+#[allow(clippy::too_many_arguments)]
+fn trace_texel(
+    job: &Job,
+    atlas: &Atlas,
+    x: u32,
+    y: u32,
+    domain: u64,
+    samples: u32,
+    sums: &mut TexelSums,
+    rays: &mut RayCount,
+) {
     let texel = (y * atlas.size + x) as usize;
     let ids = atlas.map.of(texel);
     // Checked per texel too: at many samples a row takes seconds.
-    if ids.is_empty() || job.cancelled() {
-        return EMPTY_TEXEL;
+    if ids.is_empty() || samples == 0 || job.cancelled() {
+        return;
     }
     let index = atlas.layer as u64 * atlas.size as u64 * atlas.size as u64 + texel as u64;
-    let mut rng = Rng::new(job.settings.seed, DOMAIN_TEXEL, index);
-    let shift = rng.next_u32();
-    let (mut direct, mut noisy, mut covered, mut mask) = (Vec3::ZERO, Halves::default(), 0u32, [0.0f32; 4]);
-    let mut guide: Option<TexelGuide> = None;
-    let mut position_sum = Vec3::ZERO;
-    let (mut inverse_distances, mut hits) = (0.0f32, 0u32);
-    for k in 0..job.texel_samples {
-        let (u, v) = stratum(k, job.texel_samples, 0, &mut rng);
+    let mut rng = Rng::new(job.settings.seed, domain, index);
+    let directions = ShuffledStrata::new(samples, &mut rng);
+    for k in 0..samples {
+        let (u, v) = stratum(k, samples, &mut rng);
         let q = Vec2::new(x as f32 + u, y as f32 + v);
         let (id, w, hit) = locate(atlas.triangles, ids, q);
-        covered += hit as u32;
+        sums.covered += hit as u32;
         let (t, wt) = (&atlas.triangles[id as usize], &atlas.world[id as usize]);
         let p = wt.corners[0] * w[0] + wt.corners[1] * w[1] + wt.corners[2] * w[2];
-        position_sum += p;
+        sums.position += p;
         // The texel's first sample names its chart and plane.
-        guide.get_or_insert(TexelGuide {
+        sums.guide.get_or_insert(TexelGuide {
             position: p,
             normal: wt.normal,
             chart: t.chart,
@@ -124,44 +260,25 @@ fn bake_texel(job: &Job, atlas: &Atlas, x: u32, y: u32, rays: &mut RayCount) -> 
         let shading =
             atlas.surfaces.at(t.instance as usize, t.primitive as usize, t.triangle as usize, w).shading_normal;
         let n = if shading.dot(wt.normal) > 0.0 { shading } else { wt.normal };
-        let direction = stratum(k, job.texel_samples, shift, &mut rng);
+        let direction = directions.point(k, &mut rng);
         let sample = job.tracer.texel_sample(p, n, wt.normal, direction, &mut rng, rays);
-        direct += sample.direct;
+        sums.direct += sample.direct;
         if k % 2 == 0 {
-            noisy.even += sample.path
+            sums.even += sample.path;
+            sums.evens += 1;
         } else {
-            noisy.odd += sample.path
+            sums.odd += sample.path;
+            sums.odds += 1;
         }
         if let Some(t) = sample.first_hit {
-            inverse_distances += 1.0 / t.max(MIN_REACH);
-            hits += 1;
+            sums.inverse_distances += 1.0 / t.max(MIN_REACH);
+            sums.hits += 1;
         }
         // The same supersampled points: the mask's edges are as soft as the texel, no
         // softer.
         for &(channel, _, slot) in job.channel_lights {
-            mask[channel] += job.tracer.mask_visibility(slot, p, wt.normal, rays);
+            sums.mask[channel] += job.tracer.mask_visibility(slot, p, wt.normal, rays);
         }
-    }
-    let (evens, odds) = (job.texel_samples.div_ceil(2), job.texel_samples / 2);
-    noisy.even /= evens as f32;
-    // One sample leaves no odd half: it repeats the even one (and the noise reads 0).
-    noisy.odd = if odds > 0 { noisy.odd / odds as f32 } else { noisy.even };
-    let mut texel_mask = [1.0f32; 4];
-    for &(channel, _, _) in job.channel_lights {
-        texel_mask[channel] = mask[channel] / job.texel_samples as f32;
-    }
-    if let Some(g) = guide.as_mut() {
-        g.position = position_sum / job.texel_samples as f32;
-        // The harmonic mean distance to the surfaces the paths met, as irradiance
-        // caching measures it (infinite where every path escaped).
-        g.reach = if hits > 0 { hits as f32 / inverse_distances } else { f32::INFINITY };
-    }
-    BakedTexel {
-        direct: direct / job.texel_samples as f32,
-        noisy,
-        coverage: covered as f32 / job.texel_samples as f32,
-        mask: texel_mask,
-        guide,
     }
 }
 
