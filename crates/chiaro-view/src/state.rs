@@ -168,15 +168,7 @@ pub struct ViewerState {
 impl ViewerState {
     pub fn new(config: ViewerConfig) -> ViewerState {
         let ViewerConfig {
-            scene,
-            scene_path,
-            settings,
-            settings_file,
-            msaa_flag,
-            camera_key,
-            start_view,
-            time,
-            ..
+            scene, scene_path, settings, settings_file, msaa_flag, camera_key, start_view, time, ..
         } = config;
         let mut loader = Loader::new(config.load_scene);
         loader.watch(&scene);
