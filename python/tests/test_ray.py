@@ -173,3 +173,63 @@ def test_the_ray_data_stage_reports_done_skipped_and_failed(tmp_path):
 
     second = stage(batch)
     assert list(second["status"]) == ["skipped", "skipped", "failed"]
+
+
+BENCH_SCENE = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "assets", "chiaro-bench", "shadow-bench.gltf")
+
+
+def near_light_jobs():
+    """Jobs on the benchmark scene, each camera near one of its shadowed lights: the
+    lights' importance (which places their shadow tiles) and coverage (which sizes them)
+    change from job to job, so a renderer that carried them over would render a job
+    differently after another."""
+    near = [(0.8, -3.7), (-14.4, -16.6), (-17.8, -1.7), (-1.0, 0.3), (-5.9, -0.7), (-12.4, -11.7)]
+    jobs = []
+    for i in range(8):
+        x, z = near[i % len(near)]
+        jobs.append({"id": "near-%02d" % i, "scene": os.path.abspath(BENCH_SCENE), "width": 64, "height": 48,
+                     "camera": {"eye": [x + 3.0 + 0.3 * i, 8.0 + i % 3, z + 4.0], "target": [x, 0.0, z]},
+                     "outputs": ["rgb", "hdr", "shadow"]})
+    return jobs
+
+
+def job_files(out):
+    """Every file of every job folder under `out` but meta.json (it holds the wall time)."""
+    files = {}
+    for job in sorted(os.listdir(out)):
+        for name in sorted(os.listdir(out / job)):
+            if name != "meta.json":
+                files[job + "/" + name] = (out / job / name).read_bytes()
+    return files
+
+
+def test_a_job_renders_the_same_bytes_in_any_order_and_front_end(tmp_path, local_ray):
+    jobs = near_light_jobs()
+    listed = tmp_path / "jobs.jsonl"
+    listed.write_text("".join(json.dumps(job) + "\n" for job in jobs))
+    cli_out = tmp_path / "cli"
+    run = subprocess.run([chiaro_bin(), "batch", str(listed), "--output", str(cli_out)], capture_output=True,
+                         text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    expected = job_files(cli_out)
+    assert len(expected) >= 3 * len(jobs)
+
+    # Python, the list reversed, on one renderer that rendered another scene first.
+    renderer = chiaro.Renderer(device=DEVICE)
+    first = chiaro.render_jobs([{"id": "before", "scene": scenes.write_scene(str(tmp_path / "a.gltf"))}],
+                               tmp_path / "before", renderer=renderer)
+    assert first["done"] == 1, first
+    python_out = tmp_path / "python"
+    result = chiaro.render_jobs(list(reversed(jobs)), python_out, renderer=renderer)
+    assert (result["done"], result["failed"]) == (len(jobs), 0), result
+    # Ray: two workers, each taking jobs as it becomes idle.
+    ray_out = tmp_path / "ray"
+    summary = chiaro.ray.render_dataset(jobs[3:] + jobs[:3], str(ray_out), num_workers=2, gpus_per_worker=0,
+                                        jobs_per_task=3, device=DEVICE)
+    assert summary["errors"] == {} and summary["done"] == len(jobs), summary
+
+    for name, out in (("chiaro.render_jobs, reversed", python_out), ("chiaro.ray", ray_out)):
+        got = job_files(out)
+        assert sorted(got) == sorted(expected), name
+        differing = [f for f in expected if got[f] != expected[f]]
+        assert not differing, "%s: %d files differ from chiaro batch's: %s" % (name, len(differing), differing)
