@@ -115,7 +115,7 @@ fn quality_picks_the_sample_counts_not_given_and_denoising_can_be_turned_off() {
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(run.stderr.contains("(not denoised)"), "{}", run.stderr);
     let m = manifest_of("draft.bake");
-    assert_eq!((m["settings"]["samples"].as_u64(), m["settings"]["probe_samples"].as_u64()), (Some(16), Some(1024)));
+    assert_eq!((m["settings"]["samples"].as_u64(), m["settings"]["probe_samples"].as_u64()), (Some(48), Some(1024)));
     assert_eq!(m["settings"]["denoise"], false);
     assert_eq!(m["settings"]["quality"], "draft");
 
