@@ -1,12 +1,17 @@
 //! Composes the WESL shader sources (real `import`s between files) into one WGSL string
 //! per artifact at build time; the passes include the results (`wgsl!`). The artifacts
 //! are those the pass list (`src/passes/list.rs`) names; the constants the shaders share
-//! with Rust come from `src/shader_constants.rs`, and the override ids from
-//! `src/overrides.rs`, through WESL's `constants` module.
+//! with Rust come from `src/shader_constants.rs`, group 0's binding numbers from
+//! `src/frame_bindings.rs`, and the override ids from `src/overrides.rs`, through WESL's
+//! `constants` module.
 
 #[path = "src/shader_constants.rs"]
 #[allow(dead_code)]
 mod shader_constants;
+
+#[path = "src/frame_bindings.rs"]
+#[allow(dead_code)]
+mod frame_bindings;
 
 #[path = "src/overrides.rs"]
 #[allow(dead_code)]
@@ -30,6 +35,10 @@ fn main() {
     for &(name, value) in shader_constants::F32_CONSTANTS {
         compiler.add_constant(name, value.into());
     }
+    // Each group-0 binding's number, for the shaders' `@binding(BINDING_<NAME>)`.
+    for (i, b) in frame_bindings::FRAME_BINDINGS.iter().enumerate() {
+        compiler.add_constant(format!("BINDING_{}", b.name), (i as u32).into());
+    }
     // Each override's id, for the shaders' `@id(OVERRIDE_<NAME>)`.
     for o in overrides::ALL {
         compiler.add_constant(format!("OVERRIDE_{}", o.name), o.id.into());
@@ -45,5 +54,6 @@ fn main() {
     }
     println!("cargo::rerun-if-changed=src/shader_constants.rs");
     println!("cargo::rerun-if-changed=src/overrides.rs");
+    println!("cargo::rerun-if-changed=src/frame_bindings.rs");
     println!("cargo::rerun-if-changed=src/passes/list.rs");
 }

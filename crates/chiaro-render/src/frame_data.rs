@@ -10,6 +10,7 @@
 
 use crate::environment::GpuEnvironmentMaps;
 use crate::error::RenderError;
+use crate::frame_bindings::{FRAME_BINDINGS, FrameBinding, Resource};
 use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuShadows};
 use crate::graph::Targets;
 use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
@@ -46,11 +47,10 @@ pub struct FrameData {
     last_bind_group: Option<(BoundResources, wgpu::BindGroup)>,
 }
 
-/// A storage buffer that is made again, twice as large, when a frame needs more.
 /// The resources a frame bind group binds that can change from frame to frame (the
 /// uniform buffers and samplers are the frame data's own for good). The group is made
 /// from these, and while they stay the same the last group is used again: making one
-/// costs some 40-60 us of CPU time a frame on lavapipe.
+/// costs CPU time every frame (docs/performance.md).
 #[derive(PartialEq)]
 struct BoundResources {
     objects: wgpu::Buffer,
@@ -70,6 +70,7 @@ struct BoundResources {
     environment_image: wgpu::TextureView,
 }
 
+/// A storage buffer that is made again, twice as large, when a frame needs more.
 struct GrowingBuffer {
     label: &'static str,
     buffer: wgpu::Buffer,
@@ -100,32 +101,34 @@ impl GrowingBuffer {
     }
 }
 
-fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+/// A binding of `FRAME_BINDINGS` as the layout's entry.
+fn layout_entry(binding: u32, b: &FrameBinding) -> wgpu::BindGroupLayoutEntry {
+    use crate::frame_bindings::{Dimension, Kind, Stages};
+    let texture =
+        |sample_type, view_dimension| wgpu::BindingType::Texture { sample_type, view_dimension, multisampled: false };
+    let buffer = |ty| wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None };
+    let ty = match b.kind {
+        Kind::Uniform => buffer(wgpu::BufferBindingType::Uniform),
+        Kind::Storage => buffer(wgpu::BufferBindingType::Storage { read_only: true }),
+        Kind::DepthTexture => texture(wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::D2),
+        Kind::ComparisonSampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+        Kind::FilteringSampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+        Kind::UintTexture => texture(wgpu::TextureSampleType::Uint, wgpu::TextureViewDimension::D2),
+        Kind::FloatTexture(dimension) => texture(
+            wgpu::TextureSampleType::Float { filterable: true },
+            match dimension {
+                Dimension::D2 => wgpu::TextureViewDimension::D2,
+                Dimension::D2Array => wgpu::TextureViewDimension::D2Array,
+                Dimension::Cube => wgpu::TextureViewDimension::Cube,
+                Dimension::CubeArray => wgpu::TextureViewDimension::CubeArray,
+            },
+        ),
+    };
+    let visibility = match b.stages {
+        Stages::Fragment => wgpu::ShaderStages::FRAGMENT,
+        Stages::VertexFragment => wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+    };
     wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None }
-}
-
-fn buffer(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
-    wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None }
-}
-
-const TEXEL_TABLE: wgpu::BindingType = wgpu::BindingType::Texture {
-    sample_type: wgpu::TextureSampleType::Uint,
-    view_dimension: wgpu::TextureViewDimension::D2,
-    multisampled: false,
-};
-
-const DEPTH_TEXTURE: wgpu::BindingType = wgpu::BindingType::Texture {
-    sample_type: wgpu::TextureSampleType::Depth,
-    view_dimension: wgpu::TextureViewDimension::D2,
-    multisampled: false,
-};
-
-fn cookie_texture(view_dimension: wgpu::TextureViewDimension) -> wgpu::BindingType {
-    wgpu::BindingType::Texture {
-        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-        view_dimension,
-        multisampled: false,
-    }
 }
 
 /// Trilinear: the mip comes from the explicit gradients the shaders pass.
@@ -145,36 +148,11 @@ fn cookie_sampler(device: &wgpu::Device, address_mode: wgpu::AddressMode) -> wgp
 impl FrameData {
     /// Makes the layout, the fixed-size buffers and the samplers (no upload yet).
     pub fn new(device: &wgpu::Device) -> FrameData {
-        use wgpu::ShaderStages as S;
-        let storage = wgpu::BufferBindingType::Storage { read_only: true };
-        let uniform = wgpu::BufferBindingType::Uniform;
+        let entries: Vec<wgpu::BindGroupLayoutEntry> =
+            FRAME_BINDINGS.iter().enumerate().map(|(i, b)| layout_entry(i as u32, b)).collect();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame layout"),
-            entries: &[
-                entry(0, S::VERTEX | S::FRAGMENT, buffer(uniform)),
-                entry(1, S::FRAGMENT, buffer(uniform)),
-                entry(2, S::FRAGMENT, buffer(uniform)),
-                // The id pass reads its objects' node and label in the fragment stage.
-                entry(3, S::VERTEX | S::FRAGMENT, buffer(storage)),
-                entry(4, S::FRAGMENT, buffer(uniform)),
-                entry(5, S::FRAGMENT, DEPTH_TEXTURE),
-                entry(6, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
-                entry(7, S::FRAGMENT, DEPTH_TEXTURE),
-                entry(8, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
-                entry(9, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::CubeArray)),
-                entry(10, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
-                entry(11, S::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
-                entry(12, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
-                entry(13, S::FRAGMENT, buffer(storage)),
-                entry(14, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2Array)),
-                entry(15, S::FRAGMENT, TEXEL_TABLE),
-                entry(16, S::FRAGMENT, buffer(storage)),
-                entry(17, S::FRAGMENT, buffer(storage)),
-                entry(18, S::FRAGMENT, buffer(uniform)),
-                entry(19, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::Cube)),
-                entry(20, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2)),
-                entry(21, S::FRAGMENT, cookie_texture(wgpu::TextureViewDimension::D2)),
-            ],
+            entries: &entries,
         });
         let uniform_buffer = |label, size| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -287,35 +265,36 @@ impl FrameData {
     fn make_bind_group(&self, device: &wgpu::Device, bound: &BoundResources) -> wgpu::BindGroup {
         let view = |view| wgpu::BindingResource::TextureView(view);
         let sampler = |sampler| wgpu::BindingResource::Sampler(sampler);
-        // In binding order: an entry's place is its binding (the layout in `new`).
-        let entries = [
-            self.frame.as_entire_binding(),
-            self.lights.as_entire_binding(),
-            self.light_list.as_entire_binding(),
-            bound.objects.as_entire_binding(),
-            self.shadows.as_entire_binding(),
-            view(&bound.directional_atlas),
-            sampler(&self.shadow_sampler),
-            view(&bound.other_atlas),
-            view(&bound.cookies_flat),
-            view(&bound.cookies_cube),
-            sampler(&self.cookie_repeat),
-            sampler(&self.cookie_clamp),
-            view(&bound.lightmaps),
-            bound.probes.as_entire_binding(),
-            view(&bound.shadow_masks),
-            view(&bound.all_lights),
-            bound.list_starts.as_entire_binding(),
-            bound.list_indices.as_entire_binding(),
-            bound.environment_uniform.as_entire_binding(),
-            view(&bound.environment_specular),
-            view(&bound.environment_brdf_table),
-            view(&bound.environment_image),
-        ];
-        let entries: Vec<wgpu::BindGroupEntry> = entries
-            .into_iter()
+        let entries: Vec<wgpu::BindGroupEntry> = FRAME_BINDINGS
+            .iter()
             .enumerate()
-            .map(|(binding, resource)| wgpu::BindGroupEntry { binding: binding as u32, resource })
+            .map(|(binding, b)| {
+                let resource = match b.resource {
+                    Resource::Frame => self.frame.as_entire_binding(),
+                    Resource::Lights => self.lights.as_entire_binding(),
+                    Resource::LightList => self.light_list.as_entire_binding(),
+                    Resource::Objects => bound.objects.as_entire_binding(),
+                    Resource::Shadows => self.shadows.as_entire_binding(),
+                    Resource::DirectionalShadowAtlas => view(&bound.directional_atlas),
+                    Resource::ShadowSampler => sampler(&self.shadow_sampler),
+                    Resource::LocalShadowAtlas => view(&bound.other_atlas),
+                    Resource::Cookies2d => view(&bound.cookies_flat),
+                    Resource::CookiesCube => view(&bound.cookies_cube),
+                    Resource::CookieRepeat => sampler(&self.cookie_repeat),
+                    Resource::CookieClamp => sampler(&self.cookie_clamp),
+                    Resource::Lightmaps => view(&bound.lightmaps),
+                    Resource::ProbeGrid => bound.probes.as_entire_binding(),
+                    Resource::ShadowMasks => view(&bound.shadow_masks),
+                    Resource::LightTable => view(&bound.all_lights),
+                    Resource::ListStarts => bound.list_starts.as_entire_binding(),
+                    Resource::ListIndices => bound.list_indices.as_entire_binding(),
+                    Resource::Environment => bound.environment_uniform.as_entire_binding(),
+                    Resource::EnvironmentSpecular => view(&bound.environment_specular),
+                    Resource::EnvironmentBrdf => view(&bound.environment_brdf_table),
+                    Resource::EnvironmentImage => view(&bound.environment_image),
+                };
+                wgpu::BindGroupEntry { binding: binding as u32, resource }
+            })
             .collect();
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame bind group"),

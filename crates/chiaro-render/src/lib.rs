@@ -13,6 +13,7 @@ pub mod context;
 pub mod debug_view;
 pub mod environment;
 pub mod error;
+pub mod frame_bindings;
 pub mod frame_data;
 pub mod gpu;
 pub mod graph;
