@@ -117,8 +117,8 @@ impl Renderer {
         Ok(PreparedScene { gpu })
     }
 
-    /// The plan of the next frame (its shadow tiles are allocated and its redraws
-    /// remembered: the frame must then be rendered).
+    /// The plan of the next frame; the atlases' state after it is in the plan, and kept
+    /// once the frame is submitted.
     fn plan(
         &mut self,
         scene: &Scene,
@@ -134,7 +134,7 @@ impl Renderer {
             shadow_aovs: options.shadow_aovs,
             ids: options.ids,
         };
-        FramePlan::new(scene, &prepared.gpu.draws, view, settings, &mut self.atlas_tiles, request)
+        FramePlan::new(scene, &prepared.gpu.draws, view, settings, &self.atlas_tiles, request)
     }
 
     /// Renders one frame of `scene` (already `prepare`d) from `view` into a texture of
@@ -260,7 +260,7 @@ impl Renderer {
         }
         let frame = self.next_frame;
         self.next_frame += 1;
-        let plan = self.plan(scene, prepared, view, settings, options);
+        let mut plan = self.plan(scene, prepared, view, settings, options);
         tracing::debug!("{plan}");
         self.ctx
             .check_msaa(plan.msaa)
@@ -304,6 +304,9 @@ impl Renderer {
 
         self.throttle()?;
         let submission = self.ctx.queue.submit([encoder.finish()]);
+        // The tiles the frame draws are in the atlases now (in submission order): only
+        // now does the renderer remember them.
+        self.atlas_tiles = plan.take_atlas_update();
         self.in_flight.push_back((frame, submission.clone()));
         if let Some(timer) = &mut self.timer {
             timer.submitted();

@@ -18,8 +18,12 @@ fn draws(scene: &Scene) -> Vec<Draw> {
     scene_draws(scene, &GeometryLayout::of(scene))
 }
 
+/// Plans a frame and keeps its atlas update in `atlases`, as the renderer does once the
+/// frame is submitted.
 fn plan(scene: &Scene, view: &View, atlases: &mut ShadowAtlasTiles, request: PlanRequest) -> FramePlan {
-    FramePlan::new(scene, &draws(scene), view, &Settings::default(), atlases, request)
+    let mut plan = FramePlan::new(scene, &draws(scene), view, &Settings::default(), atlases, request);
+    *atlases = plan.take_atlas_update();
+    plan
 }
 
 /// The first frame of `scene` from its camera, with no ambient term.
@@ -30,7 +34,7 @@ fn first_plan(scene: &Scene, request: PlanRequest) -> FramePlan {
 /// The first frame of `scene` from its camera, with `settings`.
 fn first_plan_with(scene: &Scene, settings: &Settings, request: PlanRequest) -> FramePlan {
     let view = View::from_camera(scene, 0, 64, 64);
-    FramePlan::new(scene, &draws(scene), &view, settings, &mut ShadowAtlasTiles::default(), request)
+    FramePlan::new(scene, &draws(scene), &view, settings, &ShadowAtlasTiles::default(), request)
 }
 
 /// The frame graph of `plan`, compiled without a device.
@@ -131,6 +135,27 @@ fn shadowed_lights_keep_their_tiles_from_frame_to_frame() {
 }
 
 #[test]
+fn a_plan_only_reads_the_atlases_until_its_update_is_kept() {
+    let scene = demo_scene(8);
+    let view = View::from_camera(&scene, 0, 320, 180);
+    let atlases = ShadowAtlasTiles::default();
+    let settings = Settings::default();
+    let new_plan = |atlases: &ShadowAtlasTiles| {
+        FramePlan::new(&scene, &draws(&scene), &view, &settings, atlases, PlanRequest::default())
+    };
+    // A frame planned and never submitted (its upload failed, say) leaves nothing cached:
+    // the next plan draws every tile again.
+    let dropped = new_plan(&atlases);
+    assert!(!dropped.shadows.tiles.is_empty());
+    let mut next = new_plan(&atlases);
+    assert_eq!(next.shadows.redrawn_tiles().count(), next.shadows.tiles.len());
+    // Kept, its update makes a still frame draw none.
+    let kept = next.take_atlas_update();
+    let still = new_plan(&kept);
+    assert_eq!(still.shadows.redrawn_tiles().count(), 0);
+}
+
+#[test]
 fn the_plan_says_which_shadow_tiles_are_drawn_again() {
     let mut scene = demo_scene(8);
     let mut atlases = ShadowAtlasTiles::default();
@@ -218,7 +243,7 @@ fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
     let scene = chiaro_scene::demo::demo_scene(100);
     let view = View::from_camera(&scene, 0, 64, 64);
     let plan_with = |settings: &Settings, request| {
-        FramePlan::new(&scene, &draws(&scene), &view, settings, &mut ShadowAtlasTiles::default(), request)
+        FramePlan::new(&scene, &draws(&scene), &view, settings, &ShadowAtlasTiles::default(), request)
     };
     let mut settings = unlit_settings();
     settings.render.path = RenderPath::Forward;

@@ -251,7 +251,7 @@ fn per_object_lists_keep_each_objects_most_important_lights() {
         &scene_draws(&scene, &GeometryLayout::of(&scene)),
         &view,
         &forward(LightCulling::PerObject),
-        &mut ShadowAtlasTiles::default(),
+        &ShadowAtlasTiles::default(),
         Default::default(),
     );
     let lists = &plan.culled.lists;

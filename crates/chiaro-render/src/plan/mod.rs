@@ -137,19 +137,26 @@ pub struct FramePlan {
     pub features: features::ShaderFeatures,
     /// The environment is drawn behind the scene (`[environment] background`).
     pub environment_background: bool,
+    /// What the shadow atlases hold once this frame is drawn (tile placement, tiers and
+    /// the tile cache): the plan only reads the renderer's, and the renderer keeps this
+    /// one (`take_atlas_update`) once the frame is submitted, so that a frame that fails
+    /// before it is submitted leaves the cache as it was.
+    atlas_update: ShadowAtlasTiles,
 }
 
 impl FramePlan {
     /// Plans a frame of `scene` (whose draws are `draws`, see `draws::scene_draws`).
-    /// `atlases` carries the shadow tiles over from the previous frame.
+    /// `atlases` is what the shadow atlases hold from earlier frames; it is only read: the
+    /// plan carries what they will hold after this frame (`take_atlas_update`).
     pub fn new(
         scene: &Scene,
         draws: &[Draw],
         view: &View,
         settings: &Settings,
-        atlases: &mut ShadowAtlasTiles,
+        atlases: &ShadowAtlasTiles,
         request: PlanRequest,
     ) -> FramePlan {
+        let mut atlases = atlases.clone();
         let choice = choose_lights(scene, view, settings);
         let mask_channels: Vec<Option<u8>> = (0..scene.lights.len())
             .map(|i| {
@@ -158,7 +165,7 @@ impl FramePlan {
             })
             .collect();
         let (mut shadows, slots) =
-            plan_shadows(scene, draws, view, settings, &choice.directional, &choice.other, atlases);
+            plan_shadows(scene, draws, view, settings, &choice.directional, &choice.other, &mut atlases);
         let mut lights = Vec::with_capacity(choice.directional.len() + choice.other.len());
         let mut lists = LightLists::default();
         // Per light, whether its loop needs a shadow lookup.
@@ -264,7 +271,14 @@ impl FramePlan {
             environment_background: settings.environment.enabled_for(scene) && settings.environment.background,
             fxaa,
             features,
+            atlas_update: atlases,
         }
+    }
+
+    /// What the shadow atlases hold once this frame is drawn, for the renderer to keep
+    /// after it submits the frame (the plan then holds an empty update).
+    pub fn take_atlas_update(&mut self) -> ShadowAtlasTiles {
+        std::mem::take(&mut self.atlas_update)
     }
 
     /// The shadow mask channel the light with `id` reads this frame.

@@ -60,7 +60,7 @@ fn lights_harness<'a>(scene: Scene, size: egui::Vec2, tiles: Vec<String>, drawn:
 fn plan(scene: &Scene, settings: &Settings) -> FramePlan {
     let view = View::from_camera(scene, 0, 64, 64);
     let draws = scene_draws(scene, &GeometryLayout::of(scene));
-    FramePlan::new(scene, &draws, &view, settings, &mut ShadowAtlasTiles::default(), Default::default())
+    FramePlan::new(scene, &draws, &view, settings, &ShadowAtlasTiles::default(), Default::default())
 }
 
 /// The view `chiaro view` shows (and `--screenshot` writes), tone-mapped RGBA8.
