@@ -104,8 +104,9 @@ pub struct NoisyAtlas<'a> {
     pub even_share: f32,
 }
 
-/// The share of a texel's reach the filter blends over (a Gaussian of this width): tuned
-/// on tests/denoise.rs's scene, where 0.25 and 1 both measured worse than 0.5.
+/// The share of a texel's reach the filter blends over (a Gaussian of this width): the
+/// best of the shares tried on tests/denoise.rs's scene (docs/performance.md). Too little
+/// leaves noise beside surfaces; too much blurs the bounced light's gradients.
 const REACH_SHARE: f32 = 0.5;
 
 /// The least reach, in texels: the texels beside a contact still blend with their

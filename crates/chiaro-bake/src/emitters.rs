@@ -145,8 +145,8 @@ pub fn power_heuristic(pdf: f32, other: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use chiaro_scene::test_scenes::{add_box, floor_scene};
     use chiaro_scene::{CastShadows, Material};
+    use chiaro_testkit::{add_box, floor_scene};
     use glam::Vec4;
 
     fn scene_with_a_glowing_box() -> Scene {

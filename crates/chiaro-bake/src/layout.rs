@@ -195,8 +195,8 @@ fn sorted_by_height(charts: &[Chart]) -> Vec<usize> {
 mod tests {
     use super::*;
     use crate::raster::overlaps_texel;
-    use chiaro_scene::test_scenes::{add_box, floor_scene};
     use chiaro_scene::{CastShadows, shapes};
+    use chiaro_testkit::{add_box, floor_scene};
     use glam::Vec3;
     use std::collections::HashMap;
 

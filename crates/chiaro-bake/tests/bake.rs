@@ -3,8 +3,8 @@
 
 use chiaro_bake::bake::probe_layout;
 use chiaro_bake::{BakeError, Silent, apply_bake_dir, bake, read_bake_dir, write_bake_dir};
-use chiaro_scene::test_scenes::{add_box, floor_scene, point_light};
 use chiaro_scene::{CastShadows, LightMode, Material, Mesh, MeshInstance, Scene, Settings, shapes};
+use chiaro_testkit::{add_box, floor_scene, point_light};
 use glam::{Mat4, Vec3, Vec4};
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};

@@ -6,8 +6,8 @@
 use chiaro_bake::convergence::{DARK_SHARE, quantile, texel_errors};
 use chiaro_bake::raster::{TexelTriangles, barycentric, clamp_to_triangle};
 use chiaro_bake::{BakeResult, Silent, bake};
-use chiaro_scene::test_scenes::floor_scene;
 use chiaro_scene::{CastShadows, Light, LightKind, LightMode, Material, Mesh, MeshInstance, Scene, Settings, shapes};
+use chiaro_testkit::floor_scene;
 use glam::{Mat4, Vec3, Vec4};
 use std::sync::atomic::AtomicBool;
 

@@ -7,8 +7,8 @@
 use chiaro_bake::convergence::{DARK_SHARE, quantile};
 use chiaro_bake::raster::{TexelTriangles, barycentric, clamp_to_triangle};
 use chiaro_bake::{BakeResult, Silent, bake};
-use chiaro_scene::test_scenes::{add_box, floor_scene};
 use chiaro_scene::{CastShadows, Light, LightKind, LightMode, Scene, Settings};
+use chiaro_testkit::{add_box, floor_scene};
 use glam::{Vec2, Vec3, Vec4};
 use std::sync::atomic::AtomicBool;
 

@@ -2,18 +2,15 @@
 //! and its baked shadows agree with the ray-traced reference; dynamic objects take their
 //! light from the probes. On the software device, like every GPU test.
 
-use chiaro_bake::{Silent, bake};
+mod common;
+
 use chiaro_compare::assert_agrees_with_reference;
 use chiaro_math::light::{distance_attenuation, spot_angle_params, spot_attenuation};
-use chiaro_render::{FrameOptions, FrameOutput, GpuContext, Renderer, View};
-use chiaro_scene::test_scenes::{add_box, floor_scene};
-use chiaro_scene::{CastShadows, Light, LightKind, LightMode, RenderPath, Scene, Settings, ShadowMode, baked};
+use chiaro_render::{FrameOptions, FrameOutput, Renderer, View};
+use chiaro_scene::{CastShadows, Light, LightKind, LightMode, RenderPath, Scene, Settings, ShadowMode};
+use chiaro_testkit::{add_box, floor_scene, renderer};
+use common::baked_scene;
 use glam::Vec3;
-use std::sync::atomic::AtomicBool;
-
-fn renderer() -> Renderer {
-    Renderer::new(GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))).expect("renderer")
-}
 
 fn render(renderer: &mut Renderer, scene: &Scene, settings: &Settings, size: u32) -> FrameOutput {
     let view = View::from_camera(scene, 0, size, size);
@@ -47,13 +44,6 @@ fn spot(mode: LightMode, shadows: ShadowMode) -> Light {
     light
 }
 
-fn baked_scene(scene: &Scene, s: &Settings) -> Scene {
-    let result = bake(scene, s, &Silent, &AtomicBool::new(false)).unwrap();
-    let mut baked_scene = scene.clone();
-    baked::apply(&mut baked_scene, result.lighting, &result.layout.placements(scene)).unwrap();
-    baked_scene
-}
-
 /// The realtime model's irradiance at a surface point: what the bake must reproduce.
 fn model_irradiance(light: &Light, p: Vec3, n: Vec3) -> f32 {
     let to_light = light.position() - p;
@@ -73,7 +63,7 @@ fn a_baked_light_without_bounces_renders_like_the_realtime_light() {
         to_bake.lights[0].mode = LightMode::Baked;
         let baked = baked_scene(&to_bake, &s);
         let (a, b) = (render(&mut gpu, &realtime, &s, 128), render(&mut gpu, &baked, &s, 128));
-        assert_eq!(b.other_lights_shaded(), 0, "the baked light is not shaded in realtime");
+        assert_eq!(b.local_lights_shaded(), 0, "the baked light is not shaded in realtime");
         let aovs = b.aovs.as_ref().unwrap();
         let peak = a.hdr.iter().map(|p| p[0]).fold(0.0, f32::max);
         let (mut lit, mut close, mut irradiance_close, mut worst, mut worst_irradiance) = (0, 0, 0, 0.0f32, 0.0f32);
@@ -210,7 +200,7 @@ fn mixed_lights_stay_realtime_and_bake_only_their_bounces() {
     // No bounces: the mixed light bakes nothing, and renders as before.
     let direct_only = baked_scene(&scene, &s);
     let frame = render(&mut gpu, &direct_only, &s, 96);
-    assert_eq!(frame.other_lights_shaded(), 1, "the mixed light is shaded in realtime");
+    assert_eq!(frame.local_lights_shaded(), 1, "the mixed light is shaded in realtime");
     let baked_max = frame.aovs.as_ref().unwrap().baked_irradiance.iter().map(|e| e[0]).fold(0.0, f32::max);
     assert_eq!(baked_max, 0.0, "no direct light of a mixed light in the lightmap");
     for (a, b) in without.hdr.iter().zip(&frame.hdr) {
@@ -220,7 +210,7 @@ fn mixed_lights_stay_realtime_and_bake_only_their_bounces() {
     s.bake.bounces = 2;
     let bounced = baked_scene(&scene, &s);
     let frame = render(&mut gpu, &bounced, &s, 96);
-    assert_eq!(frame.other_lights_shaded(), 1);
+    assert_eq!(frame.local_lights_shaded(), 1);
     let lit = frame.aovs.as_ref().unwrap().baked_irradiance.iter().filter(|e| e[0] > 0.0).count();
     let brighter = without.hdr.iter().zip(&frame.hdr).filter(|(a, b)| b[0] > a[0] * 1.001 + 1e-6).count();
     println!("mixed spot, two bounces: {lit} pixels read baked indirect light, {brighter} got brighter");
@@ -245,7 +235,7 @@ fn baked_direct_light_equals_realtime_diffuse_light_per_light_type() {
     let mut s = settings(RenderPath::Forward);
     s.bake.texels_per_metre = 32.0;
     s.bake.samples = Some(16);
-    let mut point = chiaro_scene::test_scenes::point_light(Vec3::new(0.3, 1.2, -0.2), 20.0, Some(3.5));
+    let mut point = chiaro_testkit::point_light(Vec3::new(0.3, 1.2, -0.2), 20.0, Some(3.5));
     point.shadow.mode = ShadowMode::None;
     let mut sun = Light::new(LightKind::Directional, Vec3::ZERO, Vec3::new(-0.3, -1.0, 0.2));
     sun.intensity = 3.0;

@@ -3,24 +3,14 @@
 //! the shadow distance the mixed term has no seam; LightsPunctualLamp's lights without
 //! atlas tiles keep baked shadows.
 
-use chiaro_bake::{Silent, bake};
+mod common;
+
 use chiaro_compare::{assert_agrees_with_reference, compare_shadows};
-use chiaro_render::{FrameOptions, GpuContext, Renderer, ShadowStatus, View};
-use chiaro_scene::test_scenes::{add_box, floor_scene};
-use chiaro_scene::{CastShadows, Light, LightKind, LightMode, MixedMode, Scene, Settings, baked};
+use chiaro_render::{FrameOptions, Renderer, ShadowStatus, View};
+use chiaro_scene::{CastShadows, Light, LightKind, LightMode, MixedMode, Scene, Settings};
+use chiaro_testkit::{add_box, floor_scene, renderer};
+use common::baked_scene;
 use glam::Vec3;
-use std::sync::atomic::AtomicBool;
-
-fn renderer() -> Renderer {
-    Renderer::new(GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))).expect("renderer")
-}
-
-fn baked_scene(scene: &Scene, s: &Settings) -> Scene {
-    let result = bake(scene, s, &Silent, &AtomicBool::new(false)).unwrap();
-    let mut baked_scene = scene.clone();
-    baked::apply(&mut baked_scene, result.lighting, &result.layout.placements(scene)).unwrap();
-    baked_scene
-}
 
 fn mask_settings() -> Settings {
     let mut s = Settings::default();

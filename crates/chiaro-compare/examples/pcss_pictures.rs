@@ -6,8 +6,8 @@
 
 use chiaro_compare::{compare_rendered, render_shadows};
 use chiaro_render::{GpuContext, Renderer, View};
-use chiaro_scene::test_scenes::pole_and_plank_scene;
 use chiaro_scene::{Settings, ShadowMode};
+use chiaro_testkit::pole_and_plank_scene;
 
 const WIDTH: u32 = 360;
 const HEIGHT: u32 = 270;

@@ -5,7 +5,7 @@
 mod common;
 
 use chiaro_compare::{PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
-use chiaro_math::shadow::other::cube_face;
+use chiaro_math::shadow::local::cube_face;
 use chiaro_render::ShadowStatus;
 use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene, ShadowMode};
 use common::*;

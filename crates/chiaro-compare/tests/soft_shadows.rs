@@ -10,10 +10,8 @@ mod common;
 use chiaro_compare::{VisibilityError, compare_rendered, render_shadows};
 use chiaro_math::shadow::pcss::{disc_edge_visibility, penumbra_width};
 use chiaro_render::View;
-use chiaro_scene::test_scenes::{
-    PLANK_EDGE_X, PLANK_HEIGHT, PLANK_LIGHT_HEIGHT, PlankLight, plank_scene, pole_and_plank_scene,
-};
 use chiaro_scene::{Settings, ShadowMode};
+use chiaro_testkit::{PLANK_EDGE_X, PLANK_HEIGHT, PLANK_LIGHT_HEIGHT, PlankLight, plank_scene, pole_and_plank_scene};
 use common::*;
 
 const SIZE: u32 = 192;

@@ -82,9 +82,54 @@ pub struct Sphere {
     pub radius: f32,
 }
 
+/// The smallest sphere around what a spot light can reach: the spherical sector with
+/// apex `position`, axis `direction` (unit), radius `range` and half-angle `outer_rad`.
+/// Up to 45 degrees it passes through the apex and the cap's rim; from 45 to 90 degrees
+/// it is the rim's own sphere (centred on the axis at the rim's height), which holds the
+/// apex and the cap; wider cones get the range sphere.
+pub fn spot_bounding_sphere(position: Vec3, direction: Vec3, range: f32, outer_rad: f32) -> Sphere {
+    let (sin, cos) = outer_rad.sin_cos();
+    if cos <= 0.0 {
+        return Sphere { center: position, radius: range };
+    }
+    if cos <= std::f32::consts::FRAC_1_SQRT_2 {
+        return Sphere { center: position + direction * (range * cos), radius: range * sin };
+    }
+    // Equidistant from the apex and the rim: c^2 = (R cos - c)^2 + (R sin)^2.
+    let radius = range / (2.0 * cos);
+    Sphere { center: position + direction * radius, radius }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn spot_spheres_hold_their_cone() {
+        let apex = Vec3::new(1.0, 2.0, 3.0);
+        let dir = Vec3::new(0.0, -1.0, 0.0);
+        for outer_deg in [5.0f32, 20.0, 35.0, 44.0, 45.0, 46.0, 59.0, 60.0, 80.0, 89.0] {
+            let outer = outer_deg.to_radians();
+            let s = spot_bounding_sphere(apex, dir, 10.0, outer);
+            assert!(s.radius <= 10.0 + 1e-4, "never larger than the range sphere");
+            // Points of the sector: the apex, along the axis, and over the cap and sides.
+            for i in 0..=20 {
+                for j in 0..16 {
+                    let angle = outer * i as f32 / 20.0;
+                    let around = std::f32::consts::TAU * j as f32 / 16.0;
+                    let off_axis = Vec3::new(around.cos(), 0.0, around.sin());
+                    for r in [0.0, 2.5, 5.0, 7.5, 10.0] {
+                        let p = apex + (dir * angle.cos() + off_axis * angle.sin()) * r;
+                        assert!(p.distance(s.center) <= s.radius * (1.0 + 1e-4), "{outer_deg} deg: {p} outside");
+                    }
+                }
+            }
+        }
+        let narrow = spot_bounding_sphere(apex, dir, 25.0, 35f32.to_radians());
+        assert!(narrow.radius < 16.0, "a 35 degree cone needs far less than its range: {}", narrow.radius);
+        let wide = spot_bounding_sphere(apex, dir, 10.0, 60f32.to_radians());
+        assert!(wide.radius < 8.7, "a 60 degree cone needs less than its range: {}", wide.radius);
+    }
 
     #[test]
     fn empty_box_grows_to_its_points() {

@@ -7,7 +7,6 @@ pub mod bounds;
 pub mod brdf;
 pub mod camera;
 pub mod cube_map;
-pub mod culling;
 pub mod environment;
 pub mod frustum;
 pub mod light;

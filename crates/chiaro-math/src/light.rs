@@ -1,6 +1,6 @@
 //! The punctual light model of the Custom SRP "Point and Spot Lights" tutorial, in glTF's
 //! physical units: attenuation terms, derived ranges, and the per-frame choice of which
-//! "other" (point and spot) lights the GPU sees.
+//! local (point and spot) lights the GPU sees.
 //!
 //! The shaders compute the same terms (chiaro-render's `shaders/lighting/light.wesl`); the
 //! GPU tests measure rendered radiance against these functions.
@@ -14,10 +14,10 @@ pub const MAX_DIRECTIONAL_LIGHTS: usize = 4;
 /// Most point and spot lights the forward path shades per frame when every pixel loops
 /// over all of them (light culling "none"): the limit of Catlike Coding's Custom SRP
 /// tutorial "Point and Spot Lights".
-pub const MAX_OTHER_LIGHTS: usize = 64;
+pub const MAX_LOCAL_LIGHTS: usize = 64;
 /// Most point and spot lights shaded per frame with culled lists (clustered or per
 /// object) or by the deferred path's volumes.
-pub const MAX_DEFERRED_OTHER_LIGHTS: usize = 4096;
+pub const MAX_DEFERRED_LOCAL_LIGHTS: usize = 4096;
 
 /// Brightest light Chiaro shades, candela (point, spot) or lux (directional): ten billion
 /// suns. Brighter lights make radiance overflow `f32` before any exposure applies.
@@ -65,7 +65,7 @@ pub fn spot_attenuation(cos_angle: f32, (a, b): (f32, f32)) -> f32 {
 }
 
 /// Range for a light whose glTF file gives none: the distance at which its illuminance
-/// `intensity_cd / d²` falls to `threshold_lux`, so every other light has a bounding
+/// `intensity_cd / d²` falls to `threshold_lux`, so every local light has a bounding
 /// volume. A 100 cd bulb with the default 0.01 lux threshold reaches 100 m.
 pub fn derived_range(intensity_cd: f32, threshold_lux: f32) -> f32 {
     (intensity_cd.max(0.0) / threshold_lux).sqrt()
@@ -82,7 +82,7 @@ pub fn shaded_range(own_range_m: Option<f32>, peak_intensity_cd: f32, range_thre
 
 /// What the frame needs to know about a point or spot light to cull and order it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OtherLightBounds {
+pub struct LocalLightBounds {
     pub position: Vec3,
     pub range: f32,
     /// Peak of the colour times intensity, the brightest channel in candela.
@@ -95,7 +95,7 @@ pub struct OtherLightBounds {
 /// falloff the shading uses, but with the distance clamped to a tenth of its range so that
 /// lights right at the camera do not win everything. Depends only on the light and the eye,
 /// so the same lights win from frame to frame.
-pub fn importance(light: &OtherLightBounds, eye: Vec3) -> f32 {
+pub fn importance(light: &LocalLightBounds, eye: Vec3) -> f32 {
     let near = light.range * 0.1;
     let d2 = light.position.distance_squared(eye).max(near * near);
     light.peak_intensity / d2.max(MIN_DISTANCE_SQUARED)
@@ -112,11 +112,11 @@ pub struct LightSelection {
     pub culled: usize,
 }
 
-/// Culls other lights against the view frustum (range spheres, cone spheres for spots),
+/// Culls local lights against the view frustum (range spheres, cone spheres for spots),
 /// orders the survivors by `importance` (ties broken by index, so the order is total and
 /// stable), and keeps the first `max_lights`.
-pub fn select_other_lights(
-    lights: &[OtherLightBounds],
+pub fn select_local_lights(
+    lights: &[LocalLightBounds],
     frustum: &Frustum,
     eye: Vec3,
     max_lights: usize,
@@ -214,8 +214,8 @@ mod tests {
         (Frustum::from_clip_from_world(&(proj * view)), eye)
     }
 
-    fn point(position: Vec3, range: f32, intensity: f32) -> OtherLightBounds {
-        OtherLightBounds { position, range, peak_intensity: intensity, spot: None }
+    fn point(position: Vec3, range: f32, intensity: f32) -> LocalLightBounds {
+        LocalLightBounds { position, range, peak_intensity: intensity, spot: None }
     }
 
     #[test]
@@ -226,7 +226,7 @@ mod tests {
             point(Vec3::new(0.0, 1.0, 20.0), 2.0, 10.0),
             point(Vec3::new(0.0, 1.0, 7.0), 3.0, 10.0),
         ];
-        let sel = select_other_lights(&lights, &f, eye, 64);
+        let sel = select_local_lights(&lights, &f, eye, 64);
         assert_eq!(sel.culled, 1);
         assert!(sel.visible.contains(&0) && sel.visible.contains(&2));
     }
@@ -234,15 +234,15 @@ mod tests {
     #[test]
     fn spot_pointing_away_is_culled_but_its_range_sphere_would_not_be() {
         let (f, eye) = view();
-        let spot = OtherLightBounds {
+        let spot = LocalLightBounds {
             position: Vec3::new(0.0, 1.0, 6.0),
             range: 5.0,
             peak_intensity: 10.0,
             spot: Some((Vec3::Z, 20f32.to_radians())),
         };
-        let as_point = OtherLightBounds { spot: None, ..spot };
-        assert_eq!(select_other_lights(&[spot], &f, eye, 64).culled, 1);
-        assert_eq!(select_other_lights(&[as_point], &f, eye, 64).culled, 0);
+        let as_point = LocalLightBounds { spot: None, ..spot };
+        assert_eq!(select_local_lights(&[spot], &f, eye, 64).culled, 1);
+        assert_eq!(select_local_lights(&[as_point], &f, eye, 64).culled, 0);
     }
 
     #[test]
@@ -250,7 +250,7 @@ mod tests {
         let (f, eye) = view();
         let lights: Vec<_> =
             (0..10).map(|i| point(Vec3::new(i as f32 - 5.0, 1.0, 0.0), 50.0, 1.0 + i as f32)).collect();
-        let sel = select_other_lights(&lights, &f, eye, 4);
+        let sel = select_local_lights(&lights, &f, eye, 4);
         assert_eq!(sel.visible.len(), 4);
         assert_eq!(sel.dropped, 6);
         for pair in sel.visible.windows(2) {
@@ -269,7 +269,7 @@ mod tests {
     fn equal_lights_keep_index_order() {
         let (f, eye) = view();
         let lights = vec![point(Vec3::new(0.0, 1.0, 0.0), 10.0, 5.0); 6];
-        let sel = select_other_lights(&lights, &f, eye, 3);
+        let sel = select_local_lights(&lights, &f, eye, 3);
         assert_eq!(sel.visible, vec![0, 1, 2]);
     }
 
@@ -283,13 +283,13 @@ mod tests {
                     point(Vec3::new(h as f32 * 0.2 - 9.0, 1.0, -(h as f32) * 0.1), 30.0, 1.0 + h as f32)
                 })
                 .collect();
-            let a = select_other_lights(&lights, &f, eye, 8);
+            let a = select_local_lights(&lights, &f, eye, 8);
             let chosen: Vec<_> = a.visible.iter().map(|&i| lights[i]).collect();
             lights.reverse();
-            let b = select_other_lights(&lights, &f, eye, 8);
+            let b = select_local_lights(&lights, &f, eye, 8);
             let chosen_b: Vec<_> = b.visible.iter().map(|&i| lights[i]).collect();
             // Same importance values in the same order, whatever the input order.
-            let imp = |v: &[OtherLightBounds]| v.iter().map(|l| importance(l, eye)).collect::<Vec<_>>();
+            let imp = |v: &[LocalLightBounds]| v.iter().map(|l| importance(l, eye)).collect::<Vec<_>>();
             prop_assert_eq!(imp(&chosen), imp(&chosen_b));
         }
 

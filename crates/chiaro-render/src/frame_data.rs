@@ -13,7 +13,7 @@ use crate::error::RenderError;
 use crate::frame_bindings::{FRAME_BINDINGS, FrameBinding, Resource};
 use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuShadows};
 use crate::graph::Targets;
-use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
+use crate::passes::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::plan::FramePlan;
 use crate::scene::GpuScene;
 use crate::shader_constants::{MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS};
@@ -55,7 +55,7 @@ pub struct FrameData {
 struct BoundResources {
     objects: wgpu::Buffer,
     directional_atlas: wgpu::TextureView,
-    other_atlas: wgpu::TextureView,
+    local_atlas: wgpu::TextureView,
     cookies_flat: wgpu::TextureView,
     cookies_cube: wgpu::TextureView,
     lightmaps: wgpu::TextureView,
@@ -237,7 +237,7 @@ impl FrameData {
         let bound = BoundResources {
             objects: scene.objects.clone(),
             directional_atlas: targets.view(DIRECTIONAL_ATLAS).clone(),
-            other_atlas: targets.view(OTHER_ATLAS).clone(),
+            local_atlas: targets.view(LOCAL_ATLAS).clone(),
             cookies_flat: scene.cookies.flat.clone(),
             cookies_cube: scene.cookies.cube.clone(),
             lightmaps: scene.baked.lightmaps.clone(),
@@ -277,7 +277,7 @@ impl FrameData {
                     Resource::Shadows => self.shadows.as_entire_binding(),
                     Resource::DirectionalShadowAtlas => view(&bound.directional_atlas),
                     Resource::ShadowSampler => sampler(&self.shadow_sampler),
-                    Resource::LocalShadowAtlas => view(&bound.other_atlas),
+                    Resource::LocalShadowAtlas => view(&bound.local_atlas),
                     Resource::Cookies2d => view(&bound.cookies_flat),
                     Resource::CookiesCube => view(&bound.cookies_cube),
                     Resource::CookieRepeat => sampler(&self.cookie_repeat),

@@ -152,13 +152,13 @@ pub struct FrameOutput {
 
 impl FrameOutput {
     /// Point and spot lights shaded.
-    pub fn other_lights_shaded(&self) -> usize {
-        self.plan.shaded_other_lights()
+    pub fn local_lights_shaded(&self) -> usize {
+        self.plan.shaded_local_lights()
     }
 
     /// Visible point and spot lights left out by `max_other_lights`.
-    pub fn other_lights_dropped(&self) -> usize {
-        self.plan.dropped_other
+    pub fn local_lights_dropped(&self) -> usize {
+        self.plan.dropped_local
     }
 
     /// Per scene light: whether it had a realtime shadow map this frame, and if not why.

@@ -67,7 +67,7 @@ overrides! {
     /// Image-based environment light is compiled in (else the constant ambient term).
     ENVIRONMENT_ENABLED = 16;
     /// The forward pass's loops over shadowed point and spot lights are compiled in.
-    OTHER_SHADOWS = 17;
+    LOCAL_SHADOWS = 17;
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use crate::graph::{
 };
 use crate::output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes};
 use crate::passes::forward::HDR;
-use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
+use crate::passes::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::plan::shadows::{ShadowAtlas, ShadowAtlasTiles};
 use crate::plan::{FramePlan, PlanRequest};
 use crate::readback::{PendingCopy, copy_texture, finish_copies_of};
@@ -426,7 +426,7 @@ fn read_backs(graph: &FrameGraph, plan: &FramePlan, options: FrameOptions) -> Ve
         read.extend(graph.exports.iter().map(|t| (*t, texel(t))));
     }
     if options.read_shadow_atlas {
-        for (atlas, target) in [(ShadowAtlas::Directional, DIRECTIONAL_ATLAS), (ShadowAtlas::Other, OTHER_ATLAS)] {
+        for (atlas, target) in [(ShadowAtlas::Directional, DIRECTIONAL_ATLAS), (ShadowAtlas::Local, LOCAL_ATLAS)] {
             if plan.shadows.atlas_size(atlas) > 0 {
                 read.push((target, texel(&target)));
             }

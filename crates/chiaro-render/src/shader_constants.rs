@@ -3,8 +3,8 @@
 //! `U32_CONSTANTS` and `F32_CONSTANTS` to WESL's virtual `constants` module, so a shader
 //! writes `import constants::LIGHT_KIND_POINT;` and gets the very value Rust uses.
 
-use chiaro_math::light::{MAX_DIRECTIONAL_LIGHTS, MAX_OTHER_LIGHTS};
-use chiaro_math::shadow::other::MAX_OTHER_SHADOW_TILES as OTHER_TILES;
+use chiaro_math::light::{MAX_DIRECTIONAL_LIGHTS, MAX_LOCAL_LIGHTS};
+use chiaro_math::shadow::local::MAX_LOCAL_SHADOW_TILES as LOCAL_TILES;
 use chiaro_math::shadow::{MAX_CASCADES as CASCADES, MAX_SHADOWED_DIRECTIONAL_LIGHTS, ShadowFilter};
 
 /// Cascades per directional light at most.
@@ -12,14 +12,14 @@ pub const MAX_CASCADES: u32 = CASCADES as u32;
 /// Shadowed directional lights x cascades.
 pub const MAX_DIRECTIONAL_SHADOW_TILES: u32 = (MAX_SHADOWED_DIRECTIONAL_LIGHTS * CASCADES) as u32;
 /// Tiles of the point and spot atlas at most (one per spot, six per point light).
-pub const MAX_OTHER_SHADOW_TILES: u32 = OTHER_TILES as u32;
-/// Lights one frame shades: four directional lights and `MAX_OTHER_LIGHTS` point and
+pub const MAX_LOCAL_SHADOW_TILES: u32 = LOCAL_TILES as u32;
+/// Lights one frame shades: four directional lights and `MAX_LOCAL_LIGHTS` point and
 /// spot lights (the light buffer's length).
-pub const MAX_FRAME_LIGHTS: u32 = (MAX_DIRECTIONAL_LIGHTS + MAX_OTHER_LIGHTS) as u32;
+pub const MAX_FRAME_LIGHTS: u32 = (MAX_DIRECTIONAL_LIGHTS + MAX_LOCAL_LIGHTS) as u32;
 /// Lights the uniform light buffer holds (57 KiB, under the 64 KiB uniform binding
 /// limit). Culled lists read their lights from it when the frame has no more, since
-/// llvmpipe's forward pass reads uniforms faster than storage (measured in
-/// docs/forward.md); frames with more read a storage buffer.
+/// llvmpipe's forward pass reads uniforms faster than storage (a lavapipe choice:
+/// docs/performance.md); frames with more read the texel table (`texel_table`).
 pub const MAX_UNIFORM_LIGHTS: u32 = 512;
 
 /// `GpuLight::kind`.
@@ -105,12 +105,16 @@ pub const LIGHT_CULLING_NONE: u32 = 0;
 pub const LIGHT_CULLING_CLUSTERED: u32 = 1;
 /// `light_culling`: each draw reads its object's list.
 pub const LIGHT_CULLING_PER_OBJECT: u32 = 2;
-/// Depth slices of the cluster grid (its tiles across and down follow the image size and
-/// come in the frame uniform).
-pub const CLUSTER_SLICES: u32 = chiaro_math::culling::CLUSTER_SLICES;
+/// Depth slices of the cluster grid (`plan::clusters`; its tiles across and down follow
+/// the image size and come in the frame uniform), spread exponentially over the depths
+/// where surfaces are. More slices list fewer lights per cluster but cost the CPU more to
+/// build; since the shader tests the entries' ranges in a cheap pass (culled.wesl), more
+/// than 64 did not pay on lavapipe (docs/performance.md).
+pub const CLUSTER_SLICES: u32 = 64;
 
-/// The mark of a shadowed light's entry in a culled light list.
-pub const SHADOWED_ENTRY: u32 = chiaro_math::culling::SHADOWED_ENTRY;
+/// The mark of a shadowed light's entry in `CulledLightLists::indices` (a frame has a few
+/// thousand lights, so an index never reaches this bit).
+pub const SHADOWED_ENTRY: u32 = 1 << 31;
 /// Records a row of a texel table (`crate::texel_table`); a power of two, so that the
 /// shaders' `%` and `/` are a mask and a shift.
 pub const TEXEL_TABLE_WIDTH: u32 = 4096;
@@ -126,7 +130,7 @@ pub const NO_NODE: u32 = u32::MAX;
 pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("MAX_CASCADES", MAX_CASCADES),
     ("MAX_DIRECTIONAL_SHADOW_TILES", MAX_DIRECTIONAL_SHADOW_TILES),
-    ("MAX_OTHER_SHADOW_TILES", MAX_OTHER_SHADOW_TILES),
+    ("MAX_LOCAL_SHADOW_TILES", MAX_LOCAL_SHADOW_TILES),
     ("MAX_FRAME_LIGHTS", MAX_FRAME_LIGHTS),
     ("MAX_UNIFORM_LIGHTS", MAX_UNIFORM_LIGHTS),
     ("LIGHT_KIND_DIRECTIONAL", LIGHT_KIND_DIRECTIONAL),

@@ -1,10 +1,9 @@
 //! A table of 16-byte records kept in a 2D `Rgba32Uint` texture, `TEXEL_TABLE_WIDTH`
 //! (shader_constants) records a row (record `i` at texel `(i % width, i / width)`), read in shaders with
 //! `textureLoad`. The culled light loops read their lights this way, past the uniform
-//! buffer's 512, rather than from a storage buffer: lavapipe loads a storage buffer one
-//! lane and one word at a time behind a bounds test, where it fetches texels as vectors
-//! (4096 lights on the light-scaling scene: forward pass 341-391 -> 187-198 ms). Any GPU
-//! reads a texture as fast.
+//! buffer's 512, rather than from a storage buffer. A lavapipe choice: lavapipe loads a
+//! storage buffer one lane and one word at a time behind a bounds test, where it fetches
+//! texels as vectors (the figures: docs/performance.md); a GPU may read either as fast.
 
 use crate::error::RenderError;
 use crate::gpu::GpuLight;

@@ -6,7 +6,7 @@
 use crate::graph::{OUTPUT, Target};
 use crate::output::{Aovs, AtlasImage, FrameOutput, Ids};
 use crate::passes::forward::HDR;
-use crate::passes::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
+use crate::passes::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::passes::{aov, id, shadow_aov};
 
 /// Fills `out` from the read-back bytes of each target.
@@ -28,8 +28,8 @@ pub fn unpack_images(out: &mut FrameOutput, read: Vec<(Target, Vec<u8>)>, exposu
                 let size = out.plan.shadows.directional_atlas_size;
                 out.shadow_atlases.push(AtlasImage { name: "directional", size, depths: depths(&bytes) });
             }
-            OTHER_ATLAS => {
-                let size = out.plan.shadows.other_atlas_size;
+            LOCAL_ATLAS => {
+                let size = out.plan.shadows.local_atlas_size;
                 out.shadow_atlases.push(AtlasImage { name: "other", size, depths: depths(&bytes) });
             }
             _ => {

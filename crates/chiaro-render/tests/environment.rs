@@ -28,7 +28,7 @@ fn scratch_dir() -> PathBuf {
 fn write_hdr(name: &str, width: u32, f: impl Fn(Vec3) -> Vec3) -> PathBuf {
     let map = chiaro_scene::environment::EnvironmentMap::from_fn(width, f);
     let path = scratch_dir().join(name);
-    write_environment_hdr(&path, &map);
+    map.write_hdr(&path).unwrap();
     path
 }
 
@@ -226,7 +226,7 @@ fn forward_and_deferred_agree_under_an_environment() {
 /// The environment of a glTF file with EXT_lights_image_based whose faces are all
 /// `FURNACE` (stored as RGBD PNGs) times `intensity`, read by the importer.
 fn file_environment(intensity: f32) -> chiaro_scene::environment::SceneEnvironment {
-    let doc = chiaro_scene::test_scenes::image_based_light_gltf(
+    let doc = chiaro_testkit::image_based_light_gltf(
         16,
         |_, _| Vec3::splat(FURNACE),
         serde_json::json!({ "intensity": intensity }),

@@ -9,10 +9,10 @@ mod common;
 
 use chiaro_render::{FrameOptions, FrameOutput, Renderer, View};
 use chiaro_scene::settings::{DeferredAntialiasing, EnvironmentSource, LightBuffer};
-use chiaro_scene::test_scenes::{add_box, floor_scene, look_from};
 use chiaro_scene::{
     CastShadows, ColorSpace, Cookie, Image, Light, LightKind, Material, RenderPath, Scene, Settings, ShadowMode,
 };
+use chiaro_testkit::{add_box, floor_scene, look_from};
 use common::renderer;
 use glam::{Vec3, Vec4};
 

@@ -9,15 +9,10 @@ use chiaro_render::readback::{copy_texture, finish_copies};
 use chiaro_render::{FrameOptions, View};
 use chiaro_scene::Settings;
 use chiaro_scene::demo::demo_scene;
-use common::renderer;
+use common::{renderer, srgb_encode};
 use glam::Vec3;
 
 const SIZE: u32 = 96;
-
-fn srgb_encode(linear: f32) -> f32 {
-    let c = linear.clamp(0.0, 1.0);
-    if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
-}
 
 #[test]
 fn a_frame_renders_into_a_texture_of_the_callers_as_it_does_offscreen() {

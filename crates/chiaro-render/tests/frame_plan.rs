@@ -10,8 +10,8 @@ use chiaro_render::plan::shadows::{ShadowAtlasTiles, ShadowSlot};
 use chiaro_render::plan::{FramePlan, PlanRequest};
 use chiaro_render::shader_constants::{SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE, SHADOW_SLOT_REALTIME};
 use chiaro_scene::demo::demo_scene;
-use chiaro_scene::test_scenes::{add_box, floor_scene, point_light, unlit_settings};
 use chiaro_scene::{CastShadows, LightKind, Scene, Settings, ShadowMode};
+use chiaro_testkit::{add_box, floor_scene, point_light, unlit_settings};
 use glam::Vec3;
 
 fn draws(scene: &Scene) -> Vec<Draw> {
@@ -62,12 +62,12 @@ fn the_demo_plans_lists_with_shadowed_lights_apart() {
     assert_eq!(plan.lists.directional, vec![0]);
     assert_eq!(plan.lights[0].id, LightId(0));
     // Four spots and two points cast shadows; two points do not.
-    assert_eq!(plan.lists.shadowed_other.len(), 6);
-    assert_eq!(plan.lists.unshadowed_other.len(), 2);
-    for &i in &plan.lists.shadowed_other {
+    assert_eq!(plan.lists.shadowed_local.len(), 6);
+    assert_eq!(plan.lists.unshadowed_local.len(), 2);
+    for &i in &plan.lists.shadowed_local {
         assert!(matches!(plan.lights[i as usize].shadow, ShadowSlot::Realtime { .. }));
     }
-    for &i in &plan.lists.unshadowed_other {
+    for &i in &plan.lists.unshadowed_local {
         let light = &scene.lights[plan.lights[i as usize].id.index()];
         assert_eq!(light.shadow.mode, ShadowMode::None, "{}", light.name);
         assert_eq!(plan.lights[i as usize].shadow, ShadowSlot::None);
@@ -93,7 +93,7 @@ fn the_demo_plans_lists_with_shadowed_lights_apart() {
         assert_eq!(record.position_ws, scene.lights[light.id.index()].position());
     }
     let frame = plan.gpu_frame(&Settings::default());
-    assert_eq!((frame.directional_light_count, frame.shadowed_other_light_count, frame.other_light_count), (1, 6, 8));
+    assert_eq!((frame.directional_light_count, frame.shadowed_local_light_count, frame.local_light_count), (1, 6, 8));
     // Sixteen point/spot tiles and four cascades: every tile has a light and a viewport.
     assert_eq!(plan.shadows.tiles.len(), 4 + 16);
     assert_eq!(passes(&plan), vec!["shadows", "depth prepass", "forward", "tonemap"]);
@@ -116,7 +116,7 @@ fn shadowed_lights_keep_their_tiles_from_frame_to_frame() {
         glam::Mat4::look_at_rh(Vec3::new(-9.0, 6.0, -3.0), Vec3::ZERO, Vec3::Y).inverse();
     let moved_view = View::from_camera(&moved, 0, 320, 180);
     let second = plan(&moved, &moved_view, &mut atlases, PlanRequest::default());
-    let order = |p: &FramePlan| p.lists.shadowed_other.iter().map(|&i| p.lights[i as usize].id).collect::<Vec<_>>();
+    let order = |p: &FramePlan| p.lists.shadowed_local.iter().map(|&i| p.lights[i as usize].id).collect::<Vec<_>>();
     assert_ne!(order(&first), order(&second), "the camera move must reorder the lights for this test to mean much");
     assert!(second.shadows.tiles_kept);
     for light in 0..scene.lights.len() {
@@ -131,7 +131,7 @@ fn shadowed_lights_keep_their_tiles_from_frame_to_frame() {
     let third = plan(&fewer, &moved_view, &mut atlases, PlanRequest::default());
     assert!(!third.shadows.tiles_kept);
     assert_eq!(slot_of(&third, spot), ShadowSlot::None);
-    assert_eq!(third.lists.shadowed_other.len(), 5);
+    assert_eq!(third.lists.shadowed_local.len(), 5);
 }
 
 #[test]
@@ -193,7 +193,7 @@ fn lights_that_find_no_tiles_are_baked_only() {
     let lights = (0..3).map(|i| point_light(Vec3::new(i as f32 - 1.0, 1.0, 0.0), 10.0 + i as f32, Some(4.0))).collect();
     let scene = floor_scene(10.0, Vec3::new(0.0, 6.0, 0.01), lights);
     let all_fit = first_plan(&scene, PlanRequest::default());
-    assert_eq!(all_fit.lists.shadowed_other.len(), 3, "the default 64 tiles hold all three");
+    assert_eq!(all_fit.lists.shadowed_local.len(), 3, "the default 64 tiles hold all three");
     assert_eq!(all_fit.shadows.tiles.len(), 18);
     let mut settings = unlit_settings();
     settings.shadows.other.max_tiles = 16;
@@ -203,8 +203,8 @@ fn lights_that_find_no_tiles_are_baked_only() {
     assert_eq!(slots[0], ShadowSlot::BakedOnly);
     assert!(matches!(slots[1], ShadowSlot::Realtime { tile_count: 6, .. }));
     assert!(matches!(slots[2], ShadowSlot::Realtime { tile_count: 6, .. }));
-    assert_eq!(plan.lists.shadowed_other.len(), 2);
-    assert_eq!(plan.lists.unshadowed_other.len(), 1);
+    assert_eq!(plan.lists.shadowed_local.len(), 2);
+    assert_eq!(plan.lists.unshadowed_local.len(), 1);
     let gpu = plan.gpu_lights(&scene);
     assert_eq!(gpu[plan.light_index(LightId(0)).unwrap()].shadow_slot, SHADOW_SLOT_BAKED_ONLY);
 }
@@ -250,23 +250,23 @@ fn the_passes_follow_the_path_the_light_buffer_and_the_debug_view() {
     let forward = plan_with(&settings, PlanRequest::default());
     assert_eq!(passes(&forward), vec!["shadows", "depth prepass", "forward", "tonemap"]);
     assert!(forward.volumes.is_empty());
-    assert!(forward.shaded_other_lights() > 64, "clustered culling shades every visible light");
+    assert!(forward.shaded_local_lights() > 64, "clustered culling shades every visible light");
     settings.lights.culling = chiaro_scene::LightCulling::None;
     let unculled = plan_with(&settings, PlanRequest::default());
-    assert_eq!(unculled.shaded_other_lights(), 64, "the limit without culling");
+    assert_eq!(unculled.shaded_local_lights(), 64, "the limit without culling");
 
     settings.render.path = RenderPath::Deferred;
     let deferred = plan_with(&settings, PlanRequest::default());
     // At the defaults (4x MSAA forward) the deferred path antialiases with FXAA.
     assert_eq!(passes(&deferred), vec!["shadows", "gbuffer", "deferred lights", "fxaa", "tonemap"]);
-    let visible = deferred.shaded_other_lights();
+    let visible = deferred.shaded_local_lights();
     assert!(visible > 64, "the deferred path shades every visible light: {visible}");
     // One full-screen draw for the directional lights, then a volume per point and spot.
     assert_eq!(deferred.volumes.len(), 1 + visible);
     assert_eq!(deferred.volumes[0].shape, VolumeShape::Screen);
     assert!(deferred.volumes[1..].iter().all(|v| v.shape != VolumeShape::Screen));
     // Transparent surfaces see the forward lists: the 64 most important.
-    assert_eq!(deferred.other_light_count(), 64);
+    assert_eq!(deferred.local_light_count(), 64);
     assert!(deferred.gpu_lights(&scene).len() <= 68);
 
     settings.render.light_buffer = LightBuffer::LdrExp2;
@@ -299,7 +299,7 @@ fn past_sixteen_tiles_point_lights_get_tiles_by_screen_coverage() {
             .shadows
             .tiles
             .iter()
-            .filter(|t| t.atlas == ShadowAtlas::Other && t.light == LightId(light))
+            .filter(|t| t.atlas == ShadowAtlas::Local && t.light == LightId(light))
             .map(|t| t.viewport.2)
             .collect();
         assert_eq!(sizes.len(), 6, "light {light} has its six faces");
@@ -308,7 +308,7 @@ fn past_sixteen_tiles_point_lights_get_tiles_by_screen_coverage() {
     };
     assert_eq!([size_of(0), size_of(1), size_of(2), size_of(3)], [512, 256, 256, 128]);
     // No two tiles overlap.
-    let other: Vec<_> = plan.shadows.tiles.iter().filter(|t| t.atlas == ShadowAtlas::Other).collect();
+    let other: Vec<_> = plan.shadows.tiles.iter().filter(|t| t.atlas == ShadowAtlas::Local).collect();
     for (k, a) in other.iter().enumerate() {
         for b in &other[k + 1..] {
             let (ax, ay, as_) = a.viewport;
@@ -334,13 +334,13 @@ fn shadow_loops_for_point_and_spot_lights_compile_in_only_where_a_light_needs_th
     let scene = demo_scene(8);
     let view = View::from_camera(&scene, 0, 320, 180);
     let shadowed = plan(&scene, &view, &mut ShadowAtlasTiles::default(), PlanRequest::default());
-    assert!(shadowed.features.other_shadows, "the demo's spots and points cast shadows");
+    assert!(shadowed.features.local_shadows, "the demo's spots and points cast shadows");
     // Every point and spot light unshadowed: the sun's shadow alone does not count.
     let mut unshadowed = scene.clone();
     for light in unshadowed.lights.iter_mut().filter(|l| l.kind != LightKind::Directional) {
         light.shadow.mode = ShadowMode::None;
     }
     let plan = plan(&unshadowed, &view, &mut ShadowAtlasTiles::default(), PlanRequest::default());
-    assert!(!plan.features.other_shadows);
+    assert!(!plan.features.local_shadows);
     assert!(plan.lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { .. })), "the sun keeps its shadow");
 }

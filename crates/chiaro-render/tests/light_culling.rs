@@ -102,7 +102,7 @@ fn the_three_culling_modes_give_the_same_image() {
         for culling in [LightCulling::Clustered, LightCulling::PerObject] {
             let culled = render_hdr(&mut r, &scene, &forward(culling));
             assert_eq!(culled.plan.culling, culling);
-            assert_eq!(culled.other_lights_shaded(), none.other_lights_shaded());
+            assert_eq!(culled.local_lights_shaded(), none.local_lights_shaded());
             // Only the order of the sums differs; half floats hold the results.
             let worst = worst_relative_difference(&none, &culled, 1e-3);
             println!("{name} {culling:?}: worst relative difference {worst:e}");
@@ -175,7 +175,7 @@ fn many_lights_scene(count: usize, scale: f32) -> Scene {
 fn a_thousand_clustered_lights_add_up_to_fifty_at_a_time_without_culling() {
     let scene = many_lights_scene(1000, 1.0);
     let (all, lit) = clustered_equals_the_sum_of_groups(&scene);
-    assert!(all.other_lights_shaded() > 990, "{} lights shaded", all.other_lights_shaded());
+    assert!(all.local_lights_shaded() > 990, "{} lights shaded", all.local_lights_shaded());
     assert!(lit > all.hdr.len(), "most pixels are lit ({lit} channels)");
 }
 
@@ -184,7 +184,7 @@ fn lights_small_for_their_depth_add_up_too() {
     // Ranges of 15 to 30 cm seen from 15 m, in slices metres deep.
     let scene = many_lights_scene(600, 0.1);
     let (all, lit) = clustered_equals_the_sum_of_groups(&scene);
-    assert!(all.other_lights_shaded() > 590, "{} lights shaded", all.other_lights_shaded());
+    assert!(all.local_lights_shaded() > 590, "{} lights shaded", all.local_lights_shaded());
     assert!(lit > all.hdr.len() / 8, "the small lights light the floor ({lit} channels)");
 }
 
@@ -197,7 +197,7 @@ fn clustered_equals_the_sum_of_groups(scene: &Scene) -> (FrameOutput, usize) {
     settings.render.msaa = 1;
     let all = render_hdr(&mut r, scene, &settings);
     // Every light in view is shaded.
-    assert_eq!(all.other_lights_dropped(), 0);
+    assert_eq!(all.local_lights_dropped(), 0);
     assert!(all.plan.lights_in_table(), "hundreds of lights are read from their texel table");
     // The sum of renders of groups of 50 lights, with no culling; the two shadowed spots
     // share the first group, so their shadow tiles are laid out as in the full frame.
@@ -208,7 +208,7 @@ fn clustered_equals_the_sum_of_groups(scene: &Scene) -> (FrameOutput, usize) {
         let mut part = scene.clone();
         part.lights = group.to_vec();
         let frame = render_hdr(&mut r, &part, &group_settings);
-        assert_eq!(frame.other_lights_dropped(), 0);
+        assert_eq!(frame.local_lights_dropped(), 0);
         for (s, p) in sum.iter_mut().zip(&frame.hdr) {
             for c in 0..3 {
                 s[c] += p[c];

@@ -151,20 +151,20 @@ fn lights_over_the_limit_are_dropped_by_importance() {
     forward.render.path = chiaro_scene::RenderPath::Forward;
     forward.lights.culling = chiaro_scene::LightCulling::None;
     let frame = render(&mut renderer(), &scene, &forward, 64);
-    assert_eq!(frame.other_lights_shaded(), 64);
-    assert_eq!(frame.other_lights_dropped(), 6);
+    assert_eq!(frame.local_lights_shaded(), 64);
+    assert_eq!(frame.local_lights_dropped(), 6);
     // Culled lists shade them all.
     forward.lights.culling = chiaro_scene::LightCulling::Clustered;
     let frame = render(&mut renderer(), &scene, &forward, 64);
-    assert_eq!((frame.other_lights_shaded(), frame.other_lights_dropped()), (70, 0));
+    assert_eq!((frame.local_lights_shaded(), frame.local_lights_dropped()), (70, 0));
     // The deferred path shades them all, or as many as the setting says.
     let mut deferred = unlit_settings();
     deferred.render.path = chiaro_scene::RenderPath::Deferred;
     let frame = render(&mut renderer(), &scene, &deferred, 64);
-    assert_eq!((frame.other_lights_shaded(), frame.other_lights_dropped()), (70, 0));
+    assert_eq!((frame.local_lights_shaded(), frame.local_lights_dropped()), (70, 0));
     deferred.lights.max_other_lights = Some(50);
     let frame = render(&mut renderer(), &scene, &deferred, 64);
-    assert_eq!((frame.other_lights_shaded(), frame.other_lights_dropped()), (50, 20));
+    assert_eq!((frame.local_lights_shaded(), frame.local_lights_dropped()), (50, 20));
 }
 
 #[test]

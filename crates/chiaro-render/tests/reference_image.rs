@@ -6,7 +6,7 @@
 mod common;
 
 use chiaro_render::{FrameOptions, FrameOutput, View};
-use chiaro_scene::demo::{DEMO_OTHER_LIGHTS, demo_scene};
+use chiaro_scene::demo::{DEMO_LOCAL_LIGHTS, demo_scene};
 use chiaro_scene::{RenderPath, Scene, Settings};
 use common::{ldr_rgb, mean_flip, renderer};
 
@@ -53,7 +53,7 @@ fn read_reference(path: &str) -> Vec<u8> {
 #[test]
 fn demo_matches_the_reference_image_on_each_path() {
     for (path, file) in [(RenderPath::Forward, REFERENCE), (RenderPath::Deferred, DEFERRED_REFERENCE)] {
-        let rendered = render_path(&demo_scene(DEMO_OTHER_LIGHTS), path);
+        let rendered = render_path(&demo_scene(DEMO_LOCAL_LIGHTS), path);
         if std::env::var_os("CHIARO_UPDATE_REFERENCE").is_some() {
             image::save_buffer(file, &rendered, SIZE, SIZE, image::ExtendedColorType::Rgb8).unwrap();
         }
@@ -65,7 +65,7 @@ fn demo_matches_the_reference_image_on_each_path() {
 
 #[test]
 fn the_metric_notices_moved_lights() {
-    let mut scene = demo_scene(DEMO_OTHER_LIGHTS);
+    let mut scene = demo_scene(DEMO_LOCAL_LIGHTS);
     let spots: Vec<_> = scene.lights.iter_mut().filter(|l| l.name.starts_with("spot")).collect();
     assert!(spots.len() >= 3, "the demo's spots");
     for spot in spots {

@@ -79,7 +79,7 @@ fn a_moving_light_draws_only_its_own_tiles() {
     let moved = frame(&mut gpu, &scene, &s);
     println!("spot moved: {} tiles drawn", moved.shadow_tiles);
     assert_eq!(moved.shadow_tiles, 1, "the spot's tile alone");
-    assert_eq!(redrawn(&moved), [(ShadowAtlas::Other, 1)], "the spot (light 1) is the one drawn again");
+    assert_eq!(redrawn(&moved), [(ShadowAtlas::Local, 1)], "the spot (light 1) is the one drawn again");
     assert_same_image(&moved, &frame(&mut renderer(), &scene, &s), "moved spot");
 }
 
@@ -106,7 +106,7 @@ fn a_moving_object_draws_only_the_tiles_it_casts_into() {
     assert!(moved.shadow_tiles > 1 && moved.shadow_tiles < 11, "{} tiles", moved.shadow_tiles);
     let tiles = redrawn(&moved);
     println!("near box moved: tiles drawn {tiles:?}");
-    let point_faces = tiles.iter().filter(|&&(atlas, _)| atlas == ShadowAtlas::Other).count();
+    let point_faces = tiles.iter().filter(|&&(atlas, _)| atlas == ShadowAtlas::Local).count();
     assert!(
         tiles.iter().all(|&(atlas, light)| atlas == ShadowAtlas::Directional || light == 2),
         "only the point light's (light 2) faces among the point and spot tiles: {tiles:?}"

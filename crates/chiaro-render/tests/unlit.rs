@@ -26,11 +26,6 @@ const MIN_PIXELS: usize = 100;
 /// doubled for the exposure's division on read-back.
 const HDR_TOLERANCE: f32 = 1.0e-3;
 
-fn srgb_encode(linear: f32) -> f32 {
-    let c = linear.clamp(0.0, 1.0);
-    if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
-}
-
 fn sun() -> Light {
     Light { intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::new(0.9, -1.0, 1.0)) }
 }

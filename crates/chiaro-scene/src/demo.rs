@@ -1,6 +1,6 @@
 //! The built-in demo scene, made in code: a floor, boxes and spheres, one sun, a ring of
 //! coloured point and spot lights, and a camera. `chiaro render` with no scene draws it,
-//! and the benchmarks vary its number of other lights.
+//! and the benchmarks vary its number of local lights.
 
 use crate::shapes;
 use crate::types::*;
@@ -8,7 +8,7 @@ use chiaro_math::rigid::looking_along;
 use glam::{Mat4, Quat, Vec3};
 
 /// Default number of point and spot lights in the demo.
-pub const DEMO_OTHER_LIGHTS: usize = 8;
+pub const DEMO_LOCAL_LIGHTS: usize = 8;
 
 const PALETTE: [Vec3; 6] = [
     Vec3::new(1.0, 0.45, 0.25),
@@ -23,32 +23,32 @@ fn material(name: &str, color: Vec3, metallic: f32, roughness: f32) -> Material 
     Material { name: name.into(), base_color: color.extend(1.0), metallic, roughness, ..Material::default() }
 }
 
-/// Default shadowed lights of the demo: four spots and two points fill the other-light
+/// Default shadowed lights of the demo: four spots and two points fill the local-light
 /// atlas's 16 tiles, as in chiaro-bench.
 pub const DEMO_SHADOWED_SPOTS: usize = 4;
 /// Default number of the demo's point lights that cast shadows.
 pub const DEMO_SHADOWED_POINTS: usize = 2;
 
-/// The demo scene with `other_lights` point and spot lights (alternating, spots first),
+/// The demo scene with `local_lights` point and spot lights (alternating, spots first),
 /// spread over a ring around the centre so that every count lights the floor; the first
 /// four spots and two points cast shadows.
-pub fn demo_scene(other_lights: usize) -> Scene {
-    demo_scene_with_shadows(other_lights, DEMO_SHADOWED_SPOTS, DEMO_SHADOWED_POINTS)
+pub fn demo_scene(local_lights: usize) -> Scene {
+    demo_scene_with_shadows(local_lights, DEMO_SHADOWED_SPOTS, DEMO_SHADOWED_POINTS)
 }
 
 /// The demo scene where the first `shadowed_spots` spots and `shadowed_points` points cast
 /// realtime shadows and the rest do not.
-pub fn demo_scene_with_shadows(other_lights: usize, shadowed_spots: usize, shadowed_points: usize) -> Scene {
+pub fn demo_scene_with_shadows(local_lights: usize, shadowed_spots: usize, shadowed_points: usize) -> Scene {
     let mut scene = demo_materials_and_meshes();
     place_demo_objects(&mut scene);
     // Lights and the camera take the node indices after the objects'.
     let light_node_base = scene.instances.len();
     scene.lights.push(demo_sun(light_node_base));
-    for i in 0..other_lights {
+    for i in 0..local_lights {
         let shadowed = if i.is_multiple_of(2) { i / 2 < shadowed_spots } else { i / 2 < shadowed_points };
-        scene.lights.push(demo_other_light(i, other_lights, light_node_base + 1 + i, shadowed));
+        scene.lights.push(demo_local_light(i, local_lights, light_node_base + 1 + i, shadowed));
     }
-    scene.cameras.push(demo_camera(light_node_base + 1 + other_lights));
+    scene.cameras.push(demo_camera(light_node_base + 1 + local_lights));
     scene.ensure_nodes();
     scene
 }
@@ -147,7 +147,7 @@ fn demo_sun(node: usize) -> Light {
 
 /// Point or spot light `i` of `count` (spots at even `i`), at node `node`, on a
 /// golden-angle spiral that keeps any count evenly spread.
-fn demo_other_light(i: usize, count: usize, node: usize, shadowed: bool) -> Light {
+fn demo_local_light(i: usize, count: usize, node: usize, shadowed: bool) -> Light {
     let t = (i as f32 + 0.5) / count.max(1) as f32;
     let angle = i as f32 * 2.399_963;
     let radius = 2.0 + 7.0 * t.sqrt();
@@ -234,7 +234,7 @@ mod tests {
 
     #[test]
     fn demo_spots_point_down_at_the_floor() {
-        let s = demo_scene(DEMO_OTHER_LIGHTS);
+        let s = demo_scene(DEMO_LOCAL_LIGHTS);
         for l in &s.lights {
             if matches!(l.kind, LightKind::Spot { .. }) {
                 assert!(l.direction().y < -0.3, "{}", l.name);

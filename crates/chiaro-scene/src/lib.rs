@@ -16,7 +16,6 @@ pub mod names;
 pub mod nodes;
 pub mod settings;
 pub mod shapes;
-pub mod test_scenes;
 pub mod types;
 pub mod vertex_gen;
 

@@ -239,7 +239,7 @@ fn a_dropped_environment_image_lights_the_scene_and_a_bad_one_is_reported() {
         let path = dir.join(name);
         let texels = vec![glam::Vec3::splat(0.5); (width * height) as usize];
         let map = chiaro_scene::environment::EnvironmentMap { width, height, texels };
-        chiaro_scene::test_scenes::write_environment_hdr(&path, &map);
+        map.write_hdr(&path).unwrap();
         path
     };
     let mut viewer = demo_viewer();

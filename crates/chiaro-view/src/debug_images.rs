@@ -3,7 +3,7 @@
 //! the 3D view itself rather than such images.
 
 use chiaro_math::bounds::Aabb;
-use chiaro_math::culling::{ClusterGrid, LightLists};
+use chiaro_render::plan::clusters::{ClusterGrid, CulledLightLists};
 use chiaro_render::{AovView, DebugView, FrameOutput};
 use chiaro_scene::Scene;
 
@@ -153,7 +153,7 @@ pub fn heat(count: u32, most: u32) -> [u8; 4] {
 
 /// Each pixel coloured by how many lights its cluster lists, as the forward pass finds
 /// the cluster (pixel and view depth); `most` is the count shown red.
-pub fn cluster_image(grid: &ClusterGrid, lists: &LightLists, depth: &[f32], most: u32) -> Vec<[u8; 4]> {
+pub fn cluster_image(grid: &ClusterGrid, lists: &CulledLightLists, depth: &[f32], most: u32) -> Vec<[u8; 4]> {
     let width = grid.width as usize;
     depth
         .iter()
@@ -206,7 +206,7 @@ mod tests {
         let grid = ClusterGrid::new(64, 32, 0.1, 100.0);
         let clusters = grid.cluster_count();
         // Cluster k lists k % 5 lights.
-        let mut lists = LightLists { starts: vec![0], indices: Vec::new() };
+        let mut lists = CulledLightLists { starts: vec![0], indices: Vec::new() };
         for k in 0..clusters {
             lists.indices.extend(std::iter::repeat_n(7, k % 5));
             lists.starts.push(lists.indices.len() as u32);

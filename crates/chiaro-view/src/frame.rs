@@ -14,9 +14,10 @@ use chiaro_render::{DebugView, FrameOutput};
 use std::time::{Duration, Instant};
 
 /// How often the panel's numbers are brought up to date when nothing else redraws it:
-/// after this long and this many frames (drawing the panel costs a software device as
-/// much as a tenth of a heavy frame).
+/// after this long and this many frames. A lavapipe choice: drawing the panel costs a
+/// software device a good share of a heavy frame (docs/performance.md).
 const PANEL_REFRESH: Duration = Duration::from_secs(1);
+/// See `PANEL_REFRESH`.
 const PANEL_REFRESH_FRAMES: u32 = 10;
 
 /// When egui draws the panel again.

@@ -96,8 +96,8 @@ fn json_report(
         "cpu_prepare_thread_ms": thread_times(frames).map(median),
         "passes": passes,
         "lights_shaded": first.plan.lights.len(),
-        "other_lights_shaded": first.other_lights_shaded(),
-        "other_lights_dropped": first.other_lights_dropped(),
+        "other_lights_shaded": first.local_lights_shaded(),
+        "other_lights_dropped": first.local_lights_dropped(),
         "shadow_tiles_rendered": frames.iter().map(|f| f.shadow_tiles).collect::<Vec<_>>(),
     })
 }
@@ -181,7 +181,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         .scene
         .as_ref()
         .map(|p| p.display().to_string())
-        .unwrap_or_else(|| format!("demo ({} other lights)", args.demo.demo_lights));
+        .unwrap_or_else(|| format!("demo ({} local lights)", args.demo.demo_lights));
     println!(
         "scene: {name}; {:?} path, {:?} light culling, {}x MSAA",
         first.plan.path, settings.lights.culling, first.plan.msaa
@@ -196,7 +196,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         args.frames,
         args.warmup,
         scene.triangle_count(),
-        first.other_lights_shaded()
+        first.local_lights_shaded()
     );
     let ds = &settings.shadows.directional;
     println!(

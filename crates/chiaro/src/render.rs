@@ -233,7 +233,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     eprintln!(
         "chiaro: wrote {} ({width}x{height}, {} point/spot lights shaded, {:.1} ms)",
         args.output.display(),
-        frame.other_lights_shaded(),
+        frame.local_lights_shaded(),
         frame.timings.wall_ms.unwrap_or_default()
     );
     Ok(())

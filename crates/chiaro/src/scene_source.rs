@@ -5,7 +5,7 @@ use anyhow::Result;
 use chiaro_io::scenes::DemoScene;
 pub use chiaro_io::scenes::{choose_view, load_settings};
 use chiaro_scene::Scene;
-use chiaro_scene::demo::{DEMO_OTHER_LIGHTS, DEMO_SHADOWED_POINTS, DEMO_SHADOWED_SPOTS};
+use chiaro_scene::demo::{DEMO_LOCAL_LIGHTS, DEMO_SHADOWED_POINTS, DEMO_SHADOWED_SPOTS};
 use std::path::Path;
 
 /// Most point and spot lights the demo scene is made with.
@@ -15,7 +15,7 @@ pub const MAX_DEMO_LIGHTS: u32 = 65536;
 #[derive(clap::Args, Clone, Debug)]
 pub struct DemoArgs {
     /// Point and spot lights in the demo scene (alternating, spots first; 0 to 65536).
-    #[arg(long, default_value_t = DEMO_OTHER_LIGHTS as u32, value_parser = clap::value_parser!(u32).range(0..=MAX_DEMO_LIGHTS as i64))]
+    #[arg(long, default_value_t = DEMO_LOCAL_LIGHTS as u32, value_parser = clap::value_parser!(u32).range(0..=MAX_DEMO_LIGHTS as i64))]
     pub demo_lights: u32,
     /// Demo spot lights that cast realtime shadows (0 to 65536).
     #[arg(long, default_value_t = DEMO_SHADOWED_SPOTS as u32, value_parser = clap::value_parser!(u32).range(0..=MAX_DEMO_LIGHTS as i64))]

@@ -579,11 +579,8 @@ fn a_file_with_an_image_based_light_renders_under_it() {
     // Every cube face a different colour; the file's camera looks down -Z, so the middle
     // of the picture is the -Z face (radiance in the linear .exr).
     let faces = [[4.0, 1.0, 1.0], [1.0, 4.0, 1.0], [1.0, 1.0, 4.0], [3.0, 3.0, 1.0], [1.0, 3.0, 3.0], [0.5, 2.0, 6.0]];
-    let doc = chiaro_scene::test_scenes::image_based_light_gltf(
-        8,
-        |face, _| glam::Vec3::from_array(faces[face]),
-        serde_json::json!({}),
-    );
+    let doc =
+        chiaro_testkit::image_based_light_gltf(8, |face, _| glam::Vec3::from_array(faces[face]), serde_json::json!({}));
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("studio.gltf"), doc.to_string()).unwrap();
     let middle = |args: &[&str]| {

@@ -1,19 +1,16 @@
 //! Shared set-up for the reference tests: a renderer on whatever adapter is present (the
-//! software Vulkan device in CI) and the scenes of chiaro_scene::test_scenes. No adapter
+//! software Vulkan device in CI) and the scenes of chiaro_testkit. No adapter
 //! is a failure, never a skip.
 
 #![allow(dead_code, unused_imports)]
 
-pub use chiaro_scene::test_scenes::*;
+pub use chiaro_testkit::*;
 
 use chiaro_compare::{ShadowComparison, compare_shadows};
 use chiaro_render::{GpuContext, Renderer, View};
 use chiaro_scene::{Scene, Settings};
 
-pub fn renderer() -> Renderer {
-    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    Renderer::new(ctx).expect("renderer")
-}
+pub use chiaro_testkit::renderer;
 
 /// Renders `scene` from its first camera at `size` x `size` and compares its shadows
 /// with the ray-traced reference.

@@ -11,7 +11,7 @@ pub mod cascades;
 pub mod culling;
 pub mod fade;
 pub mod filter;
-pub mod other;
+pub mod local;
 pub mod pcss;
 pub mod tiers;
 

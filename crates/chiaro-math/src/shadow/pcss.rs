@@ -10,17 +10,15 @@ use glam::Mat4;
 /// Blocker searches reach at most the tile's width over this from the receiver: the
 /// cone to a sphere light's near plane (or a sun's pulled-back one) would otherwise
 /// cover most of the tile. Blockers whose penumbra would need more are found only in
-/// part, and their shadows come out harder than they are. A fixed 32 texels was too
-/// little in a near cascade, whose texels are a millimetre: a plank 1 m above the floor
-/// under a 10 degree sun came out with 56% of its penumbra.
+/// part, and their shadows come out harder than they are. A reach fixed in texels is too
+/// little in a near cascade, whose texels are a millimetre across (docs/performance.md).
 pub const SEARCH_TILE_DIVISOR: u32 = 8;
 
 /// A cascade's near plane is pulled this many culling-sphere radii towards a `pcss`
 /// light (at least; the light's own `shadowNearPlane` if that is more). Casters nearer
 /// the light than the near plane are flattened onto it, which makes them look closer to
-/// their receivers and their penumbrae narrower: a plank 1 m above a floor seen from 0.6 m
-/// came out with half its penumbra. Depth is linear in an orthographic tile, so the pull
-/// costs no precision worth having.
+/// their receivers and their penumbrae narrower (docs/performance.md). Depth is linear in
+/// an orthographic tile, so the pull costs no precision worth having.
 pub const DIRECTIONAL_NEAR_PLANE_PULL: f32 = 2.0;
 
 /// A tile's lens: `[near, far, metres_per_uv]`. Perspective tiles (spot, point faces):

@@ -26,12 +26,12 @@ pub struct GpuFrame {
     /// `DEBUG_VIEW_*`.
     pub debug_view: u32,
     /// The frame's light index list holds, in order, this many directional lights, then
-    /// the shadowed point and spot lights, then the rest: `other_light_count` in all.
+    /// the shadowed point and spot lights, then the rest: `local_light_count` in all.
     pub directional_light_count: u32,
     /// Shadowed point and spot lights, listed right after the directional ones.
-    pub shadowed_other_light_count: u32,
+    pub shadowed_local_light_count: u32,
     /// Point and spot lights in the list, shadowed and unshadowed together.
-    pub other_light_count: u32,
+    pub local_light_count: u32,
     /// The output size in pixels.
     pub width: u32,
     /// The output height in pixels.

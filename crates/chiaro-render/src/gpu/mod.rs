@@ -45,7 +45,7 @@ macro_rules! layouts {
 layouts! {
     GpuFrame {
         clip_from_world, view_from_world, world_from_view, view_from_clip, camera_position_ws, exposure_scale,
-        ambient, debug_view, directional_light_count, shadowed_other_light_count, other_light_count, width, height,
+        ambient, debug_view, directional_light_count, shadowed_local_light_count, local_light_count, width, height,
         mixed_mode, cluster_tile_width, cluster_tile_height, cluster_slice_scale, cluster_slice_bias, cluster_tiles_x,
         cluster_tiles_y,
     }
@@ -64,7 +64,7 @@ layouts! {
     GpuAtlas { size_texels, texel_uv }
     GpuShadowFade { inverse_max_distance, inverse_distance_fade, inverse_cascade_fade }
     GpuShadows {
-        directional_tiles, other_tiles, cascades, directional_atlas, other_atlas, fade, cascade_count,
+        directional_tiles, local_tiles, cascades, directional_atlas, local_atlas, fade, cascade_count,
         cascade_blend, pcss_blocker_samples, pcss_filter_samples,
     }
     GpuCasterView { clip_from_world, flags }

@@ -2,7 +2,7 @@
 //! bounds and normal bias, the cascades' culling spheres, and the fades; and one caster
 //! view of the shadow-caster pass (`shaders/shadow_caster.wesl`).
 
-use crate::shader_constants::{MAX_CASCADES, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES};
+use crate::shader_constants::{MAX_CASCADES, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES};
 use bytemuck::{Pod, Zeroable};
 use chiaro_math::shadow::pcss::TileLens;
 use glam::{Mat4, Vec2, Vec3};
@@ -102,13 +102,13 @@ pub struct GpuShadows {
     /// The directional atlas's tiles: cascades of each shadowed directional light in turn.
     pub directional_tiles: [GpuShadowTile; MAX_DIRECTIONAL_SHADOW_TILES as usize],
     /// The point and spot atlas's tiles: one per spot light, six per point light.
-    pub other_tiles: [GpuShadowTile; MAX_OTHER_SHADOW_TILES as usize],
+    pub local_tiles: [GpuShadowTile; MAX_LOCAL_SHADOW_TILES as usize],
     /// The cascades' culling spheres, nearest first.
     pub cascades: [GpuCascade; MAX_CASCADES as usize],
     /// The directional atlas's size.
     pub directional_atlas: GpuAtlas,
     /// The point and spot atlas's size.
-    pub other_atlas: GpuAtlas,
+    pub local_atlas: GpuAtlas,
     /// Where shadows end and how they fade, by distance and by cascade.
     pub fade: GpuShadowFade,
     /// 0 when no directional light has a shadow map this frame.
@@ -125,10 +125,10 @@ impl Default for GpuShadows {
     fn default() -> Self {
         GpuShadows {
             directional_tiles: [GpuShadowTile::default(); MAX_DIRECTIONAL_SHADOW_TILES as usize],
-            other_tiles: [GpuShadowTile::default(); MAX_OTHER_SHADOW_TILES as usize],
+            local_tiles: [GpuShadowTile::default(); MAX_LOCAL_SHADOW_TILES as usize],
             cascades: [GpuCascade::default(); MAX_CASCADES as usize],
             directional_atlas: GpuAtlas { size_texels: 1.0, texel_uv: 1.0, _pad: [0.0; 2] },
-            other_atlas: GpuAtlas { size_texels: 1.0, texel_uv: 1.0, _pad: [0.0; 2] },
+            local_atlas: GpuAtlas { size_texels: 1.0, texel_uv: 1.0, _pad: [0.0; 2] },
             fade: GpuShadowFade::default(),
             cascade_count: 0,
             cascade_blend: 0,

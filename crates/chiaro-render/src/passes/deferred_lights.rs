@@ -12,7 +12,7 @@ use super::gbuffer::{
     GBUFFER_ALBEDO_METALLIC, GBUFFER_PACKED, LIGHT_BUFFER_LDR, LIGHT_BUFFER_LDR_FORMAT, light_target, light_target_desc,
 };
 use super::mesh::{DEPTH, STENCIL_SURFACE, scene_depth};
-use super::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
+use super::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::debug_view::DebugView;
 use crate::gpu::GpuVolumeLight;
 use crate::overrides;
@@ -151,7 +151,7 @@ impl PassType for DeferredLightsPass {
         if plan.path != RenderPath::Deferred {
             return;
         }
-        pass.read(DIRECTIONAL_ATLAS).read(OTHER_ATLAS).read(GBUFFER_ALBEDO_METALLIC).read(GBUFFER_PACKED);
+        pass.read(DIRECTIONAL_ATLAS).read(LOCAL_ATLAS).read(GBUFFER_ALBEDO_METALLIC).read(GBUFFER_PACKED);
         // Stencil marks go into the depth target's stencil.
         pass.modify(DEPTH);
         let target = Variant::of(plan).target();

@@ -6,7 +6,7 @@
 
 use super::background::{BackgroundPipelines, BackgroundTargets};
 use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, forward_depth, scene_depth};
-use super::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
+use super::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::graph::target::ATTACHMENT_SAMPLED;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::overrides;
@@ -45,7 +45,7 @@ impl PassType for ForwardPass {
         if forward_draws(plan).is_empty() && plan.path == RenderPath::Deferred {
             return;
         }
-        pass.read(DIRECTIONAL_ATLAS).read(OTHER_ATLAS).modify(forward_depth(plan));
+        pass.read(DIRECTIONAL_ATLAS).read(LOCAL_ATLAS).modify(forward_depth(plan));
         match plan.path {
             RenderPath::Deferred => {
                 pass.modify(HDR);

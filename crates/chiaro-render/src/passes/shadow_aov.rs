@@ -3,7 +3,7 @@
 //! camera passes kept in each pixel, one layer of an array target per light.
 
 use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
-use super::shadows::{DIRECTIONAL_ATLAS, OTHER_ATLAS};
+use super::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::gpu::GpuAovLight;
 use crate::graph::target::ATTACHMENT_COPY;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
@@ -35,7 +35,7 @@ impl PassType for ShadowAovPass {
             return;
         }
         let desc = TargetDesc::view_sized(SHADOW_AOV_FORMAT, ATTACHMENT_COPY).with_layers(lights);
-        pass.read(DIRECTIONAL_ATLAS).read(OTHER_ATLAS).modify(DEPTH).create(SHADOW, desc).export(SHADOW);
+        pass.read(DIRECTIONAL_ATLAS).read(LOCAL_ATLAS).modify(DEPTH).create(SHADOW, desc).export(SHADOW);
     }
 
     fn new(init: &PassInit<'_>) -> ShadowAovPass {

@@ -10,7 +10,7 @@ use crate::graph::target::ATTACHMENT_SAMPLED;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::plan::FramePlan;
 use crate::plan::shadows::{CasterTile, ShadowAtlas};
-use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES};
+use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES};
 use crate::shaders;
 use chiaro_scene::{CastShadows, ShadowCasting};
 use std::collections::HashMap;
@@ -20,16 +20,16 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float
 /// The directional lights' cascades.
 pub const DIRECTIONAL_ATLAS: Target = Target("directional shadow atlas");
 /// The point and spot lights' tiles.
-pub const OTHER_ATLAS: Target = Target("other shadow atlas");
+pub const LOCAL_ATLAS: Target = Target("local shadow atlas");
 
 /// The atlas target of each atlas.
 fn atlas_target(atlas: ShadowAtlas) -> Target {
     match atlas {
         ShadowAtlas::Directional => DIRECTIONAL_ATLAS,
-        ShadowAtlas::Other => OTHER_ATLAS,
+        ShadowAtlas::Local => LOCAL_ATLAS,
     }
 }
-const TOTAL_TILES: u64 = (MAX_DIRECTIONAL_SHADOW_TILES + MAX_OTHER_SHADOW_TILES) as u64;
+const TOTAL_TILES: u64 = (MAX_DIRECTIONAL_SHADOW_TILES + MAX_LOCAL_SHADOW_TILES) as u64;
 
 #[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
 struct CasterKey {
@@ -79,7 +79,7 @@ impl PassType for ShadowPass {
     /// draws a tile again, which later frames then trust: a side effect.
     fn setup(plan: &FramePlan, pass: &mut PassSetup) {
         let shadows = &plan.shadows;
-        for atlas in [ShadowAtlas::Directional, ShadowAtlas::Other] {
+        for atlas in [ShadowAtlas::Directional, ShadowAtlas::Local] {
             let desc = TargetDesc::square(shadows.atlas_size(atlas), SHADOW_FORMAT, ATTACHMENT_SAMPLED);
             pass.persistent(atlas_target(atlas), desc);
             if shadows.redrawn_tiles().any(|(_, t)| t.atlas == atlas) {
@@ -270,7 +270,7 @@ impl FramePass for ShadowPass {
     fn record(&self, cx: &mut PassContext<'_>) {
         let bind_group = self.bind_group.as_ref().expect("prepared");
         let shadows = &cx.plan.shadows;
-        let atlases: Vec<ShadowAtlas> = [ShadowAtlas::Directional, ShadowAtlas::Other]
+        let atlases: Vec<ShadowAtlas> = [ShadowAtlas::Directional, ShadowAtlas::Local]
             .into_iter()
             .filter(|&atlas| shadows.redrawn_tiles().any(|(_, t)| t.atlas == atlas))
             .collect();
@@ -279,7 +279,7 @@ impl FramePass for ShadowPass {
             let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(match atlas {
                     ShadowAtlas::Directional => "directional shadow pass",
-                    ShadowAtlas::Other => "other shadow pass",
+                    ShadowAtlas::Local => "local shadow pass",
                 }),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {

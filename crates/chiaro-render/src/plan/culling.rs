@@ -1,11 +1,12 @@
 //! The frame's culled light lists for the forward pass: per cluster of the view's froxel
 //! grid, or per object, the point and spot lights (indices into `FramePlan::lights`) that
-//! can reach it. The math lives in chiaro_math::culling; this gathers its input.
+//! can reach it. The grid and the lists' format are `clusters`; this gathers its input.
 
+use super::clusters::{ClusterGrid, CullLight, CulledLightLists, lights_per_object};
 use super::draws::Draw;
 use super::lights::FrameLight;
 use crate::view::View;
-use chiaro_math::culling::{ClusterGrid, CullLight, LightLists, lights_per_object, spot_bounding_sphere};
+use chiaro_math::bounds::spot_bounding_sphere;
 use chiaro_math::{Aabb, Sphere};
 use chiaro_scene::{LightCulling, LightKind, Scene};
 
@@ -15,11 +16,11 @@ pub struct CulledLights {
     /// The froxel grid, under clustered culling.
     pub grid: Option<ClusterGrid>,
     /// One list per cluster (clustered) or per object (per-object); empty without culling.
-    pub lists: LightLists,
+    pub lists: CulledLightLists,
 }
 
 /// Builds the lists `culling` asks for, for the forward pass's draws (`order`, indices
-/// into `draws`). `lights[first_other..]` are the point and spot lights; `shadowed[k]`
+/// into `draws`). `lights[first_local..]` are the point and spot lights; `shadowed[k]`
 /// says whether light `k` needs a shadow lookup.
 #[allow(clippy::too_many_arguments)]
 pub fn cull_lights(
@@ -29,12 +30,12 @@ pub fn cull_lights(
     order: &[u32],
     view: &View,
     lights: &[FrameLight],
-    first_other: usize,
+    first_local: usize,
     shadowed: &[bool],
 ) -> CulledLights {
     // Culling sees the point and spot lights alone; list indices are moved back into
-    // `lights` (by `first_other`).
-    let others = &lights[first_other..];
+    // `lights` (by `first_local`).
+    let others = &lights[first_local..];
     // Spots are bounded by the sphere around their cone, in world space.
     let cull_light = |(k, l): (usize, &FrameLight)| {
         let light = &scene.lights[l.id.index()];
@@ -46,7 +47,7 @@ pub fn cull_lights(
         };
         CullLight {
             sphere,
-            shadowed: shadowed[first_other + k],
+            shadowed: shadowed[first_local + k],
             peak_intensity: light.intensity * light.color.max_element(),
         }
     };
@@ -68,7 +69,7 @@ pub fn cull_lights(
             let (near, far) = surface_depths(draws, order, &view_from_world, view.znear);
             let grid = ClusterGrid::new(view.width, view.height, near, far.min(light_far));
             // List indices are moved back into `lights` as they are written.
-            let lists = grid.assign_numbered(&view.clip_from_view, &cull, first_other as u32);
+            let lists = grid.assign_numbered(&view.clip_from_view, &cull, first_local as u32);
             CulledLights { grid: Some(grid), lists }
         }
         LightCulling::PerObject => {
@@ -82,7 +83,7 @@ pub fn cull_lights(
             let cull: Vec<CullLight> = others.iter().enumerate().map(cull_light).collect();
             let mut lists = lights_per_object(&bounds, &cull);
             for i in &mut lists.indices {
-                *i += first_other as u32;
+                *i += first_local as u32;
             }
             CulledLights { grid: None, lists }
         }

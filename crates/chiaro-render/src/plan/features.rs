@@ -28,7 +28,7 @@ pub struct ShaderFeatures {
     /// A point or spot light the frame shades has a shadow lookup (a realtime shadow or a
     /// shadow mask): else the forward loops over shadowed lights are compiled out, which
     /// lavapipe otherwise runs, masked, once per block of pixels.
-    pub other_shadows: bool,
+    pub local_shadows: bool,
 }
 
 impl ShaderFeatures {
@@ -40,13 +40,13 @@ impl ShaderFeatures {
         soft_cascades: true,
         pcss: true,
         environment: true,
-        other_shadows: true,
+        local_shadows: true,
     };
 
     /// The features the frame's `lights`, the scene's bake and the settings call for;
-    /// `other_shadowed` says, per point and spot light, whether its loop needs a shadow
+    /// `local_shadowed` says, per point and spot light, whether its loop needs a shadow
     /// lookup.
-    pub fn of(scene: &Scene, settings: &Settings, lights: &[FrameLight], other_shadowed: &[bool]) -> ShaderFeatures {
+    pub fn of(scene: &Scene, settings: &Settings, lights: &[FrameLight], local_shadowed: &[bool]) -> ShaderFeatures {
         ShaderFeatures {
             cookies: lights.iter().any(|l| scene.lights[l.id.index()].cookie.is_some()),
             baked: scene.baked.is_some(),
@@ -56,7 +56,7 @@ impl ShaderFeatures {
             soft_cascades: settings.shadows.directional.cascade_blend == CascadeBlend::Soft,
             pcss: lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { pcss: true, .. })),
             environment: settings.environment.enabled_for(scene),
-            other_shadows: other_shadowed.contains(&true),
+            local_shadows: local_shadowed.contains(&true),
         }
     }
 
@@ -69,7 +69,7 @@ impl ShaderFeatures {
             overrides::SOFT_CASCADES.flag(self.soft_cascades),
             overrides::PCSS_SHADOWS.flag(self.pcss),
             overrides::ENVIRONMENT_ENABLED.flag(self.environment),
-            overrides::OTHER_SHADOWS.flag(self.other_shadows),
+            overrides::LOCAL_SHADOWS.flag(self.local_shadows),
         ]
     }
 }

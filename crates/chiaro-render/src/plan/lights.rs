@@ -1,5 +1,5 @@
 //! Which lights a frame shades: up to four directional lights, and the most important
-//! visible point and spot lights (chiaro_math::light::select_other_lights), each known by
+//! visible point and spot lights (chiaro_math::light::select_local_lights), each known by
 //! the stable id of its scene light; and the GPU record of each.
 
 use super::shadows::ShadowSlot;
@@ -11,7 +11,7 @@ use crate::shader_constants::{
 use crate::view::View;
 use chiaro_math::Frustum;
 use chiaro_math::light::{
-    LightSelection, MAX_DIRECTIONAL_LIGHTS, OtherLightBounds, select_other_lights, spot_angle_params,
+    LightSelection, LocalLightBounds, MAX_DIRECTIONAL_LIGHTS, select_local_lights, spot_angle_params,
 };
 use chiaro_scene::{Light, LightKind, LightMode, Scene, Settings};
 use glam::Vec2;
@@ -79,7 +79,7 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
             LightKind::Point => None,
         };
         others.push(i);
-        bounds.push(OtherLightBounds {
+        bounds.push(LocalLightBounds {
             position: l.position(),
             range: l.shaded_range(settings.lights.range_threshold_lux),
             peak_intensity: l.intensity * l.color.max_element(),
@@ -94,7 +94,7 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
     }
     let directional = all_directional.iter().take(MAX_DIRECTIONAL_LIGHTS).map(|&i| id(i)).collect();
 
-    let selection = select_other_lights(
+    let selection = select_local_lights(
         &bounds,
         &Frustum::from_clip_from_world(&view.clip_from_world()),
         view.eye(),

@@ -6,6 +6,7 @@
 //! says (the frame graph decides from their declarations which run), and tests inspect
 //! plans without a GPU.
 
+pub mod clusters;
 pub mod cookies;
 pub mod culling;
 pub mod draws;
@@ -22,7 +23,7 @@ use crate::shader_constants::{
     MIXED_MODE_DISTANCE_SHADOWMASK, MIXED_MODE_SHADOWMASK,
 };
 use crate::view::View;
-use chiaro_math::light::MAX_OTHER_LIGHTS;
+use chiaro_math::light::MAX_LOCAL_LIGHTS;
 use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::{
     AlphaMode, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Scene, Settings,
@@ -60,21 +61,21 @@ impl PlanRequest {
 }
 
 /// The frame's lights as index lists into `FramePlan::lights`; the shaders loop over
-/// them in this order (directional, shadowed point and spot, the other point and spot).
+/// them in this order (directional, shadowed local, unshadowed local).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct LightLists {
+pub struct ShadedLights {
     /// Indices of the directional lights.
     pub directional: Vec<u32>,
     /// Indices of the point and spot lights with a realtime shadow.
-    pub shadowed_other: Vec<u32>,
-    /// Indices of the other point and spot lights.
-    pub unshadowed_other: Vec<u32>,
+    pub shadowed_local: Vec<u32>,
+    /// Indices of the point and spot lights without a realtime shadow.
+    pub unshadowed_local: Vec<u32>,
 }
 
-impl LightLists {
+impl ShadedLights {
     /// The lists one after the other, as the light index buffer holds them.
     pub fn concatenated(&self) -> Vec<u32> {
-        [&self.directional[..], &self.shadowed_other, &self.unshadowed_other].concat()
+        [&self.directional[..], &self.shadowed_local, &self.unshadowed_local].concat()
     }
 }
 
@@ -94,7 +95,7 @@ pub struct FramePlan {
     /// and spot lights most important first.
     pub lights: Vec<FrameLight>,
     /// The index lists the shaders loop over.
-    pub lists: LightLists,
+    pub lists: ShadedLights,
     /// Shadow tiles, their casters and the shadow uniform.
     pub shadows: ShadowPlan,
     /// Indices into the scene's draws, in the order the camera passes draw them: opaque
@@ -119,7 +120,7 @@ pub struct FramePlan {
     /// `max_other_lights`, not shaded.
     pub dropped_directional: usize,
     /// See `dropped_directional`.
-    pub dropped_other: usize,
+    pub dropped_local: usize,
     /// `shadows.cache`: tiles whose content is unchanged keep last frame's depths.
     pub shadow_cache: bool,
     /// How the forward pass finds its point and spot lights, and the lists it reads.
@@ -167,7 +168,7 @@ impl FramePlan {
         let (mut shadows, slots) =
             plan_shadows(scene, draws, view, settings, &choice.directional, &choice.other, &mut atlases);
         let mut lights = Vec::with_capacity(choice.directional.len() + choice.other.len());
-        let mut lists = LightLists::default();
+        let mut lists = ShadedLights::default();
         // Per light, whether its loop needs a shadow lookup.
         let mut shadowed = Vec::with_capacity(lights.capacity());
         for (&id, &shadow) in choice.directional.iter().zip(&slots.directional) {
@@ -181,8 +182,8 @@ impl FramePlan {
             // A light with a shadow mask channel has a shadow even without tiles.
             let masked = mask_channels[id.index()].is_some();
             let has_shadow = matches!(shadow, ShadowSlot::Realtime { .. }) || masked;
-            if k < MAX_OTHER_LIGHTS {
-                let list = if has_shadow { &mut lists.shadowed_other } else { &mut lists.unshadowed_other };
+            if k < MAX_LOCAL_LIGHTS {
+                let list = if has_shadow { &mut lists.shadowed_local } else { &mut lists.unshadowed_local };
                 list.push(lights.len() as u32);
             }
             lights.push(FrameLight { id, range, shadow });
@@ -227,8 +228,8 @@ impl FramePlan {
         let culled = if forward_draws.is_empty() {
             CulledLights::default()
         } else {
-            let first_other = lists.directional.len();
-            cull_lights(culling, scene, draws, forward_draws, view, &lights, first_other, &shadowed)
+            let first_local = lists.directional.len();
+            cull_lights(culling, scene, draws, forward_draws, view, &lights, first_local, &shadowed)
         };
         // AOVs and ids test against single-sampled depth, and the G-buffer has one sample.
         let pixel_exact = request.aovs || request.shadow_aovs || request.ids;
@@ -263,7 +264,7 @@ impl FramePlan {
             mask_channels,
             frame_index,
             dropped_directional: choice.dropped_directional,
-            dropped_other: choice.selection.dropped,
+            dropped_local: choice.selection.dropped,
             shadow_cache: settings.shadows.cache,
             culling,
             culled,
@@ -298,12 +299,12 @@ impl FramePlan {
 
     /// The point and spot lights the forward lists shade (all the frame shades on the
     /// forward path; the deferred path's volumes shade every light in `lights`).
-    pub fn other_light_count(&self) -> usize {
-        self.lists.shadowed_other.len() + self.lists.unshadowed_other.len()
+    pub fn local_light_count(&self) -> usize {
+        self.lists.shadowed_local.len() + self.lists.unshadowed_local.len()
     }
 
     /// Every point and spot light the frame shades.
-    pub fn shaded_other_lights(&self) -> usize {
+    pub fn shaded_local_lights(&self) -> usize {
         self.lights.len() - self.lists.directional.len()
     }
 
@@ -368,8 +369,8 @@ impl FramePlan {
                 DEBUG_VIEW_NONE
             },
             directional_light_count: self.lists.directional.len() as u32,
-            shadowed_other_light_count: self.lists.shadowed_other.len() as u32,
-            other_light_count: self.other_light_count() as u32,
+            shadowed_local_light_count: self.lists.shadowed_local.len() as u32,
+            local_light_count: self.local_light_count() as u32,
             width: view.width,
             height: view.height,
             mixed_mode: match settings.lighting.mixed_mode {
@@ -399,8 +400,8 @@ impl fmt::Display for FramePlan {
             self.view.height,
             self.lights.len(),
             self.lists.directional.len(),
-            self.lists.shadowed_other.len(),
-            self.lists.unshadowed_other.len(),
+            self.lists.shadowed_local.len(),
+            self.lists.unshadowed_local.len(),
             self.camera_draws.len()
         )?;
         for (i, light) in self.lights.iter().enumerate() {
@@ -413,7 +414,7 @@ impl fmt::Display for FramePlan {
             s.tiles.len(),
             s.redraw.iter().filter(|&&r| r).count(),
             s.directional_atlas_size,
-            s.other_atlas_size,
+            s.local_atlas_size,
             if s.tiles_kept { ", tiles kept from the last frame" } else { "" }
         )?;
         for (t, redraw) in s.tiles.iter().zip(&s.redraw) {

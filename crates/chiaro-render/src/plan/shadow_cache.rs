@@ -46,7 +46,7 @@ impl TileCache {
             self.cached.clear();
         }
         for (atlas, size) in
-            [(ShadowAtlas::Directional, shadows.directional_atlas_size), (ShadowAtlas::Other, shadows.other_atlas_size)]
+            [(ShadowAtlas::Directional, shadows.directional_atlas_size), (ShadowAtlas::Local, shadows.local_atlas_size)]
         {
             if size > 0 && self.atlas_sizes.insert(atlas, size).is_some_and(|old| old != size) {
                 self.cached.retain(|&(a, _), _| a != atlas);

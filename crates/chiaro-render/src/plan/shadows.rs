@@ -9,13 +9,13 @@ use super::lights::LightId;
 use super::shadow_cache::TileCache;
 use crate::gpu::{GpuAtlas, GpuCascade, GpuShadowFade, GpuShadowTile, GpuShadows};
 use crate::shader_constants::{
-    CASCADE_BLEND_DITHER, CASCADE_BLEND_HARD, CASCADE_BLEND_SOFT, MAX_DIRECTIONAL_SHADOW_TILES, MAX_OTHER_SHADOW_TILES,
+    CASCADE_BLEND_DITHER, CASCADE_BLEND_HARD, CASCADE_BLEND_SOFT, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES,
 };
 use crate::view::View;
 use chiaro_math::shadow::bias::{cascade_texel_size_ws, normal_bias_ws};
 use chiaro_math::shadow::culling::{caster_in_range, caster_in_tile};
 use chiaro_math::shadow::fade::distance_fade_params;
-use chiaro_math::shadow::other::{
+use chiaro_math::shadow::local::{
     POINT_LIGHT_FACES, perspective_normal_bias, point_face_fov_rad, point_face_view, spot_shadow_view,
 };
 use chiaro_math::shadow::pcss::{DIRECTIONAL_NEAR_PLANE_PULL, orthographic_lens, perspective_lens};
@@ -25,7 +25,7 @@ use chiaro_math::shadow::{
     slice_culling_sphere,
 };
 use chiaro_math::{Frustum, Sphere};
-use chiaro_scene::settings::OtherShadowSettings;
+use chiaro_scene::settings::LocalShadowSettings;
 use chiaro_scene::{CascadeBlend, Light, LightKind, Scene, Settings, ShadowMode};
 use glam::Mat4;
 
@@ -58,7 +58,7 @@ pub enum ShadowAtlas {
     /// Directional cascades: orthographic tiles, depth clamped (pancaking).
     Directional,
     /// Spot and point lights: perspective tiles, never clamped.
-    Other,
+    Local,
 }
 
 /// One tile to render casters into.
@@ -90,7 +90,7 @@ pub struct ShadowAtlasTiles {
     /// Keyed by light and tile size: a light whose tier changes is allocated anew.
     pub other: TileAllocator<(LightId, u32)>,
     /// Each point and spot light's coverage tier last frame (`tiers::coverage_tier`).
-    pub other_tiers: std::collections::HashMap<LightId, u32>,
+    pub local_tiers: std::collections::HashMap<LightId, u32>,
     /// What the atlases hold, so that unchanged tiles are not drawn again.
     pub cache: TileCache,
 }
@@ -99,8 +99,8 @@ impl Default for ShadowAtlasTiles {
     fn default() -> Self {
         ShadowAtlasTiles {
             directional: TileAllocator::new(MAX_DIRECTIONAL_SHADOW_TILES as usize),
-            other: TileAllocator::new(MAX_OTHER_SHADOW_TILES as usize),
-            other_tiers: std::collections::HashMap::new(),
+            other: TileAllocator::new(MAX_LOCAL_SHADOW_TILES as usize),
+            local_tiers: std::collections::HashMap::new(),
             cache: TileCache::default(),
         }
     }
@@ -115,7 +115,7 @@ pub struct ShadowPlan {
     /// Atlas sides in texels; 0 when no light casts into that atlas this frame.
     pub directional_atlas_size: u32,
     /// See `directional_atlas_size`.
-    pub other_atlas_size: u32,
+    pub local_atlas_size: u32,
     /// Directional tiles first, then point and spot tiles.
     pub tiles: Vec<CasterTile>,
     /// World-space culling spheres (unshrunk), for the debug view and the tests.
@@ -132,7 +132,7 @@ impl ShadowPlan {
     pub fn atlas_size(&self, atlas: ShadowAtlas) -> u32 {
         match atlas {
             ShadowAtlas::Directional => self.directional_atlas_size,
-            ShadowAtlas::Other => self.other_atlas_size,
+            ShadowAtlas::Local => self.local_atlas_size,
         }
     }
 
@@ -189,18 +189,18 @@ pub fn plan_shadows(
             ..GpuShadows::default()
         },
         directional_atlas_size: 0,
-        other_atlas_size: 0,
+        local_atlas_size: 0,
         tiles: Vec::new(),
         cascade_spheres: Vec::new(),
         tiles_kept: true,
         redraw: Vec::new(),
     };
     let directional_slots = plan_directional(&mut plan, scene, view, settings, max_distance, directional, atlases);
-    let other_slots = plan_other(&mut plan, scene, view, settings, other, atlases);
+    let local_slots = plan_local(&mut plan, scene, view, settings, other, atlases);
     for tile in &mut plan.tiles {
         tile.casters = tile_casters(draws, tile);
     }
-    (plan, ShadowSlots { directional: directional_slots, other: other_slots })
+    (plan, ShadowSlots { directional: directional_slots, other: local_slots })
 }
 
 fn plan_directional(
@@ -301,7 +301,7 @@ fn plan_directional(
 /// Tiles in the second atlas for the point and spot lights that cast shadows, in
 /// importance order, sized by how much of the screen each light covers
 /// (chiaro_math::shadow::tiers); a light that does not fit becomes `BakedOnly`.
-fn plan_other(
+fn plan_local(
     plan: &mut ShadowPlan,
     scene: &Scene,
     view: &View,
@@ -310,13 +310,13 @@ fn plan_other(
     atlases: &mut ShadowAtlasTiles,
 ) -> Vec<ShadowSlot> {
     let os = &settings.shadows.other;
-    let requests = other_tile_requests(scene, view, os, other, atlases);
+    let requests = local_tile_requests(scene, view, os, other, atlases);
     let allocation = atlases.other.allocate(&requests);
     plan.tiles_kept &= allocation.kept;
     if requests.is_empty() {
         return vec![ShadowSlot::None; other.len()];
     }
-    let (first_tiles, rects) = place_other_tiles(os.atlas_size, &requests, &allocation);
+    let (first_tiles, rects) = place_local_tiles(os.atlas_size, &requests, &allocation);
     let mut overflow = Vec::new();
     let slots = other
         .iter()
@@ -330,14 +330,14 @@ fn plan_other(
                 return ShadowSlot::BakedOnly;
             };
             let placed = PlacedLight { id, light, range, first_tile, tile_size };
-            plan_other_light_tiles(plan, &placed, &rects, os)
+            plan_local_light_tiles(plan, &placed, &rects, os)
         })
         .collect();
     if !overflow.is_empty() {
         tracing::warn!("{}", overflow_warning(&overflow, os.max_tiles));
     }
-    plan.gpu.other_atlas = atlas_params(os.atlas_size);
-    plan.other_atlas_size = os.atlas_size;
+    plan.gpu.local_atlas = atlas_params(os.atlas_size);
+    plan.local_atlas_size = os.atlas_size;
     slots
 }
 
@@ -345,7 +345,7 @@ fn plan_other(
 /// the first few by name.
 fn overflow_warning(names: &[String], max_tiles: u32) -> String {
     format!(
-        "{} point/spot lights get no realtime shadow, the {max_tiles} tiles of the other-light atlas being taken \
+        "{} point/spot lights get no realtime shadow, the {max_tiles} tiles of the local-light atlas being taken \
          (shadows.other.max_tiles): {}",
         names.len(),
         chiaro_scene::names::few_names(names)
@@ -355,10 +355,10 @@ fn overflow_warning(names: &[String], max_tiles: u32) -> String {
 /// The tile requests of the shadow-casting `other` lights, in their order: each light's
 /// key (id, tile size of its coverage tier) and tile count (six for a point light). Also
 /// records the tiers in `atlases` and resizes its allocator when `max_tiles` changed.
-fn other_tile_requests(
+fn local_tile_requests(
     scene: &Scene,
     view: &View,
-    os: &OtherShadowSettings,
+    os: &LocalShadowSettings,
     other: &[(LightId, f32)],
     atlases: &mut ShadowAtlasTiles,
 ) -> Vec<((LightId, u32), usize)> {
@@ -370,11 +370,11 @@ fn other_tile_requests(
         .map(|&(id, range)| {
             let light = &scene.lights[id.index()];
             let coverage = screen_coverage(&view_from_world, &view.clip_from_view, light.position(), range);
-            let tier = coverage_tier(os.atlas_size, coverage, atlases.other_tiers.get(&id).copied());
+            let tier = coverage_tier(os.atlas_size, coverage, atlases.local_tiers.get(&id).copied());
             (id, tiles_wanted(light), tier)
         })
         .collect();
-    atlases.other_tiers = casting.iter().map(|&(id, _, tier)| (id, tier)).collect();
+    atlases.local_tiers = casting.iter().map(|&(id, _, tier)| (id, tier)).collect();
     if atlases.other.capacity() != os.max_tiles as usize {
         atlases.other = TileAllocator::new(os.max_tiles as usize);
     }
@@ -397,15 +397,15 @@ fn other_tile_requests(
 
 /// Each requesting light's first tile and tile size (None: no free tile), and every
 /// used tile's rectangle in the atlas.
-type OtherTilePlaces = (std::collections::HashMap<LightId, Option<(usize, u32)>>, Vec<TileRect>);
+type LocalTilePlaces = (std::collections::HashMap<LightId, Option<(usize, u32)>>, Vec<TileRect>);
 
 /// Where the allocated tiles lie: tile slot -> size, then their places, packed by slot
 /// so that kept slots keep their places.
-fn place_other_tiles(
+fn place_local_tiles(
     atlas_size: u32,
     requests: &[((LightId, u32), usize)],
     allocation: &TileAllocation,
-) -> OtherTilePlaces {
+) -> LocalTilePlaces {
     let mut slot_sizes = vec![0u32; allocation.used_tiles.max(1)];
     let mut first_tiles = std::collections::HashMap::new();
     for (&((id, size), n), &first) in requests.iter().zip(&allocation.first_tiles) {
@@ -418,7 +418,7 @@ fn place_other_tiles(
     (first_tiles, rects)
 }
 
-/// A point or spot light that was given tiles in the other-light atlas.
+/// A point or spot light that was given tiles in the local-light atlas.
 struct PlacedLight<'a> {
     id: LightId,
     light: &'a Light,
@@ -430,11 +430,11 @@ struct PlacedLight<'a> {
 
 /// Writes a placed light's tiles (one for a spot, six cube faces for a point light)
 /// into the shadow uniform and the caster tiles, and returns its slot.
-fn plan_other_light_tiles(
+fn plan_local_light_tiles(
     plan: &mut ShadowPlan,
     placed: &PlacedLight<'_>,
     rects: &[TileRect],
-    os: &OtherShadowSettings,
+    os: &LocalShadowSettings,
 ) -> ShadowSlot {
     let &PlacedLight { id, light, range, first_tile, tile_size } = placed;
     let filter = light_filter(light, os.shadow_filter());
@@ -453,7 +453,7 @@ fn plan_other_light_tiles(
         let tile = first_tile + k;
         let rect = rects[tile];
         let (uv_min, uv_max) = rect.bounds_uv(os.atlas_size);
-        plan.gpu.other_tiles[tile] = GpuShadowTile {
+        plan.gpu.local_tiles[tile] = GpuShadowTile {
             atlas_from_world: rect.atlas_from_clip(os.atlas_size) * *clip_from_world,
             uv_min,
             uv_max,
@@ -462,7 +462,7 @@ fn plan_other_light_tiles(
         }
         .with_lens(perspective_lens(clip_from_view, tile_size as f32 / os.atlas_size as f32));
         plan.tiles.push(CasterTile {
-            atlas: ShadowAtlas::Other,
+            atlas: ShadowAtlas::Local,
             light: id,
             tile: tile as u32,
             clip_from_world: *clip_from_world,

@@ -1,20 +1,17 @@
 //! Shared set-up for the GPU tests: a renderer on whatever adapter is present (the
-//! software Vulkan device in CI), the scenes of chiaro_scene::test_scenes, and a frame
+//! software Vulkan device in CI), the scenes of chiaro_testkit, and a frame
 //! with its AOVs. No adapter is a failure, never a skip.
 
 #![allow(dead_code, unused_imports)]
 
-pub use chiaro_scene::test_scenes::*;
+pub use chiaro_testkit::*;
 
 use chiaro_render::{FrameOptions, FrameOutput, GpuContext, Renderer, View};
 use chiaro_scene::{Scene, Settings};
 use glam::Vec3;
 use std::path::PathBuf;
 
-pub fn renderer() -> Renderer {
-    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    Renderer::new(ctx).expect("renderer")
-}
+pub use chiaro_testkit::{renderer, srgb_encode};
 
 pub fn render(renderer: &mut Renderer, scene: &Scene, settings: &Settings, size: u32) -> FrameOutput {
     let view = View::from_camera(scene, 0, size, size);

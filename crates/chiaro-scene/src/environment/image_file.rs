@@ -95,7 +95,7 @@ mod tests {
 
     fn write_hdr(path: &Path, width: u32, height: u32, value: [f32; 3]) {
         let texels = vec![Vec3::from(value); (width * height) as usize];
-        crate::test_scenes::write_environment_hdr(path, &EnvironmentMap { width, height, texels });
+        EnvironmentMap { width, height, texels }.write_hdr(path).unwrap();
     }
 
     fn write_exr(path: &Path, width: u32, height: u32, value: [f32; 3]) {

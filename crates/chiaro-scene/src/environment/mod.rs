@@ -102,6 +102,14 @@ impl EnvironmentMap {
         top.lerp(bottom, fy)
     }
 
+    /// Writes the map to `path` as an equirectangular Radiance .hdr file, which
+    /// `load_image` (and `--environment`) read back.
+    pub fn write_hdr(&self, path: &std::path::Path) -> Result<(), image::ImageError> {
+        let pixels: Vec<image::Rgb<f32>> = self.texels.iter().map(|t| image::Rgb(t.to_array())).collect();
+        let file = std::io::BufWriter::new(std::fs::File::create(path).map_err(image::ImageError::IoError)?);
+        image::codecs::hdr::HdrEncoder::new(file).encode(&pixels, self.width as usize, self.height as usize)
+    }
+
     /// Irradiance on a surface facing +Y from the upper half, lux: what a sky gives the
     /// ground.
     pub fn upward_irradiance(&self) -> Vec3 {

@@ -27,8 +27,8 @@ pub struct BakeSettings {
     /// Too wide misses light changes; too fine costs bake time (at most 262144 probes).
     pub probe_spacing: f32,
     /// Directions traced per light probe (1 to 65536); absent: `quality` picks (4096 at
-    /// the default quality: probes are not denoised, and so many stratified directions
-    /// leave two seeds' probes within 1.4% at the median, tests/denoise.rs).
+    /// the default quality: probes are not denoised, so they take enough stratified
+    /// directions that two seeds' probes agree closely; docs/baking.md).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub probe_samples: Option<u32>,
     /// Filter the noisy (bounced and emitted) light of the lightmaps, guided by each

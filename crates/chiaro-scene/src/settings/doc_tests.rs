@@ -131,7 +131,7 @@ fn documented_values_are_the_defaults() {
         let example = &documented[key].assignment;
         example.split('=').nth(1).unwrap().trim().parse().unwrap()
     };
-    assert!(lights::MAX_OTHER_LIGHTS_CULLED.contains(value_of("lights.max_other_lights")));
+    assert!(lights::MAX_LOCAL_LIGHTS_CULLED.contains(value_of("lights.max_other_lights")));
     assert_eq!(value_of("bake.samples"), Settings::default().bake.texel_samples() as f32);
     assert_eq!(value_of("bake.probe_samples"), Settings::default().bake.probe_samples() as f32);
 }

@@ -4,7 +4,7 @@
 
 use super::bound::Bound;
 use super::render::RenderPath;
-use chiaro_math::light::{MAX_DEFERRED_OTHER_LIGHTS, MAX_OTHER_LIGHTS, MIN_RANGE_THRESHOLD_LUX};
+use chiaro_math::light::{MAX_DEFERRED_LOCAL_LIGHTS, MAX_LOCAL_LIGHTS, MIN_RANGE_THRESHOLD_LUX};
 use serde::{Deserialize, Serialize};
 
 /// The `[lights]` section.
@@ -48,21 +48,21 @@ pub enum LightCulling {
 }
 
 /// The interval of `lights.max_other_lights` with culled light lists (or deferred).
-pub const MAX_OTHER_LIGHTS_CULLED: Bound = Bound::new("lights.max_other_lights", 1.0, MAX_DEFERRED_OTHER_LIGHTS as f32);
+pub const MAX_LOCAL_LIGHTS_CULLED: Bound = Bound::new("lights.max_other_lights", 1.0, MAX_DEFERRED_LOCAL_LIGHTS as f32);
 /// The interval of `lights.max_other_lights` on the forward path without culling.
-pub const MAX_OTHER_LIGHTS_UNCULLED: Bound = Bound::new("lights.max_other_lights", 1.0, MAX_OTHER_LIGHTS as f32);
+pub const MAX_LOCAL_LIGHTS_UNCULLED: Bound = Bound::new("lights.max_other_lights", 1.0, MAX_LOCAL_LIGHTS as f32);
 /// The interval of `lights.range_threshold_lux`.
 pub const RANGE_THRESHOLD_LUX: Bound = Bound::new("lights.range_threshold_lux", MIN_RANGE_THRESHOLD_LUX, 1.0e6);
 
 /// Every interval of the section.
-pub(super) const BOUNDS: &[Bound] = &[MAX_OTHER_LIGHTS_CULLED, MAX_OTHER_LIGHTS_UNCULLED, RANGE_THRESHOLD_LUX];
+pub(super) const BOUNDS: &[Bound] = &[MAX_LOCAL_LIGHTS_CULLED, MAX_LOCAL_LIGHTS_UNCULLED, RANGE_THRESHOLD_LUX];
 
 /// The interval `lights.max_other_lights` must lie in on `path` with `culling`: the
 /// forward path without culling loops over every light at every pixel, so it takes fewer.
 pub fn max_other_lights_bound(path: RenderPath, culling: LightCulling) -> Bound {
     match (path, culling) {
-        (RenderPath::Forward, LightCulling::None) => MAX_OTHER_LIGHTS_UNCULLED,
-        _ => MAX_OTHER_LIGHTS_CULLED,
+        (RenderPath::Forward, LightCulling::None) => MAX_LOCAL_LIGHTS_UNCULLED,
+        _ => MAX_LOCAL_LIGHTS_CULLED,
     }
 }
 

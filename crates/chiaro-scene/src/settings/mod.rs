@@ -32,7 +32,7 @@ pub use lighting::{LightingSettings, MixedMode};
 pub use lights::{LightCulling, LightSettings};
 pub use render::{DeferredAntialiasing, LightBuffer, RenderPath, RenderSettings};
 pub use shadows::{
-    CascadeBlend, DEFAULT_CASCADE_RATIOS, DirectionalShadowSettings, OtherShadowSettings, ShadowSettings,
+    CascadeBlend, DEFAULT_CASCADE_RATIOS, DirectionalShadowSettings, LocalShadowSettings, ShadowSettings,
 };
 
 use serde::{Deserialize, Serialize};

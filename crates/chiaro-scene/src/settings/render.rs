@@ -23,7 +23,7 @@ pub struct RenderSettings {
     pub background: [f32; 3],
     /// "forward" (a depth prepass, then each draw lit by its culled lights, with MSAA; the
     /// default, since with 4x MSAA it renders the shared benchmark scene faster than the
-    /// deferred path does with none, see the README) or "deferred" (a G-buffer, then one
+    /// deferred path does with none on lavapipe, docs/performance.md) or "deferred" (a G-buffer, then one
     /// light volume per light; FXAA rather than MSAA, see `deferred_antialiasing`).
     pub path: RenderPath,
     /// The deferred path's light accumulation: "hdr" (half floats, the default) or

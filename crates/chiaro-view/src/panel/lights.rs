@@ -27,7 +27,7 @@ pub fn tiles_by_light(plan: &FramePlan, light_count: usize) -> Vec<String> {
             let Some(&(atlas, _, size)) = tiles.first() else { return "no atlas tiles this frame".to_string() };
             let atlas = match atlas {
                 ShadowAtlas::Directional => "directional",
-                ShadowAtlas::Other => "point/spot",
+                ShadowAtlas::Local => "point/spot",
             };
             let indices: Vec<String> = tiles.iter().map(|t| t.1.to_string()).collect();
             let sizes = if tiles.iter().all(|t| t.2 == size) { format!("{size}") } else { "mixed".into() };

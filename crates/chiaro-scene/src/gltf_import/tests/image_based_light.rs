@@ -2,7 +2,7 @@
 //! first mip's RGBD faces as Babylon.js reads them; bad lights are errors naming the path.
 
 use super::*;
-use crate::test_scenes::image_based_light_gltf;
+use chiaro_testkit::image_based_light_gltf;
 use glam::{Quat, Vec2, Vec3};
 
 /// A distinct radiance per face, up to 200 nits (beyond what 8 bits hold without RGBD).

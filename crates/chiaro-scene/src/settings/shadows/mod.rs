@@ -6,7 +6,7 @@ pub mod directional;
 pub mod other;
 
 pub use directional::{CascadeBlend, DEFAULT_CASCADE_RATIOS, DirectionalShadowSettings};
-pub use other::OtherShadowSettings;
+pub use other::LocalShadowSettings;
 
 use super::bound::{Bound, number};
 use chiaro_math::shadow::ShadowFilter;
@@ -35,7 +35,7 @@ pub struct ShadowSettings {
     /// `[shadows.directional]`: the cascaded atlas of directional lights.
     pub directional: DirectionalShadowSettings,
     /// `[shadows.other]`: the atlas of point and spot lights.
-    pub other: OtherShadowSettings,
+    pub other: LocalShadowSettings,
 }
 
 impl Default for ShadowSettings {
@@ -47,7 +47,7 @@ impl Default for ShadowSettings {
             pcss_blocker_samples: 16,
             pcss_filter_samples: 16,
             directional: DirectionalShadowSettings::default(),
-            other: OtherShadowSettings::default(),
+            other: LocalShadowSettings::default(),
         }
     }
 }

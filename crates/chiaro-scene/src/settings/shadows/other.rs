@@ -1,17 +1,17 @@
 //! `[shadows.other]`: the shadow atlas of point and spot lights (its side, filter and
-//! tile count). TOML values flow in; `OtherShadowSettings` and its validation flow out.
+//! tile count). TOML values flow in; `LocalShadowSettings` and its validation flow out.
 
 use super::{atlas_size_bound, check_atlas_size, check_filter};
 use crate::settings::bound::Bound;
 use chiaro_math::shadow::ShadowFilter;
-use chiaro_math::shadow::other::MAX_OTHER_SHADOW_TILES;
+use chiaro_math::shadow::local::MAX_LOCAL_SHADOW_TILES;
 use serde::{Deserialize, Serialize};
 
 /// The second atlas, for point and spot lights: up to `max_tiles` tiles in the uniform
 /// layout, a spot taking one and a point six (one per cube face).
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
-pub struct OtherShadowSettings {
+pub struct LocalShadowSettings {
     /// Atlas side in texels (256 to 8192, a power of two). Too small blurs and blocks
     /// shadows; too large costs memory and caster time.
     pub atlas_size: u32,
@@ -27,21 +27,21 @@ pub struct OtherShadowSettings {
     pub max_tiles: u32,
 }
 
-impl Default for OtherShadowSettings {
+impl Default for LocalShadowSettings {
     fn default() -> Self {
-        OtherShadowSettings { atlas_size: 2048, filter: "pcf2x2".into(), max_tiles: 64 }
+        LocalShadowSettings { atlas_size: 2048, filter: "pcf2x2".into(), max_tiles: 64 }
     }
 }
 
 /// The interval of `shadows.other.atlas_size`, texels (a power of two besides).
 pub const ATLAS_SIZE: Bound = atlas_size_bound("shadows.other.atlas_size");
 /// The interval of `shadows.other.max_tiles`.
-pub const MAX_TILES: Bound = Bound::new("shadows.other.max_tiles", 1.0, MAX_OTHER_SHADOW_TILES as f32);
+pub const MAX_TILES: Bound = Bound::new("shadows.other.max_tiles", 1.0, MAX_LOCAL_SHADOW_TILES as f32);
 
 /// Every interval of the subsection.
 pub(super) const BOUNDS: &[Bound] = &[ATLAS_SIZE, MAX_TILES];
 
-impl OtherShadowSettings {
+impl LocalShadowSettings {
     /// The filter the name gives (the default for a name validation would refuse).
     pub fn shadow_filter(&self) -> ShadowFilter {
         ShadowFilter::parse(&self.filter).unwrap_or_default()

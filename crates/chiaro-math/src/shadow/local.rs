@@ -1,4 +1,4 @@
-//! Shadow math for point and spot ("other") lights, as the Custom SRP "Point and Spot
+//! Shadow math for local (point and spot) lights, as the Custom SRP "Point and Spot
 //! Shadows" tutorial builds it: tiles in a second atlas (one per spot, six per point, one
 //! per cube face), perspective projections, the cube face a direction falls on, the field
 //! of view widened so filtering near a face edge stays inside the tile, and the normal bias
@@ -7,8 +7,8 @@
 use super::filter::ShadowFilter;
 use glam::{Mat4, Vec3};
 
-/// Tiles of the other-light atlas.
-pub const MAX_OTHER_SHADOW_TILES: usize = 64;
+/// Tiles of the local-light atlas.
+pub const MAX_LOCAL_SHADOW_TILES: usize = 64;
 /// Cube faces of a point light, one tile each.
 pub const POINT_LIGHT_FACES: usize = 6;
 
@@ -28,20 +28,20 @@ pub const CUBE_FACES: [(Vec3, Vec3); POINT_LIGHT_FACES] = [
 /// is about 6e-8 d² / near: 1 cm gives 0.4 mm at 8 m and 6 cm at 100 m, below the
 /// shadow texel there (39 cm for a 512-texel face), so the biases cover it; 5 cm used to
 /// clip a plate 3 cm from a point light.
-pub const MIN_OTHER_NEAR_PLANE: f32 = 0.01;
+pub const MIN_LOCAL_NEAR_PLANE: f32 = 0.01;
 
 /// Tiles a light asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum OtherShadowRequest {
+pub enum LocalShadowRequest {
     Spot,
     Point,
 }
 
-impl OtherShadowRequest {
+impl LocalShadowRequest {
     pub fn tiles(self) -> usize {
         match self {
-            OtherShadowRequest::Spot => 1,
-            OtherShadowRequest::Point => POINT_LIGHT_FACES,
+            LocalShadowRequest::Spot => 1,
+            LocalShadowRequest::Point => POINT_LIGHT_FACES,
         }
     }
 }
@@ -84,7 +84,7 @@ pub fn perspective_normal_bias(tile_size: u32, clip_from_view: &Mat4, filter: Sh
 /// A perspective shadow view (wgpu depth 0 at the near plane, 1 at `range`): returns
 /// (clip_from_view, clip_from_world).
 fn perspective_view(position: Vec3, forward: Vec3, up: Vec3, fov_rad: f32, near: f32, range: f32) -> (Mat4, Mat4) {
-    let near = near.max(MIN_OTHER_NEAR_PLANE);
+    let near = near.max(MIN_LOCAL_NEAR_PLANE);
     let far = range.max(near * 2.0);
     let clip_from_view = Mat4::perspective_rh(fov_rad, 1.0, near, far);
     (clip_from_view, clip_from_view * Mat4::look_to_rh(position, forward, up))

@@ -2,9 +2,9 @@
 //! to stand on it, point lights, and settings with no ambient term, so that measured
 //! radiance comes from the lights alone.
 
-use crate::settings::Settings;
-use crate::shapes;
-use crate::types::{Camera, CastShadows, Light, LightKind, Material, Mesh, MeshInstance, Scene};
+use chiaro_scene::settings::Settings;
+use chiaro_scene::shapes;
+use chiaro_scene::{Camera, CastShadows, Light, LightKind, Material, Mesh, MeshInstance, Scene};
 use glam::{Mat4, Vec3};
 
 /// Settings with no ambient term, so only the punctual lights contribute.
@@ -117,7 +117,7 @@ pub fn plank_scene(light: PlankLight, size: f32, camera_height: f32, look_at_x: 
         },
         PlankLight::Sun => Light { intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y) },
     };
-    light.shadow.mode = crate::types::ShadowMode::Pcss;
+    light.shadow.mode = chiaro_scene::ShadowMode::Pcss;
     light.shadow.light_radius = size;
     light.shadow.angular_diameter_deg = size;
     let mut scene = floor_scene(6.0, Vec3::new(look_at_x, camera_height, 0.0), vec![light]);
@@ -132,7 +132,7 @@ pub fn plank_scene(light: PlankLight, size: f32, camera_height: f32, look_at_x: 
 /// A pole (8 cm thick, 1.5 m tall) standing on a 6 m floor and a plank leaning from the
 /// floor up to 0.8 m, under a point light of radius 0.25 m with `mode` shadows, seen from
 /// above one corner at `aspect`: contact hardening on a thin and a wide caster.
-pub fn pole_and_plank_scene(mode: crate::types::ShadowMode, aspect: f32) -> Scene {
+pub fn pole_and_plank_scene(mode: chiaro_scene::ShadowMode, aspect: f32) -> Scene {
     let mut light = point_light(Vec3::new(-0.8, 3.0, -0.6), 30.0, Some(15.0));
     light.shadow.mode = mode;
     light.shadow.light_radius = 0.25;
@@ -209,15 +209,6 @@ pub fn spheres_scene(materials: &[SphereMaterial]) -> Scene {
     scene
 }
 
-/// Writes `map` to `path` as a Radiance .hdr file, as environment tests read them back.
-pub fn write_environment_hdr(path: &std::path::Path, map: &crate::environment::EnvironmentMap) {
-    let pixels: Vec<image::Rgb<f32>> = map.texels.iter().map(|t| image::Rgb(t.to_array())).collect();
-    let file = std::io::BufWriter::new(std::fs::File::create(path).expect("create the .hdr"));
-    image::codecs::hdr::HdrEncoder::new(file)
-        .encode(&pixels, map.width as usize, map.height as usize)
-        .expect("write the .hdr");
-}
-
 /// A glTF document whose scene carries an EXT_lights_image_based light and nothing to
 /// draw but a camera at the origin looking down -Z. The light's first mip has six faces
 /// of `size` texels with radiance `face(index, uv)` (uv at texel centres), stored as RGBD
@@ -232,7 +223,7 @@ pub fn image_based_light_gltf(
         .map(|index| {
             let pixels = image::RgbaImage::from_fn(size, size, |x, y| {
                 let uv = glam::Vec2::new((x as f32 + 0.5) / size as f32, (y as f32 + 0.5) / size as f32);
-                let rgbd = crate::environment::rgbd_encode(face(index, uv));
+                let rgbd = chiaro_scene::environment::rgbd_encode(face(index, uv));
                 image::Rgba((rgbd * 255.0).round().to_array().map(|c| c as u8))
             });
             let mut png = std::io::Cursor::new(Vec::new());
