@@ -1,7 +1,7 @@
 //! `chiaro bake`: lightmaps and light probes for a scene, written as a bake directory.
 
 use crate::output::Inputs;
-use crate::scene_source::load_settings;
+use crate::scene_input::load_settings;
 use anyhow::{Context, Result, bail};
 use chiaro_bake::{BakeError, Progress, bake, default_bake_dir, write_bake_dir};
 use chiaro_scene::load_gltf;

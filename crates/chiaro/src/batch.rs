@@ -3,7 +3,7 @@
 //! the work and reports progress here, as a bar on a terminal or one line per job.
 
 use crate::one_line;
-use crate::scene_source::load_settings;
+use crate::scene_input::load_settings;
 use anyhow::{Context, Result};
 use chiaro_batch::{
     BatchRunner, Event, JobOutcome, Shard, Summary, choose_shard, parse_jobs, prepare_output, shard_jobs,

@@ -2,20 +2,16 @@
 //! and by GPU timestamp queries where the device has them, with the CPU time spent
 //! preparing each frame.
 
-use crate::bake_arg::BakeUseArgs;
-use crate::path_arg::PathArgs;
-use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
-use crate::shadow_args::ShadowArgs;
+use crate::scene_input::SceneInput;
 use anyhow::Result;
 use chiaro_render::{FrameOptions, FrameOutput, FrameTimings, GpuContext, GpuFrameTimes, Renderer};
 use clap::Args;
-use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// A .gltf or .glb file; without one, the built-in demo scene.
-    pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: SceneInput,
     #[arg(long, default_value_t = 1280)]
     pub width: u32,
     #[arg(long, default_value_t = 720)]
@@ -26,22 +22,6 @@ pub struct BenchArgs {
     /// Untimed frames first, for pipelines and caches (0 to 100000).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(0..=100_000))]
     pub warmup: u32,
-    #[arg(long)]
-    pub camera: Option<String>,
-    #[arg(long)]
-    pub settings: Option<PathBuf>,
-    #[command(flatten)]
-    pub demo: DemoArgs,
-    #[command(flatten)]
-    pub time: crate::time_arg::TimeArg,
-    #[command(flatten)]
-    pub shadow: ShadowArgs,
-    #[command(flatten)]
-    pub environment: crate::environment_arg::EnvironmentArg,
-    #[command(flatten)]
-    pub path: PathArgs,
-    #[command(flatten)]
-    pub bake: BakeUseArgs,
     /// Print one JSON object (frame_ms, gpu_ms, passes, lights_shaded, width, height,
     /// msaa, ...) instead of the table.
     #[arg(long)]
@@ -78,7 +58,7 @@ fn json_report(
     let passes: serde_json::Map<String, serde_json::Value> =
         pass_times(gpu).into_iter().map(|(pass, times)| (pass.to_string(), median(times).into())).collect();
     serde_json::json!({
-        "scene": args.scene.as_ref().map(|p| p.display().to_string()),
+        "scene": args.input.scene.as_ref().map(|p| p.display().to_string()),
         "device": device,
         "path": format!("{:?}", first.plan.path).to_lowercase(),
         "culling": match settings.lights.culling {
@@ -134,16 +114,11 @@ fn stats(mut v: Vec<f64>) -> Stats {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    let mut settings = load_settings(args.settings.as_deref())?;
-    args.shadow.apply(&mut settings)?;
-    args.environment.apply(&mut settings)?;
-    args.path.apply(&mut settings)?;
-    let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
-    args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
-    args.time.apply(&mut scene)?;
-    let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
+    let settings = args.input.settings()?;
+    let scene = args.input.scene(&settings)?;
+    let view = args.input.view(&scene, &settings, args.width, args.height)?;
     let ctx = GpuContext::new()?;
-    args.path.check_device(&ctx, &settings, args.settings.as_deref())?;
+    args.input.path.check_device(&ctx, &settings, args.input.settings.as_deref())?;
     let mut renderer = Renderer::new(ctx)?;
     let prepared = renderer.prepare(&scene)?;
     let environment_setup_ms = renderer.prepare_environment(&scene, &settings)?;
@@ -178,10 +153,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
         return Ok(());
     }
     let name = args
+        .input
         .scene
         .as_ref()
         .map(|p| p.display().to_string())
-        .unwrap_or_else(|| format!("demo ({} local lights)", args.demo.demo_lights));
+        .unwrap_or_else(|| format!("demo ({} local lights)", args.input.demo.demo_lights));
     println!(
         "scene: {name}; {:?} path, {:?} light culling, {}x MSAA",
         first.plan.path, settings.lights.culling, first.plan.msaa

@@ -1,11 +1,8 @@
 //! `chiaro compare`: realtime shadows against the ray-traced reference, per light, as the
 //! share of compared pixels where they disagree, split into false and missed shadow.
 
-use crate::bake_arg::BakeUseArgs;
-use crate::output::{Encoded, Inputs, check_outputs, sibling_path, write_group};
-use crate::path_arg::PathArgs;
-use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
-use crate::shadow_args::ShadowArgs;
+use crate::output::{Encoded, check_outputs, sibling_path, write_group};
+use crate::scene_input::SceneInput;
 use anyhow::{Result, bail};
 use chiaro_compare::{EnvironmentReport, FAR_OFF, compare_shadows, not_compared_because};
 use chiaro_render::{GpuContext, Renderer, ShadowStatus};
@@ -14,20 +11,12 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct CompareArgs {
-    /// A .gltf or .glb file; without one, the built-in demo scene.
-    pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: SceneInput,
     #[arg(long, default_value_t = 256)]
     pub width: u32,
     #[arg(long, default_value_t = 256)]
     pub height: u32,
-    #[arg(long)]
-    pub camera: Option<String>,
-    #[arg(long)]
-    pub settings: Option<PathBuf>,
-    #[command(flatten)]
-    pub demo: DemoArgs,
-    #[command(flatten)]
-    pub time: crate::time_arg::TimeArg,
     /// Write a difference image per light, `<stem>.<node>.png` (black: not compared,
     /// grey: agree, red: false shadow, blue: missed shadow).
     #[arg(long)]
@@ -35,14 +24,6 @@ pub struct CompareArgs {
     /// Exit with an error when any light disagrees on more than this percentage (0 to 100).
     #[arg(long, value_parser = percentage, allow_hyphen_values = true)]
     pub fail_above: Option<f64>,
-    #[command(flatten)]
-    pub shadow: ShadowArgs,
-    #[command(flatten)]
-    pub environment: crate::environment_arg::EnvironmentArg,
-    #[command(flatten)]
-    pub path: PathArgs,
-    #[command(flatten)]
-    pub bake: BakeUseArgs,
 }
 
 /// A percentage from 0 to 100 (NaN and infinities are not).
@@ -52,23 +33,18 @@ fn percentage(text: &str) -> Result<f64, String> {
 }
 
 pub fn run(args: CompareArgs) -> Result<()> {
-    let mut settings = load_settings(args.settings.as_deref())?;
-    args.shadow.apply(&mut settings)?;
-    args.environment.apply(&mut settings)?;
-    args.path.apply(&mut settings)?;
-    let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
-    args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
-    args.time.apply(&mut scene)?;
-    let view = choose_view(&scene, args.camera.as_deref(), &settings, args.width, args.height)?;
+    let settings = args.input.settings()?;
+    let scene = args.input.scene(&settings)?;
+    let view = args.input.view(&scene, &settings, args.width, args.height)?;
     let diff_path = |node: usize| args.diff.as_ref().map(|diff| sibling_path(diff, &format!("{node}.png")));
     let outputs: Vec<PathBuf> = scene.lights.iter().filter_map(|l| diff_path(l.node)).collect();
-    check_outputs(&outputs, &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
+    check_outputs(&outputs, &args.input.inputs(&scene))?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
     let result = compare_shadows(&mut renderer, &scene, &prepared, &view, &settings)?;
     println!(
         "scene: {}; {}x{}; filter {}, {} cascades, max distance {} m",
-        args.scene.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| "demo".into()),
+        args.input.name(),
         args.width,
         args.height,
         settings.shadows.directional.filter,

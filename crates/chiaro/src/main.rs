@@ -11,7 +11,7 @@ mod environment_arg;
 mod info;
 mod path_arg;
 mod render;
-mod scene_source;
+mod scene_input;
 mod shadow_args;
 mod time_arg;
 mod view;

@@ -1,10 +1,7 @@
 //! `chiaro render`: one frame to an image, with optional AOVs beside it.
 
-use crate::bake_arg::BakeUseArgs;
-use crate::output::{Encoded, Inputs, aov_path, atlas_grey, check_outputs, output_format, sibling_path, write_group};
-use crate::path_arg::PathArgs;
-use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
-use crate::shadow_args::ShadowArgs;
+use crate::output::{Encoded, aov_path, atlas_grey, check_outputs, output_format, sibling_path, write_group};
+use crate::scene_input::SceneInput;
 use anyhow::Result;
 use anyhow::bail;
 use chiaro_render::{DebugView, FrameOptions, GpuContext, Renderer};
@@ -75,8 +72,8 @@ fn drawn_debug_view(debug: &[DebugView]) -> Result<Option<DebugView>> {
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// A .gltf or .glb file; without one, the built-in demo scene.
-    pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: SceneInput,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear HDR radiance).
     #[arg(short, long, default_value = "chiaro.png")]
     pub output: PathBuf,
@@ -86,33 +83,15 @@ pub struct RenderArgs {
     /// Output height in pixels (default: the settings file's, 720).
     #[arg(long)]
     pub height: Option<u32>,
-    /// Camera by name or index; default: the scene's first camera, or one that frames it.
-    #[arg(long)]
-    pub camera: Option<String>,
-    /// Pipeline settings (TOML); see docs/settings.md.
-    #[arg(long)]
-    pub settings: Option<PathBuf>,
     /// Camera exposure in EV100, overriding the settings file.
     #[arg(long, allow_hyphen_values = true)]
     pub exposure: Option<f32>,
     /// Also write `<stem>.<aov>.exr` beside the output (repeatable).
     #[arg(long, value_enum)]
     pub aov: Vec<Aov>,
-    #[command(flatten)]
-    pub demo: DemoArgs,
-    #[command(flatten)]
-    pub time: crate::time_arg::TimeArg,
     /// Debug views (repeatable).
     #[arg(long, value_parser = debug_values())]
     pub debug: Vec<DebugView>,
-    #[command(flatten)]
-    pub shadow: ShadowArgs,
-    #[command(flatten)]
-    pub environment: crate::environment_arg::EnvironmentArg,
-    #[command(flatten)]
-    pub path: PathArgs,
-    #[command(flatten)]
-    pub bake: BakeUseArgs,
 }
 
 /// Every file the render will write, known before it runs.
@@ -143,14 +122,11 @@ fn planned_outputs(args: &RenderArgs, scene: &chiaro_scene::Scene) -> Vec<PathBu
 
 pub fn run(args: RenderArgs) -> Result<()> {
     let format = output_format(&args.output)?;
-    let mut settings = load_settings(args.settings.as_deref())?;
+    let mut settings = args.input.settings()?;
     if let Some(ev) = args.exposure {
         settings.render.exposure_ev100 = ev;
         settings.validate().map_err(|e| anyhow::anyhow!("--exposure: {e}"))?;
     }
-    args.shadow.apply(&mut settings)?;
-    args.environment.apply(&mut settings)?;
-    args.path.apply(&mut settings)?;
     let debug = drawn_debug_view(&args.debug)?;
     if debug == Some(DebugView::Cascades) && settings.render.path == RenderPath::Deferred {
         tracing::info!("--debug cascades tints the forward path's image: rendering forward");
@@ -159,13 +135,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     let width = args.width.unwrap_or(settings.render.width);
     let height = args.height.unwrap_or(settings.render.height);
-    let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
-    args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
-    args.time.apply(&mut scene)?;
-    let view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
-    check_outputs(&planned_outputs(&args, &scene), &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
+    let scene = args.input.scene(&settings)?;
+    let view = args.input.view(&scene, &settings, width, height)?;
+    check_outputs(&planned_outputs(&args, &scene), &args.input.inputs(&scene))?;
     let ctx = GpuContext::new()?;
-    args.path.check_device(&ctx, &settings, args.settings.as_deref())?;
+    args.input.path.check_device(&ctx, &settings, args.input.settings.as_deref())?;
     let mut renderer = Renderer::new(ctx)?;
     let prepared = renderer.prepare(&scene)?;
     let wants = |aov: Aov| args.aov.contains(&aov);

@@ -2,11 +2,8 @@
 //! with (the scene, settings and view they choose, what to write when, and how files
 //! opened later are read); the viewer itself is chiaro-view.
 
-use crate::bake_arg::BakeUseArgs;
-use crate::output::{Inputs, OutputFormat, check_outputs, output_format};
-use crate::path_arg::PathArgs;
-use crate::scene_source::{DemoArgs, choose_view, load_scene, load_settings};
-use crate::shadow_args::ShadowArgs;
+use crate::output::{OutputFormat, check_outputs, output_format};
+use crate::scene_input::{SceneInput, load_scene};
 use anyhow::{Result, anyhow};
 use chiaro_render::DebugView;
 use chiaro_view::{Script, ViewerConfig};
@@ -21,15 +18,8 @@ pub struct DebugArg(pub Option<DebugView>);
 
 #[derive(Args)]
 pub struct ViewArgs {
-    /// A .gltf or .glb file; without one, the built-in demo scene.
-    pub scene: Option<PathBuf>,
-    /// The glTF camera to open with, by name or index (the first, or a framing camera,
-    /// without it).
-    #[arg(long)]
-    pub camera: Option<String>,
-    /// settings.toml to open with; "Save settings" writes back to it.
-    #[arg(long)]
-    pub settings: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: SceneInput,
     /// The 3D view's width in pixels (render.width without it).
     #[arg(long)]
     pub width: Option<u32>,
@@ -53,18 +43,6 @@ pub struct ViewArgs {
     /// Frames to show before exiting (1 to 100000).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub exit_after_frames: Option<u32>,
-    #[command(flatten)]
-    pub demo: DemoArgs,
-    #[command(flatten)]
-    pub time: crate::time_arg::TimeArg,
-    #[command(flatten)]
-    pub shadow: ShadowArgs,
-    #[command(flatten)]
-    pub environment: crate::environment_arg::EnvironmentArg,
-    #[command(flatten)]
-    pub path: PathArgs,
-    #[command(flatten)]
-    pub bake: BakeUseArgs,
 }
 
 pub fn run(args: ViewArgs) -> Result<()> {
@@ -79,22 +57,17 @@ pub fn run(args: ViewArgs) -> Result<()> {
     {
         return Err(anyhow!("--screenshot-window {}: the window is written as PNG only", shot.display()));
     }
-    let mut settings = load_settings(args.settings.as_deref())?;
-    args.shadow.apply(&mut settings)?;
-    args.environment.apply(&mut settings)?;
-    args.path.apply(&mut settings)?;
+    let mut settings = args.input.settings()?;
     // The view's size is render.width and height, so that saved settings keep it.
     settings.render.width = args.width.unwrap_or(settings.render.width);
     settings.render.height = args.height.unwrap_or(settings.render.height);
     settings.validate().map_err(|e| anyhow!("--width/--height: {e}"))?;
     let (width, height) = (settings.render.width, settings.render.height);
-    let mut scene = load_scene(args.scene.as_deref(), &args.demo)?;
-    args.bake.apply(&mut scene, args.scene.as_deref(), &settings)?;
-    args.time.apply(&mut scene)?;
-    let start_view = choose_view(&scene, args.camera.as_deref(), &settings, width, height)?;
+    let scene = args.input.scene(&settings)?;
+    let start_view = args.input.view(&scene, &settings, width, height)?;
     let shots: Vec<PathBuf> = args.screenshot.iter().chain(&args.screenshot_window).cloned().collect();
-    check_outputs(&shots, &Inputs::new(&scene.inputs, args.settings.as_deref()))?;
-    let (demo, bake) = (args.demo.clone(), args.bake.clone());
+    check_outputs(&shots, &args.input.inputs(&scene))?;
+    let (demo, bake) = (args.input.demo.clone(), args.input.bake.clone());
     let load_scene = Arc::new(move |path: &std::path::Path, settings: &chiaro_scene::Settings| {
         let mut scene = load_scene(Some(path), &demo)?;
         bake.apply(&mut scene, Some(path), settings)?;
@@ -106,15 +79,15 @@ pub fn run(args: ViewArgs) -> Result<()> {
         screenshot_window: args.screenshot_window.clone(),
     });
     chiaro_view::run(ViewerConfig {
-        scene_path: args.scene.clone(),
-        settings_file: args.settings.clone(),
-        msaa_flag: args.path.msaa,
-        camera_key: args.camera.clone(),
+        scene_path: args.input.scene.clone(),
+        settings_file: args.input.settings.clone(),
+        msaa_flag: args.input.path.msaa,
+        camera_key: args.input.camera.clone(),
         debug: args.debug.and_then(|d| d.0),
         compare_at_start: args.debug == Some(DebugArg(Some(DebugView::Reference))),
         script,
         load_scene,
-        time: args.time.time,
+        time: args.input.time.time,
         ..ViewerConfig::new(scene, settings, start_view)
     })
 }
