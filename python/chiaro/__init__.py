@@ -9,7 +9,12 @@
 
 Units are metres, lux (directional lights) and candela (point and spot lights). Arrays are
 row-major images, row 0 at the top. See docs/python.md in the Chiaro repository.
+
+The package is typed (PEP 561): `RenderOutputs` describes what a render returns,
+`DeviceInfo`, `RendererDevice`, `JobsSummary` and `LightComparison` the other dicts.
 """
+
+from __future__ import annotations
 
 import atexit as _atexit
 import json as _json
@@ -18,9 +23,15 @@ import shutil as _shutil
 import struct as _struct
 import sys as _sys
 import tempfile as _tempfile
+from typing import Iterable as _Iterable
+from typing import List as _List
+from typing import NoReturn as _NoReturn
+from typing import Optional as _Optional
+from typing import Sequence as _Sequence
+from typing import Tuple as _Tuple
 
 
-def _quiet_wayland_probe():
+def _quiet_wayland_probe() -> None:
     """Mesa's Vulkan drivers load libwayland, which prints "XDG_RUNTIME_DIR is invalid or
     not set" on every device it opens when the variable is missing, as on servers. As the
     CLI does, point it at a private folder made for this process (there is no Wayland
@@ -50,30 +61,45 @@ from ._chiaro import (  # noqa: E402
     SettingsError,
 )
 from ._doctor import doctor  # noqa: E402
+from ._types import (  # noqa: E402
+    CameraArg,
+    DeviceArg,
+    DeviceInfo,
+    JobsArg,
+    JobsSummary,
+    LightComparison,
+    PathArg,
+    RenderOutputs,
+    RendererDevice,
+    SettingsArg,
+    ShardArg,
+)
 
 __version__ = _chiaro.__version__
 
 __all__ = [
-    "OUTPUTS", "Camera", "ChiaroError", "DeviceError", "Light", "RenderError", "Renderer", "Scene",
-    "SceneError", "SettingsError", "compare", "devices", "doctor", "load", "render_jobs", "__version__",
+    "OUTPUTS", "Camera", "ChiaroError", "DeviceError", "DeviceInfo", "JobsSummary", "Light", "LightComparison",
+    "RenderError", "RenderOutputs", "Renderer", "RendererDevice", "Scene", "SceneError", "SettingsError", "compare",
+    "devices", "doctor", "load", "render_jobs", "__version__",
 ]
 
 
-def devices():
+def devices() -> _List[DeviceInfo]:
     """The adapters Chiaro can render with, as dicts: index (what `Renderer(device=...)`
     takes), name, backend, device_type ("discrete_gpu", "integrated_gpu", "virtual_gpu",
     "cpu" or "other"), driver, driver_info, vendor_id, device_id, pci_bus_id."""
     return _chiaro.adapters()
 
 
-def load(path, time=None):
+def load(path: PathArg, time: _Optional[float] = None) -> Scene:
     """Loads a .gltf or .glb file into a `Scene`, posed at `time` seconds of its glTF
     animations (None: the rest pose; see `Scene.pose`). Raises `SceneError` with the file
     and the problem (as `chiaro render` prints it)."""
     return _chiaro.load(_os.fspath(path), time)
 
 
-def _settings_args(settings):
+def _settings_args(settings: SettingsArg) -> _Tuple[_Optional[str], _Optional[str]]:
+    """`settings=` as the extension takes it: (a settings.toml path, a dict's JSON text)."""
     if settings is None:
         return None, None
     if isinstance(settings, dict):
@@ -101,7 +127,7 @@ class Renderer:
     GIL); it cannot be pickled: make one per process.
     """
 
-    def __init__(self, device="auto", settings=None):
+    def __init__(self, device: DeviceArg = "auto", settings: SettingsArg = None) -> None:
         if device == "auto" and _os.environ.get("CHIARO_DEVICE"):
             device = None  # the environment's choice
         found = devices()
@@ -111,19 +137,21 @@ class Renderer:
         self._index = index
 
     @property
-    def device(self):
+    def device(self) -> RendererDevice:
         """The adapter in use: index, name, backend, device_type, driver, pci_bus_id."""
-        info = dict(self._core.device)
-        info["index"] = self._index
+        info: RendererDevice = {**self._core.device, "index": self._index}
         return info
 
     @property
-    def settings(self):
+    def settings(self) -> str:
         """The settings in use, as settings.toml text."""
         return self._core.settings_toml
 
-    def render(self, scene, camera=None, width=None, height=None, outputs=("rgb",), time=None):
-        """Renders one frame of `scene` and returns a dict of numpy arrays, by name:
+    def render(self, scene: Scene, camera: CameraArg = None, width: _Optional[int] = None,
+               height: _Optional[int] = None, outputs: _Optional[_Sequence[str]] = ("rgb",),
+               time: _Optional[float] = None) -> RenderOutputs:
+        """Renders one frame of `scene` and returns a dict of numpy arrays, by name (typed
+        as `chiaro.RenderOutputs`, which holds the outputs asked for):
 
         rgb       (H, W, 3) uint8, tone-mapped sRGB, as `chiaro render` writes PNG
         hdr       (H, W, 3) float32 linear radiance, as the EXR
@@ -146,43 +174,48 @@ class Renderer:
         _pose(scene, time)
         return self._core.render(scene, camera, width, height, outputs)
 
-    def render_many(self, scene, cameras, width=None, height=None, outputs=("rgb",), time=None):
+    def render_many(self, scene: Scene, cameras: _Iterable[CameraArg], width: _Optional[int] = None,
+                    height: _Optional[int] = None, outputs: _Optional[_Sequence[str]] = ("rgb",),
+                    time: _Optional[float] = None) -> _List[RenderOutputs]:
         """Renders one frame per camera of `cameras` and returns a list of dicts as
-        `render` does. Two frames are kept in flight: one is read back while the next
-        renders. Every frame is held until the call returns: pass long lists in chunks.
-        time: as for `render`, one time for every view."""
+        `render` does (`chiaro.RenderOutputs`). Two frames are kept in flight: one is read
+        back while the next renders. Every frame is held until the call returns: pass long
+        lists in chunks. time: as for `render`, one time for every view."""
         _pose(scene, time)
         return self._core.render_many(scene, cameras, width, height, outputs)
 
-    def compare(self, scene, camera=None, width=256, height=256, time=None):
+    def compare(self, scene: Scene, camera: CameraArg = None, width: int = 256, height: int = 256,
+                time: _Optional[float] = None) -> _List[LightComparison]:
         """See `chiaro.compare`."""
         _pose(scene, time)
         return self._core.compare(scene, camera, width, height)
 
-    def __reduce__(self):
+    def __reduce__(self) -> _NoReturn:
         raise TypeError("a chiaro.Renderer cannot be pickled (it holds a GPU device): make one per process")
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         d = self.device
         return "<chiaro.Renderer on %s (%s, %s)>" % (d["name"], d["device_type"], d["backend"])
 
 
-def _pose(scene, time):
+def _pose(scene: Scene, time: _Optional[float]) -> None:
     """Poses `scene` at `time` unless time is None or the scene is already there."""
     # The scene keeps its time as a float32: compare in that precision.
     if time is not None and scene.time != _struct.unpack("f", _struct.pack("f", time))[0]:
         scene.pose(time)
 
 
-def compare(scene, camera=None, width=256, height=256, renderer=None, device="auto", settings=None, time=None):
+def compare(scene: Scene, camera: CameraArg = None, width: int = 256, height: int = 256,
+            renderer: _Optional[Renderer] = None, device: DeviceArg = "auto", settings: SettingsArg = None,
+            time: _Optional[float] = None) -> _List[LightComparison]:
     """Realtime shadows against a ray-traced reference of the same view, per light, as
-    `chiaro compare` prints them: a list of dicts with node, light (its name), kind,
-    compared (pixels judged), disagree_percent, false_percent (shadow where the reference
-    has light: acne), missed_percent (light where it has shadow: peter-panning, leaks),
-    not_compared (why a light was not judged, else None) and shadow_mask_only; for a light
-    with "pcss" shadows, visibility_mean_abs, visibility_p95_abs and
-    visibility_far_off_percent (its rendered visibility against the share of its disc the
-    reference sees; None for other lights).
+    `chiaro compare` prints them: a list of dicts (`chiaro.LightComparison`) with node,
+    light (its name), kind, compared (pixels judged), disagree_percent, false_percent
+    (shadow where the reference has light: acne), missed_percent (light where it has
+    shadow: peter-panning, leaks), not_compared (why a light was not judged, else None)
+    and shadow_mask_only; for a light with "pcss" shadows, visibility_mean_abs,
+    visibility_p95_abs and visibility_far_off_percent (its rendered visibility against the
+    share of its disc the reference sees; None for other lights).
     time: seconds into the scene's animations to pose it at first (None: as it is)."""
     if renderer is None:
         renderer = Renderer(device=device, settings=settings)
@@ -191,7 +224,7 @@ def compare(scene, camera=None, width=256, height=256, renderer=None, device="au
     return renderer.compare(scene, camera, width, height, time)
 
 
-def _job_lines(jobs):
+def _job_lines(jobs: JobsArg) -> _Tuple[_List[str], str]:
     """The job list as JSON text per job, and its name for messages."""
     if isinstance(jobs, (str, bytes, _os.PathLike)):
         path = _os.fsdecode(jobs)
@@ -201,7 +234,7 @@ def _job_lines(jobs):
         return [line[:-1] if line.endswith("\r") else line for line in text.split("\n")], path
     if isinstance(jobs, dict):
         raise TypeError("jobs: expected a .jsonl file's path or an iterable of job dicts, not one dict")
-    lines = []
+    lines: _List[str] = []
     for i, job in enumerate(jobs):
         if isinstance(job, str):
             lines.append(job)
@@ -215,9 +248,11 @@ def _job_lines(jobs):
     return lines, "<jobs>"
 
 
-def render_jobs(jobs, output, *, shard=None, renderer=None, device="auto", settings=None):
+def render_jobs(jobs: JobsArg, output: PathArg, *, shard: ShardArg = None, renderer: _Optional[Renderer] = None,
+                device: DeviceArg = "auto", settings: SettingsArg = None) -> JobsSummary:
     """Renders a job list into one folder per job under `output`, as `chiaro batch` does,
-    and returns {"done": n, "skipped": n, "failed": n, "errors": {id: message}}.
+    and returns {"done": n, "skipped": n, "failed": n, "errors": {id: message}}
+    (`chiaro.JobsSummary`).
 
     jobs: the path of a JSON Lines file (one job object per line, blank lines ignored) or
     an iterable of job dicts (or their JSON text). A job is

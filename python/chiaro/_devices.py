@@ -2,18 +2,27 @@
 "cuda:N" (the CUDA ordinal N as this process sees it, matched to its Vulkan adapter by
 PCI bus id). Pure functions over the device list, so that they are tested without GPUs."""
 
+from __future__ import annotations
+
+import importlib
 import os
 import re
 import shutil
 import subprocess
+from typing import Any, List, Mapping, Optional, Sequence, Tuple
 
 from ._chiaro import DeviceError
+from ._types import DeviceArg, DeviceInfo
+
+Gpu = Tuple[int, str, Optional[str]]
+"""An NVIDIA GPU: its index in the driver's order, its UUID ("GPU-..."), its PCI bus id
+(normalized; None when the driver gave none that reads as one)."""
 
 # "auto" prefers a discrete GPU, then an integrated one, then anything but the CPU.
 _TYPE_RANK = {"discrete_gpu": 0, "integrated_gpu": 1, "virtual_gpu": 2, "other": 3, "cpu": 4}
 
 
-def normalize_bus_id(bus_id):
+def normalize_bus_id(bus_id: str) -> Optional[str]:
     """A PCI bus id as "dddd:bb:dd.f" in lower case ("00000000:01:00.0" from nvidia-smi and
     "0000:01:00.0" from Vulkan both become "0000:01:00.0"); None when it is not one."""
     m = re.fullmatch(r"(?:([0-9a-fA-F]+):)?([0-9a-fA-F]{1,2}):([0-9a-fA-F]{1,2})\.([0-7])", bus_id.strip())
@@ -23,10 +32,10 @@ def normalize_bus_id(bus_id):
     return "%04x:%02x:%02x.%x" % (int(domain or "0", 16), int(bus, 16), int(device, 16), int(function, 16))
 
 
-def parse_nvidia_smi(text):
+def parse_nvidia_smi(text: str) -> List[Gpu]:
     """nvidia-smi's `--query-gpu=index,uuid,pci.bus_id --format=csv,noheader` lines as
     (index, uuid, bus id) tuples."""
-    gpus = []
+    gpus: List[Gpu] = []
     for line in text.strip().splitlines():
         parts = [p.strip() for p in line.split(",")]
         if len(parts) == 3 and parts[0].isdigit():
@@ -34,17 +43,19 @@ def parse_nvidia_smi(text):
     return gpus
 
 
-def _query_gpus():
+def _query_gpus() -> List[Gpu]:
     """NVIDIA GPUs in the driver's order: from NVML (pynvml) when installed, else nvidia-smi."""
+    # pynvml is optional and untyped: imported by name, as Any.
+    pynvml: Any
     try:
-        import pynvml  # type: ignore
+        pynvml = importlib.import_module("pynvml")
     except ImportError:
         pynvml = None
     if pynvml is not None:
         try:
             pynvml.nvmlInit()
             try:
-                gpus = []
+                gpus: List[Gpu] = []
                 for i in range(pynvml.nvmlDeviceGetCount()):
                     handle = pynvml.nvmlDeviceGetHandleByIndex(i)
                     uuid = pynvml.nvmlDeviceGetUUID(handle)
@@ -72,7 +83,8 @@ def _query_gpus():
     return parse_nvidia_smi(text)
 
 
-def cuda_bus_id(ordinal, environ=None, gpus=None):
+def cuda_bus_id(ordinal: int, environ: Optional[Mapping[str, str]] = None,
+                gpus: Optional[Sequence[Gpu]] = None) -> Optional[str]:
     """The PCI bus id of CUDA device `ordinal` as this process sees it: the ordinal-th
     entry of CUDA_VISIBLE_DEVICES (an index or a UUID prefix) when it is set, else the
     ordinal-th GPU in the driver's (PCI) order, which is CUDA's with
@@ -100,8 +112,11 @@ def cuda_bus_id(ordinal, environ=None, gpus=None):
     return candidates[ordinal][2]
 
 
-def choose(spec, devices, environ=None, gpus=None):
-    """The index into `devices` (dicts as chiaro.devices() returns) that `spec` names."""
+def choose(spec: DeviceArg, devices: Sequence[DeviceInfo], environ: Optional[Mapping[str, str]] = None,
+           gpus: Optional[Sequence[Gpu]] = None) -> int:
+    """The index into `devices` (dicts as chiaro.devices() returns) that `spec` names
+    (None: the CHIARO_DEVICE environment variable's choice, else "auto"); `environ` and
+    `gpus` stand in for os.environ and the NVIDIA driver's GPU list in tests."""
     environ = os.environ if environ is None else environ
     if spec is None:
         spec = environ.get("CHIARO_DEVICE") or "auto"

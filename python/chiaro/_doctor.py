@@ -1,10 +1,15 @@
 """What Chiaro finds of Vulkan on this machine, and what to install when it finds nothing."""
 
+from __future__ import annotations
+
 import ctypes
 import ctypes.util
 import glob
 import os
 import sys
+from typing import List, Optional, Sequence, Tuple
+
+from ._types import DeviceInfo
 
 _ICD_DIRS = [
     "/usr/share/vulkan/icd.d", "/usr/local/share/vulkan/icd.d", "/etc/vulkan/icd.d",
@@ -12,7 +17,8 @@ _ICD_DIRS = [
 ]
 
 
-def _vulkan_loader():
+def _vulkan_loader() -> Optional[str]:
+    """The Vulkan loader library that opens, by name; None when none does."""
     names = {"win32": ["vulkan-1.dll"], "darwin": ["libvulkan.1.dylib", "libMoltenVK.dylib"]}
     for name in names.get(sys.platform, ["libvulkan.so.1", "libvulkan.so"]):
         try:
@@ -23,16 +29,19 @@ def _vulkan_loader():
     return ctypes.util.find_library("vulkan")
 
 
-def _icd_files():
+def _icd_files() -> Tuple[List[str], Optional[str]]:
+    """The Vulkan drivers' ICD files, and the environment variable that listed them (None:
+    found in the usual folders)."""
     for var in ("VK_DRIVER_FILES", "VK_ICD_FILENAMES"):
         if os.environ.get(var):
             return [f for f in os.environ[var].split(os.pathsep) if f], var
     return sorted(f for d in _ICD_DIRS for f in glob.glob(os.path.join(d, "*.json"))), None
 
 
-def doctor(devices=None):
+def doctor(devices: Optional[Sequence[DeviceInfo]] = None) -> str:
     """A report of the Vulkan loader, the drivers (ICDs) and the adapters found, ending
-    with what to do when no device can render."""
+    with what to do when no device can render, as text of several lines. `devices`: the
+    adapters as `chiaro.devices()` lists them (None: asked for here)."""
     from . import _chiaro
 
     loader = _vulkan_loader()

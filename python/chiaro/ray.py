@@ -16,29 +16,70 @@ Chiaro does not schedule: Ray places the workers, restarts them and retries thei
 Jobs are idempotent and written atomically, so a job run twice (a worker died after
 writing it, a rerun of the whole list) leaves one folder, and a rerun skips what is done.
 
-Test hook: when the environment variable CHIARO_RAY_TEST_DIE_ONCE names a file path, the
-first worker task that finds that file absent creates it (exclusively, so only one task
-in the whole run does) and ends its own process with os._exit(1) before rendering, as a
-crash would. The tests use it to prove that a dead worker's jobs are rendered anyway. It
-is forwarded to the workers when set in the driver; leave it unset otherwise.
+`render_dataset` returns a `DatasetSummary`, the stage a `StageStatuses` (TypedDicts for
+type checkers; plain dicts at run time). Ray itself is untyped here: its objects are Any.
 
 See docs/scale.md for Ray, Ray Data, Slurm and Kubernetes.
 """
+
+from __future__ import annotations
 
 import collections
 import json
 import math
 import os
 import unicodedata
+from typing import TYPE_CHECKING, Any, Deque, Dict, Iterable, List, Mapping, Optional, Tuple, TypedDict, Union
 
-__all__ = ["ChiaroRenderStage", "render_dataset"]
+from ._types import DeviceArg, JobsSummary, PathArg, RendererDevice, SettingsArg
 
-DIE_ONCE_ENV = "CHIARO_RAY_TEST_DIE_ONCE"
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
+__all__ = ["ChiaroRenderStage", "DatasetSummary", "StageStatuses", "render_dataset"]
 
 _INSTALL_HINT = 'chiaro.ray needs Ray: pip install "chiaro[ray]" (or pip install "ray>=2.9")'
 
+Job = Dict[str, Any]
+"""A job, as `chiaro batch` reads it (docs/batch.md): {"id": ..., "scene": ..., ...}."""
+_Entry = Tuple[int, Job]
+"""A job and its line: the 1-based line of a .jsonl file, or its position in a list from 1."""
 
-def _import_ray():
+
+class DatasetSummary(JobsSummary):
+    """What `render_dataset` returns: `chiaro.JobsSummary`'s counts over every worker, and
+    what Ray did."""
+
+    workers: int
+    """Ray actors started, each with one Renderer."""
+    restarts: int
+    """Worker restarts seen (a worker answering from a new process)."""
+    retried: int
+    """Tasks the driver gave to another worker after theirs died for good."""
+
+
+class StageStatuses(TypedDict):
+    """What a `ChiaroRenderStage` returns for a batch: columns of one row per job, in the
+    batch's order, each a numpy array of Python strings (dtype object)."""
+
+    id: NDArray[np.object_]
+    """The job's id."""
+    status: NDArray[np.object_]
+    """The job's status: "done", "skipped" (its folder was current) or "failed"."""
+    error: NDArray[np.object_]
+    """The failure's message; "" unless the job failed."""
+
+
+class _Task(TypedDict):
+    """Jobs handed to a worker at once, and how often the driver gave them out again."""
+
+    jobs: List[_Entry]
+    resubmits: int
+
+
+def _import_ray() -> Any:
+    """The ray module (untyped: Any), or ImportError saying how to install it."""
     try:
         import ray
     except ImportError as e:
@@ -46,21 +87,7 @@ def _import_ray():
     return ray
 
 
-def _die_once_for_tests():
-    """The test hook of the module docstring."""
-    marker = os.environ.get(DIE_ONCE_ENV)
-    if not marker:
-        return
-    try:
-        fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-    except FileExistsError:
-        return
-    os.write(fd, b"%d\n" % os.getpid())
-    os.close(fd)
-    os._exit(1)
-
-
-def _worker_device(device):
+def _worker_device(device: DeviceArg) -> DeviceArg:
     """The device a worker renders on: `device` when given, else "cuda:0" when Ray gave
     the worker GPUs (Ray sets CUDA_VISIBLE_DEVICES to them, so the first one is cuda:0,
     matched to its Vulkan adapter by PCI bus id), else "auto" (which CHIARO_DEVICE sets)."""
@@ -75,7 +102,8 @@ MAX_ID_BYTES = 200
 ERROR_SUFFIX = ".error.json"
 
 
-def _check_id(job_id, where):
+def _check_id(job_id: object, where: str) -> None:
+    """ValueError, naming `where`, unless `job_id` can name a job's folder."""
     if not isinstance(job_id, str):
         raise ValueError("%s: \"id\" must be a string, not %r" % (where, job_id))
     problem = None
@@ -93,7 +121,7 @@ def _check_id(job_id, where):
         raise ValueError("%s: id %r %s" % (where, job_id, problem))
 
 
-def _load_jobs(jobs):
+def _load_jobs(jobs: Union[str, bytes, os.PathLike[str], os.PathLike[bytes], Iterable[Any]]) -> List[_Entry]:
     """The jobs as a list of (line, dict), ids checked as `chiaro batch` checks them
     (strings naming a folder, each used once); line is the 1-based line of a .jsonl file,
     or the position in a list from 1, as `render_jobs` numbers a list. A path is read as
@@ -103,7 +131,7 @@ def _load_jobs(jobs):
         path = os.fsdecode(jobs)
         with open(path, encoding="utf-8-sig", newline="") as f:
             text = f.read()
-        entries = []
+        entries: List[Tuple[str, int, Any]] = []
         for number, line in enumerate(text.split("\n"), 1):
             if not line.strip():
                 continue
@@ -117,8 +145,8 @@ def _load_jobs(jobs):
         raise TypeError("jobs: expected a .jsonl path or an iterable of job dicts, not one dict")
     else:
         entries = [("jobs[%d]" % i, i + 1, job) for i, job in enumerate(jobs)]
-    first_seen = {}
-    out = []
+    first_seen: Dict[str, str] = {}
+    out: List[_Entry] = []
     for where, number, job in entries:
         if not isinstance(job, dict):
             raise ValueError("%s: a job is a JSON object, not %s" % (where, type(job).__name__))
@@ -134,14 +162,14 @@ def _load_jobs(jobs):
     return out
 
 
-def _chunks(entries, size):
+def _chunks(entries: List[_Entry], size: int) -> List[List[_Entry]]:
     """(line, job) pairs grouped by scene (in the order scenes first appear, keeping the
     list's order within a scene), then cut into chunks of at most `size` jobs of one
     scene: a worker loads a chunk's scene once."""
-    by_scene = collections.OrderedDict()
+    by_scene: Dict[str, List[_Entry]] = collections.OrderedDict()
     for entry in entries:
         by_scene.setdefault(json.dumps(entry[1].get("scene"), sort_keys=True), []).append(entry)
-    chunks = []
+    chunks: List[List[_Entry]] = []
     for group in by_scene.values():
         chunks.extend(group[i:i + size] for i in range(0, len(group), size))
     return chunks
@@ -150,25 +178,24 @@ def _chunks(entries, size):
 class _Worker:
     """A Ray actor's body: one Renderer, made once, for every job the actor is given."""
 
-    def __init__(self, output, settings, device):
+    def __init__(self, output: str, settings: SettingsArg, device: DeviceArg) -> None:
         import chiaro
 
         self._output = output
         self._renderer = chiaro.Renderer(device=_worker_device(device), settings=settings)
 
-    def ready(self):
+    def ready(self) -> Tuple[int, RendererDevice]:
         """The process id (a restarted worker has a new one) and the device in use."""
         return os.getpid(), self._renderer.device
 
-    def render(self, jobs):
+    def render(self, jobs: List[Job]) -> Tuple[int, JobsSummary]:
         """Renders `jobs` (dicts) into the output folder; returns (pid, render_jobs' summary)."""
         import chiaro
 
-        _die_once_for_tests()
         return os.getpid(), chiaro.render_jobs(jobs, self._output, renderer=self._renderer)
 
 
-def _write_error(output, line, job, message):
+def _write_error(output: str, line: int, job: Job, message: str) -> None:
     """DIR/<id>.error.json, with the keys `chiaro batch` writes, for a job no worker could
     finish (it kept ending its worker), written whole where the driver sees the output
     folder; where it does not, only the summary holds the message."""
@@ -190,9 +217,12 @@ def _write_error(output, line, job, message):
             pass
 
 
-def render_dataset(jobs, output, num_workers=None, gpus_per_worker=1, settings=None, max_retries=3, *,
-                   cpus_per_worker=1, jobs_per_task=8, device=None, max_restarts=-1):
-    """Renders every job of `jobs` into `output` on Ray actors and returns a summary.
+def render_dataset(jobs: Union[str, bytes, os.PathLike[str], os.PathLike[bytes], Iterable[Job]], output: PathArg,
+                   num_workers: Optional[int] = None, gpus_per_worker: float = 1, settings: SettingsArg = None,
+                   max_retries: int = 3, *, cpus_per_worker: float = 1, jobs_per_task: int = 8,
+                   device: DeviceArg = None, max_restarts: int = -1) -> DatasetSummary:
+    """Renders every job of `jobs` into `output` on Ray actors and returns a summary
+    (`DatasetSummary`).
 
     jobs: the path of a .jsonl file (one job object a line, as `chiaro batch` reads) or an
     iterable of job dicts. Ids are checked here, before anything is submitted: each a
@@ -242,7 +272,8 @@ def render_dataset(jobs, output, num_workers=None, gpus_per_worker=1, settings=N
     RuntimeError when no worker can make its Renderer (the first worker's error).
     """
     entries = _load_jobs(jobs)
-    summary = {"done": 0, "skipped": 0, "failed": 0, "errors": {}, "workers": 0, "restarts": 0, "retried": 0}
+    summary: DatasetSummary = {"done": 0, "skipped": 0, "failed": 0, "errors": {}, "workers": 0, "restarts": 0,
+                               "retried": 0}
     if num_workers is not None:
         _check_whole("num_workers", num_workers, 1)
     if gpus_per_worker < 0 or cpus_per_worker < 0:
@@ -277,27 +308,25 @@ def render_dataset(jobs, output, num_workers=None, gpus_per_worker=1, settings=N
     chunks = _chunks(entries, min(jobs_per_task, math.ceil(len(entries) / num_workers)))
     num_workers = min(num_workers, len(chunks))
 
-    options = {"num_cpus": cpus_per_worker, "num_gpus": gpus_per_worker,
-               "max_restarts": max_restarts, "max_task_retries": max_retries}
-    if os.environ.get(DIE_ONCE_ENV):
-        # Workers of a local Ray inherit the environment the driver had at ray.init(), not
-        # later changes, and a cluster's never: the hook is passed on explicitly.
-        options["runtime_env"] = {"env_vars": {DIE_ONCE_ENV: os.environ[DIE_ONCE_ENV]}}
+    options: Dict[str, Any] = {"num_cpus": cpus_per_worker, "num_gpus": gpus_per_worker,
+                               "max_restarts": max_restarts, "max_task_retries": max_retries}
     worker_class = ray.remote(_Worker)
     actors = [worker_class.options(**options).remote(output, settings, device) for _ in range(num_workers)]
     summary["workers"] = num_workers
 
-    queue = collections.deque({"jobs": chunk, "resubmits": 0} for chunk in chunks)
+    queue: Deque[_Task] = collections.deque({"jobs": chunk, "resubmits": 0} for chunk in chunks)
     # Object ref -> (actor, task), task None for a ready call: made at the start, and after
     # a failure to ask whether the worker still answers.
-    pending = {actor.ready.remote(): (actor, None) for actor in actors}
-    idle, pids = [], {}
-    first_error = None
+    pending: Dict[Any, Tuple[Any, Optional[_Task]]] = {actor.ready.remote(): (actor, None) for actor in actors}
+    idle: List[Any] = []
+    pids: Dict[Any, int] = {}
+    first_error: Optional[BaseException] = None
+    task: Optional[_Task]
     # Ray from 2.10 or so tells a worker gone for good (ActorDiedError) from one being
     # restarted (ActorUnavailableError); older ones raise RayActorError for both.
     died_type = getattr(ray.exceptions, "ActorDiedError", None)
 
-    def fail(task, message):
+    def fail(task: _Task, message: str) -> None:
         for line, job in task["jobs"]:
             summary["failed"] += 1
             summary["errors"][job["id"]] = message
@@ -338,7 +367,9 @@ def render_dataset(jobs, output, num_workers=None, gpus_per_worker=1, settings=N
                     pending[actor.ready.remote()] = (actor, None)
                 continue
             except ray.exceptions.RayTaskError as e:
-                # render_jobs raised instead of reporting (an output folder it cannot write).
+                # render_jobs raised instead of reporting (an output folder it cannot write);
+                # a ready call returns what it holds and raises nothing of the kind.
+                assert task is not None
                 if not _split(queue, task):
                     fail(task, _message(e))
                 idle.append(actor)
@@ -349,8 +380,9 @@ def render_dataset(jobs, output, num_workers=None, gpus_per_worker=1, settings=N
             pids[actor] = pid
             if task is not None:
                 result = answer[1]
-                for key in ("done", "skipped", "failed"):
-                    summary[key] += int(result.get(key, 0))
+                summary["done"] += int(result.get("done", 0))
+                summary["skipped"] += int(result.get("skipped", 0))
+                summary["failed"] += int(result.get("failed", 0))
                 summary["errors"].update(result.get("errors") or {})
             idle.append(actor)
     finally:
@@ -365,12 +397,13 @@ def render_dataset(jobs, output, num_workers=None, gpus_per_worker=1, settings=N
     return summary
 
 
-def _check_whole(name, value, least):
+def _check_whole(name: str, value: object, least: int) -> None:
+    """ValueError, naming `name`, unless `value` is an int (not a bool) of at least `least`."""
     if isinstance(value, bool) or not isinstance(value, int) or value < least:
         raise ValueError("%s: expected a whole number of at least %d, not %r" % (name, least, value))
 
 
-def _split(queue, task):
+def _split(queue: Deque[_Task], task: _Task) -> bool:
     """Puts a task of several jobs back at the queue's head as one task per job, so that
     the job to blame fails alone; False for a task of one job."""
     if len(task["jobs"]) < 2:
@@ -379,7 +412,7 @@ def _split(queue, task):
     return True
 
 
-def _message(error):
+def _message(error: BaseException) -> str:
     """The part of a Ray error worth a summary line: its cause's message where it has one,
     the exception at the end of a traceback it quotes (a worker's __init__ that raised),
     else its first line."""
@@ -414,21 +447,23 @@ class ChiaroRenderStage:
     Ids must be unique over the whole dataset: each batch checks its own.
     """
 
-    def __init__(self, output, settings=None, device=None):
+    def __init__(self, output: PathArg, settings: SettingsArg = None, device: DeviceArg = None) -> None:
         import chiaro
 
         self._output = os.path.abspath(os.fsdecode(output))
         os.makedirs(self._output, exist_ok=True)
         self._renderer = chiaro.Renderer(device=_worker_device(device), settings=settings)
 
-    def _meta_stamp(self, job_id):
+    def _meta_stamp(self, job_id: str) -> Optional[Tuple[int, int, int]]:
+        """Which meta.json job `job_id` has (inode, mtime in ns, size); None for none."""
         try:
             st = os.stat(os.path.join(self._output, job_id, "meta.json"))
         except OSError:
             return None
         return st.st_ino, st.st_mtime_ns, st.st_size
 
-    def __call__(self, batch):
+    def __call__(self, batch: Mapping[str, Any]) -> StageStatuses:
+        """Renders the batch's jobs (its "job" column) and returns their ids and statuses."""
         import chiaro
         import numpy as np
 

@@ -1,7 +1,8 @@
 """chiaro.ray on a local Ray (two CPUs, started here, never a remote cluster): a job list
 rendered by two workers, one of which dies on its first task, ends up rendered once per
 job, file for file what `chiaro batch` (the binary CHIARO_BIN names) writes for the same
-list; and the Ray Data stage reports each job's status."""
+list; and the Ray Data stage reports each job's status. The death is the test's own doing
+(a Ray worker setup hook): the package has no test hook."""
 
 import json
 import math
@@ -70,24 +71,68 @@ def png_size(path):
     return struct.unpack(">II", head[16:24])
 
 
+def start_local_ray(**options):
+    """Starts a Ray of two CPUs in this process's machine, with `options` for ray.init."""
+    assert not ray.is_initialized(), "a Ray from an earlier test is still running"
+    ray.init(address="local", num_cpus=2, num_gpus=0, include_dashboard=False,
+             object_store_memory=100 * 1024 * 1024, **options)
+
+
 @pytest.fixture()
 def local_ray():
     """A Ray of two CPUs in this process's machine, shut down after the test."""
-    assert not ray.is_initialized(), "a Ray from an earlier test is still running"
-    ray.init(address="local", num_cpus=2, num_gpus=0, include_dashboard=False,
-             object_store_memory=100 * 1024 * 1024)
+    start_local_ray()
     try:
         yield
     finally:
         ray.shutdown()
 
 
-def test_a_dead_worker_loses_no_job_and_the_files_equal_chiaro_batch(tmp_path, monkeypatch, local_ray):
+def die_once_setup_hook(marker):
+    """A worker_process_setup_hook for Ray: in each worker process, it wraps
+    `chiaro.ray._Worker.render` so that the first task of the whole run creates the file
+    `marker` (exclusively: only one task of all the workers can) and ends its own process
+    with os._exit(1) before rendering, as a crash would; every other task renders. The hook
+    is a closure, so Ray pickles it by value: the workers need not import this file."""
+
+    def hook():
+        import os
+
+        import chiaro.ray
+
+        render = chiaro.ray._Worker.render
+
+        def render_or_die_once(self, jobs):
+            try:
+                fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                return render(self, jobs)
+            os.write(fd, b"%d\n" % os.getpid())
+            os.close(fd)
+            os._exit(1)
+
+        chiaro.ray._Worker.render = render_or_die_once
+
+    return hook
+
+
+@pytest.fixture()
+def ray_whose_first_task_dies(tmp_path):
+    """A local Ray as `local_ray`, whose first `render` task of chiaro.ray ends its worker;
+    yields the file that task creates."""
+    marker = tmp_path / "a-worker-died"
+    start_local_ray(runtime_env={"worker_process_setup_hook": die_once_setup_hook(str(marker))})
+    try:
+        yield marker
+    finally:
+        ray.shutdown()
+
+
+def test_a_dead_worker_loses_no_job_and_the_files_equal_chiaro_batch(tmp_path, ray_whose_first_task_dies):
     cli = chiaro_bin()
     jobs_path, jobs = write_jobs(tmp_path)
     ids = [job["id"] for job in jobs]
-    marker = tmp_path / "a-worker-died"
-    monkeypatch.setenv(chiaro.ray.DIE_ONCE_ENV, str(marker))
+    marker = ray_whose_first_task_dies
 
     ray_out = tmp_path / "ray"
     summary = chiaro.ray.render_dataset(jobs_path, str(ray_out), num_workers=2, gpus_per_worker=0,
