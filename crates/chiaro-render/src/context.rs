@@ -142,7 +142,7 @@ impl GpuContext {
         // WebGPU guarantees 1 and 4 samples; 2 and 8 need the adapter's format features.
         let msaa_sample_counts: Vec<u32> =
             if features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
-                let hdr = adapter.get_texture_format_features(crate::passes::forward::HDR_FORMAT).flags;
+                let hdr = adapter.get_texture_format_features(crate::passes::targets::HDR_FORMAT).flags;
                 let depth = adapter.get_texture_format_features(depth_format).flags;
                 [1, 2, 4, 8]
                     .into_iter()

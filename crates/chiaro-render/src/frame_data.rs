@@ -13,7 +13,7 @@ use crate::error::RenderError;
 use crate::frame_bindings::{FRAME_BINDINGS, FrameBinding, Resource};
 use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuShadows};
 use crate::graph::Targets;
-use crate::passes::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use crate::passes::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::plan::FramePlan;
 use crate::scene::GpuScene;
 use crate::shader_constants::{MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS};

@@ -12,8 +12,8 @@ use crate::graph::{
     Targets,
 };
 use crate::output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes};
-use crate::passes::forward::HDR;
-use crate::passes::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use crate::passes::targets::HDR;
+use crate::passes::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::plan::shadows::{ShadowAtlas, ShadowAtlasTiles};
 use crate::plan::{FramePlan, PlanRequest};
 use crate::readback::{PendingCopy, copy_texture, finish_copies_of};

@@ -5,8 +5,8 @@
 
 use crate::graph::{OUTPUT, Target};
 use crate::output::{Aovs, AtlasImage, FrameOutput, Ids};
-use crate::passes::forward::HDR;
-use crate::passes::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use crate::passes::targets::HDR;
+use crate::passes::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::passes::{aov, id, shadow_aov};
 
 /// Fills `out` from the read-back bytes of each target.

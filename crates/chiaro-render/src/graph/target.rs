@@ -5,7 +5,7 @@
 use std::fmt;
 
 /// A texture of the frame, named by the pass module that declares it
-/// (`forward::HDR`, `aov::POSITION`, ...).
+/// (`targets::HDR`, `aov::POSITION`, ...).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Target(pub &'static str);
 

@@ -1,7 +1,8 @@
 //! The AOV pass: world position, shading normal, linear view depth and baked irradiance
 //! of the surface the forward pass kept in each pixel (it tests against its depth).
 
-use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, cleared};
+use super::targets::DEPTH;
+use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, cleared};
 use crate::graph::target::ATTACHMENT_COPY;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::plan::FramePlan;

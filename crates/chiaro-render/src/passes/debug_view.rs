@@ -4,8 +4,8 @@
 
 use super::fullscreen::{self, FullscreenDesc, texture_bind_group, texture_layout};
 use crate::debug_view::DebugView;
-use super::forward::HDR;
-use super::gbuffer::{GBUFFER_ALBEDO_METALLIC, GBUFFER_PACKED};
+use super::targets::HDR;
+use super::targets::{GBUFFER_ALBEDO_METALLIC, GBUFFER_PACKED};
 use crate::graph::{FramePass, OUTPUT, PassContext, PassInit, PassSetup, PassType, PrepareContext};
 use crate::overrides;
 use crate::plan::FramePlan;

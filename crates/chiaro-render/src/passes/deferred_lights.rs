@@ -7,12 +7,12 @@
 //! shade (the fallback of Catlike Coding's "Rendering 15, Deferred Lights"). Every draw
 //! tests `STENCIL_SURFACE`, so the sky is never shaded.
 
-use super::forward::{HDR, HDR_FORMAT};
-use super::gbuffer::{
-    GBUFFER_ALBEDO_METALLIC, GBUFFER_PACKED, LIGHT_BUFFER_LDR, LIGHT_BUFFER_LDR_FORMAT, light_target, light_target_desc,
-};
-use super::mesh::{DEPTH, STENCIL_SURFACE, scene_depth};
-use super::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use super::targets::{HDR, HDR_FORMAT};
+use super::targets::{GBUFFER_ALBEDO_METALLIC, GBUFFER_PACKED, LIGHT_BUFFER_LDR, LIGHT_BUFFER_LDR_FORMAT};
+use super::gbuffer::{light_target, light_target_desc};
+use super::targets::DEPTH;
+use super::mesh::{STENCIL_SURFACE, scene_depth};
+use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::debug_view::DebugView;
 use crate::gpu::GpuVolumeLight;
 use crate::overrides;

@@ -6,7 +6,7 @@
 
 use super::background::{BackgroundPipelines, BackgroundTargets};
 use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, forward_depth, scene_depth};
-use super::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::graph::target::ATTACHMENT_SAMPLED;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::overrides;
@@ -17,11 +17,8 @@ use crate::shaders;
 use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::{LightCulling, RenderPath};
 use std::collections::HashMap;
+use super::targets::{HDR, HDR_FORMAT};
 
-/// The HDR targets' format: half floats, pre-exposed so that bright scenes stay in range.
-pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Pre-exposed linear radiance, single-sampled: what tone mapping reads.
-pub const HDR: Target = Target("hdr");
 /// The forward path's multisampled radiance, resolved into `HDR`.
 pub const HDR_MULTISAMPLED: Target = Target("hdr multisampled");
 

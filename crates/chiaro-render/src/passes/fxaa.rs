@@ -3,7 +3,7 @@
 //! MSAA samples. The image is copied aside first and filtered back into `HDR`, so every
 //! later pass and the read-back see the smoothed frame.
 
-use super::forward::{HDR, HDR_FORMAT};
+use super::targets::{HDR, HDR_FORMAT};
 use super::fullscreen::{self, FullscreenDesc};
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::plan::FramePlan;

@@ -4,8 +4,9 @@
 //! so that the light volumes never shade the sky.
 
 use super::background::{BackgroundPipelines, BackgroundTargets};
-use super::forward::{HDR, HDR_FORMAT};
-use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, STENCIL_SURFACE, cleared, depth_desc, scene_depth};
+use super::targets::{HDR, HDR_FORMAT};
+use super::targets::DEPTH;
+use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, STENCIL_SURFACE, cleared, depth_desc, scene_depth};
 use crate::graph::target::ATTACHMENT_SAMPLED;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::overrides;
@@ -14,20 +15,8 @@ use crate::shaders;
 use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::{LightBuffer, RenderPath};
 use std::collections::HashMap;
+use super::targets::{GBUFFER_ALBEDO_METALLIC, GBUFFER_ALBEDO_METALLIC_FORMAT, GBUFFER_PACKED, GBUFFER_PACKED_FORMAT, LIGHT_BUFFER_LDR, LIGHT_BUFFER_LDR_FORMAT};
 
-/// Base colour (linear) and metallic.
-pub const GBUFFER_ALBEDO_METALLIC_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Normals, view depth, roughness and flags, bit-packed.
-pub const GBUFFER_PACKED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
-/// The legacy LDR light buffer: exp2(-light) in 8 bits.
-pub const LIGHT_BUFFER_LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-
-/// The deferred path's base colour and metallic.
-pub const GBUFFER_ALBEDO_METALLIC: Target = Target("gbuffer albedo metallic");
-/// The deferred path's normals, view depth, roughness and flags.
-pub const GBUFFER_PACKED: Target = Target("gbuffer packed");
-/// The deferred path's legacy LDR light buffer, exp2(-light).
-pub const LIGHT_BUFFER_LDR: Target = Target("light buffer ldr");
 
 /// Where the deferred path accumulates light.
 pub fn light_target(light_buffer: LightBuffer) -> Target {

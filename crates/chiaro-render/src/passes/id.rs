@@ -2,7 +2,8 @@
 //! node's `extras.label`, for datasets. One sample a pixel, tested against the frame's
 //! depth, so every id is exact at every pixel.
 
-use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc};
+use super::targets::DEPTH;
+use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc};
 use crate::graph::target::ATTACHMENT_COPY;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::plan::FramePlan;

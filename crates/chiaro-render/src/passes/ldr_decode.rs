@@ -1,9 +1,10 @@
 //! The LDR light buffer's decoding: exp2(-light) in 8 bits back to pre-exposed radiance
 //! in the HDR target, which transparent draws and tone mapping then use.
 
-use super::forward::{HDR, HDR_FORMAT};
+use super::targets::{HDR, HDR_FORMAT};
 use super::fullscreen::{self, FullscreenDesc, texture_bind_group, texture_layout};
-use super::gbuffer::{LIGHT_BUFFER_LDR, light_target_desc};
+use super::targets::LIGHT_BUFFER_LDR;
+use super::gbuffer::light_target_desc;
 use crate::debug_view::DebugView;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext};
 use crate::plan::FramePlan;

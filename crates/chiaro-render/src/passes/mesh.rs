@@ -2,6 +2,7 @@
 //! (one per cull mode, winding and blending, since those are pipeline state in wgpu) and
 //! the loop that binds materials and issues the draws in the plan's order.
 
+use super::targets::DEPTH;
 use crate::gpu::GpuVertex;
 use crate::graph::{PassContext, Target, TargetDesc};
 use crate::overrides::Override;
@@ -11,9 +12,6 @@ use crate::scene::GpuScene;
 use chiaro_scene::AlphaMode;
 use std::collections::HashMap;
 
-/// Reverse-Z scene depth with stencil, single-sampled: the deferred path's, and the
-/// forward path's without MSAA.
-pub const DEPTH: Target = Target("depth");
 /// The forward path's multisampled depth (`FramePlan::msaa` samples).
 pub const DEPTH_MULTISAMPLED: Target = Target("depth multisampled");
 

@@ -2,8 +2,9 @@
 //! shading used for that light (1 lit, 0 shadowed) and coverage, for the surface the
 //! camera passes kept in each pixel, one layer of an array target per light.
 
-use super::mesh::{DEPTH, DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
-use super::shadows::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use super::targets::DEPTH;
+use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
+use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::gpu::GpuAovLight;
 use crate::graph::target::ATTACHMENT_COPY;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};

@@ -14,13 +14,8 @@ use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, 
 use crate::shaders;
 use chiaro_scene::{CastShadows, ShadowCasting};
 use std::collections::HashMap;
+use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS, SHADOW_FORMAT};
 
-/// The shadow atlases' format: 32-bit float depth.
-pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// The directional lights' cascades.
-pub const DIRECTIONAL_ATLAS: Target = Target("directional shadow atlas");
-/// The point and spot lights' tiles.
-pub const LOCAL_ATLAS: Target = Target("local shadow atlas");
 
 /// The atlas target of each atlas.
 fn atlas_target(atlas: ShadowAtlas) -> Target {

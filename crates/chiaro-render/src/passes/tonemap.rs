@@ -2,7 +2,7 @@
 //! texture of the renderer's or a surface the caller lends (pipelines per output format;
 //! a linear format gets the sRGB encoding in the shader).
 
-use super::forward::HDR;
+use super::targets::HDR;
 use crate::graph::{FramePass, OUTPUT, PassContext, PassInit, PassSetup, PassType, PrepareContext};
 use crate::overrides;
 use crate::plan::FramePlan;
