@@ -138,7 +138,14 @@ fn baked_shadows_agree_with_the_traced_reference() {
     let camera = chiaro_trace::PixelCamera { clip_from_world: view.clip_from_world(), width: size, height: size };
     let range = light.range.unwrap();
     let reference = chiaro_trace::trace_shadow_reference(&scene, &camera, &[range]);
-    let comparison = chiaro_compare::compare_light(&shadow, &positions, &reference, 0, light, range);
+    let comparison = chiaro_compare::compare_light(&chiaro_compare::JudgedLight {
+        rendered_shadow: &shadow,
+        rendered_position: &positions,
+        reference: &reference,
+        light_index: 0,
+        light,
+        range,
+    });
     let shadowed = shadow.iter().filter(|&&v| v < 0.5).count();
     println!(
         "baked spot shadow: {} pixels compared, {} shadowed, disagreement {:.3}% (false {:.3}%, missed {:.3}%)",

@@ -4,7 +4,9 @@
 //! `LightReport` per scene light, the reference and the rendered AOVs) flows out.
 
 use crate::environment::{EnvironmentPixels, EnvironmentReport, compare_environment};
-use crate::verdict::{LightComparison, PixelVerdict, VisibilityError, classify_pixels, soft_shadow_report};
+use crate::verdict::{
+    JudgedLight, LightComparison, PixelVerdict, VisibilityError, classify_pixels, soft_shadow_report,
+};
 use chiaro_render::{FrameOptions, PreparedScene, RenderError, Renderer, ShadowStatus, View};
 use chiaro_scene::{Scene, Settings, ShadowMode};
 use chiaro_trace::{PixelCamera, ShadowReference, trace_shadow_reference};
@@ -112,10 +114,18 @@ pub fn compare_rendered(
         .map(|(i, light)| {
             let (shadow, positions) = (&rendered.shadow_aovs[i], &rendered.positions);
             // Classified once; the counts and the picture both come from the verdicts.
-            let verdicts = classify_pixels(shadow, positions, &reference, i, light, ranges[i]);
+            let judged = JudgedLight {
+                rendered_shadow: shadow,
+                rendered_position: positions,
+                reference: &reference,
+                light_index: i,
+                light,
+                range: ranges[i],
+            };
+            let verdicts = classify_pixels(&judged);
             let comparison = LightComparison::from_verdicts(&verdicts);
             if light.shadow.mode == ShadowMode::Pcss {
-                let (visibility, difference) = soft_shadow_report(shadow, positions, &reference, i, light, ranges[i]);
+                let (visibility, difference) = soft_shadow_report(&judged);
                 return LightReport { light: i, comparison, visibility: Some(visibility), difference };
             }
             LightReport {

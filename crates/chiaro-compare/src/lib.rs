@@ -17,7 +17,7 @@ pub use comparison::{
 pub use environment::{EnvironmentReport, compare_environment};
 pub use threshold::{MAX_DISAGREEMENT, assert_agrees_with_reference};
 pub use verdict::{
-    DISAGREEMENT_THRESHOLD, EDGE_BAND_PX, FAR_OFF, LightComparison, POSITION_TOLERANCE_M, PixelVerdict,
+    DISAGREEMENT_THRESHOLD, EDGE_BAND_PX, FAR_OFF, JudgedLight, LightComparison, POSITION_TOLERANCE_M, PixelVerdict,
     VisibilityError, classify_pixels, compare_light, difference_image, signed_difference_image, soft_shadow_report,
     visibility_error,
 };

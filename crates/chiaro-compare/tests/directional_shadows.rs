@@ -5,7 +5,7 @@
 
 mod common;
 
-use chiaro_compare::{PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
+use chiaro_compare::{JudgedLight, PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
 use chiaro_render::View;
 use chiaro_scene::{CastShadows, Light, LightKind, Scene};
 use common::*;
@@ -29,7 +29,14 @@ fn box_scene(light: Light, boxes: &[(Vec3, Vec3, CastShadows)], eye: Vec3) -> Sc
 
 fn verdicts(scene: &Scene, result: &ShadowComparison) -> Vec<PixelVerdict> {
     let positions: Vec<Option<Vec3>> = result.reference.position.clone();
-    classify_pixels(&result.rendered[0], &positions, &result.reference, 0, &scene.lights[0], f32::INFINITY)
+    classify_pixels(&JudgedLight {
+        rendered_shadow: &result.rendered[0],
+        rendered_position: &positions,
+        reference: &result.reference,
+        light_index: 0,
+        light: &scene.lights[0],
+        range: f32::INFINITY,
+    })
 }
 
 #[test]

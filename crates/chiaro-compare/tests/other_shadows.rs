@@ -4,7 +4,7 @@
 
 mod common;
 
-use chiaro_compare::{PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
+use chiaro_compare::{JudgedLight, PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
 use chiaro_math::shadow::local::cube_face;
 use chiaro_render::ShadowStatus;
 use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene, ShadowMode};
@@ -26,7 +26,14 @@ fn spot(position: Vec3, direction: Vec3, outer_deg: f32, range: f32) -> Light {
 fn verdicts(scene: &Scene, result: &ShadowComparison) -> Vec<PixelVerdict> {
     let light = &scene.lights[0];
     let range = light.range.unwrap_or(f32::INFINITY);
-    classify_pixels(&result.rendered[0], &result.reference.position, &result.reference, 0, light, range)
+    classify_pixels(&JudgedLight {
+        rendered_shadow: &result.rendered[0],
+        rendered_position: &result.reference.position,
+        reference: &result.reference,
+        light_index: 0,
+        light,
+        range,
+    })
 }
 
 fn assert_agrees(label: &str, result: &ShadowComparison) {

@@ -1,10 +1,7 @@
 //! Counting one light's verdicts: how many pixels were compared, how many show a false
 //! shadow and how many a missed one; and the verdicts as a difference picture.
 
-use super::{PixelVerdict, classify_pixels};
-use chiaro_scene::Light;
-use chiaro_trace::ShadowReference;
-use glam::Vec3;
+use super::{JudgedLight, PixelVerdict, classify_pixels};
 
 /// Pixel counts of one light's comparison.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -50,40 +47,13 @@ impl LightComparison {
     }
 }
 
-/// Compares the rendered shadow of `scene.lights[light_index]` (`light`, with the range
-/// the renderer used; infinity for none) with the reference. `rendered_shadow` is the
-/// light's visibility per pixel (1 lit, 0 shadowed) and `rendered_position` the world
-/// position the renderer shaded, both row-major like the reference.
-pub fn compare_light(
-    rendered_shadow: &[f32],
-    rendered_position: &[Option<Vec3>],
-    reference: &ShadowReference,
-    light_index: usize,
-    light: &Light,
-    range: f32,
-) -> LightComparison {
-    LightComparison::from_verdicts(&classify_pixels(
-        rendered_shadow,
-        rendered_position,
-        reference,
-        light_index,
-        light,
-        range,
-    ))
+/// Compares the judged light's rendered shadow with the reference.
+pub fn compare_light(judged: &JudgedLight) -> LightComparison {
+    LightComparison::from_verdicts(&classify_pixels(judged))
 }
 
 /// The comparison as an RGBA8 image of the reference's size, colours as in
 /// `PixelVerdict::color`.
-pub fn difference_image(
-    rendered_shadow: &[f32],
-    rendered_position: &[Option<Vec3>],
-    reference: &ShadowReference,
-    light_index: usize,
-    light: &Light,
-    range: f32,
-) -> Vec<[u8; 4]> {
-    classify_pixels(rendered_shadow, rendered_position, reference, light_index, light, range)
-        .into_iter()
-        .map(PixelVerdict::color)
-        .collect()
+pub fn difference_image(judged: &JudgedLight) -> Vec<[u8; 4]> {
+    classify_pixels(judged).into_iter().map(PixelVerdict::color).collect()
 }

@@ -71,18 +71,32 @@ impl PixelVerdict {
     }
 }
 
+/// One light's rendered shadow and the reference to judge it by: what every verdict reads.
+/// `rendered_shadow` is the light's visibility per pixel (1 lit, 0 shadowed) and
+/// `rendered_position` the world position the renderer shaded, both row-major like the
+/// reference; `light` is `scene.lights[light_index]`, with the range the renderer used
+/// (infinity for none).
+#[derive(Clone, Copy)]
+pub struct JudgedLight<'a> {
+    /// The rendered visibility per pixel.
+    pub rendered_shadow: &'a [f32],
+    /// The rendered surface's world position per pixel (`None` on the sky).
+    pub rendered_position: &'a [Option<Vec3>],
+    /// The ray-traced reference of the frame.
+    pub reference: &'a ShadowReference,
+    /// The light's index in the scene and in the reference.
+    pub light_index: usize,
+    /// The light.
+    pub light: &'a Light,
+    /// Its shaded range, metres.
+    pub range: f32,
+}
+
 /// Each pixel's verdict, row-major, one per reference pixel. Pixels missing from the
 /// rendered arrays, or with a non-finite rendered shadow, are not compared; a reference
 /// whose arrays do not match its size compares nothing.
-pub fn classify_pixels(
-    rendered_shadow: &[f32],
-    rendered_position: &[Option<Vec3>],
-    reference: &ShadowReference,
-    light_index: usize,
-    light: &Light,
-    range: f32,
-) -> Vec<PixelVerdict> {
-    let pairs = compared_pairs(rendered_shadow, rendered_position, reference, light_index, light, range, true);
+pub fn classify_pixels(judged: &JudgedLight) -> Vec<PixelVerdict> {
+    let pairs = compared_pairs(judged, true);
     pairs
         .into_par_iter()
         .map(|pair| {
@@ -108,16 +122,8 @@ fn verdict_of(rendered: f32, expected: f32) -> PixelVerdict {
 /// elsewhere: the same surface, receiving shadows, reached by the light, and (with
 /// `edge_band`) away from the reference's shadow edges. Nothing is compared where the
 /// reference's arrays do not match its size.
-#[allow(clippy::too_many_arguments)]
-fn compared_pairs(
-    rendered_shadow: &[f32],
-    rendered_position: &[Option<Vec3>],
-    reference: &ShadowReference,
-    light_index: usize,
-    light: &Light,
-    range: f32,
-    edge_band: bool,
-) -> Vec<Option<(f32, f32)>> {
+fn compared_pairs(judged: &JudgedLight, edge_band: bool) -> Vec<Option<(f32, f32)>> {
+    let JudgedLight { rendered_shadow, rendered_position, reference, light_index, light, range } = *judged;
     let (width, height) = (reference.width as usize, reference.height as usize);
     let pixels = width * height;
     let Some(visibility) = reference.visibility.get(light_index) else {

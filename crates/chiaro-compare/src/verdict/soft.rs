@@ -5,10 +5,7 @@
 //! difference, its 95th percentile and the share of pixels off by more than
 //! `FAR_OFF`; and a signed difference picture.
 
-use super::compared_pairs;
-use chiaro_scene::Light;
-use chiaro_trace::ShadowReference;
-use glam::Vec3;
+use super::{JudgedLight, compared_pairs};
 
 /// A pixel whose visibility is off by more than this counts in `VisibilityError::far_off`.
 pub const FAR_OFF: f32 = 0.1;
@@ -26,30 +23,16 @@ pub struct VisibilityError {
     pub far_off: f64,
 }
 
-/// The visibility error of the rendered shadow of `scene.lights[light_index]` (`light`,
-/// shaded with `range`), over the fairly compared pixels without the edge band.
-pub fn visibility_error(
-    rendered_shadow: &[f32],
-    rendered_position: &[Option<Vec3>],
-    reference: &ShadowReference,
-    light_index: usize,
-    light: &Light,
-    range: f32,
-) -> VisibilityError {
-    error_of(&compared_pairs(rendered_shadow, rendered_position, reference, light_index, light, range, false))
+/// The visibility error of the judged light's rendered shadow, over the fairly compared
+/// pixels without the edge band.
+pub fn visibility_error(judged: &JudgedLight) -> VisibilityError {
+    error_of(&compared_pairs(judged, false))
 }
 
 /// `visibility_error` and `signed_difference_image` together, from one pass over the
 /// light's pixels: what `compare` reports for a contact-hardening light.
-pub fn soft_shadow_report(
-    rendered_shadow: &[f32],
-    rendered_position: &[Option<Vec3>],
-    reference: &ShadowReference,
-    light_index: usize,
-    light: &Light,
-    range: f32,
-) -> (VisibilityError, Vec<[u8; 4]>) {
-    let pairs = compared_pairs(rendered_shadow, rendered_position, reference, light_index, light, range, false);
+pub fn soft_shadow_report(judged: &JudgedLight) -> (VisibilityError, Vec<[u8; 4]>) {
+    let pairs = compared_pairs(judged, false);
     (error_of(&pairs), pairs.into_iter().map(signed_difference_color).collect())
 }
 
@@ -84,18 +67,8 @@ pub fn signed_difference_color(pair: Option<(f32, f32)>) -> [u8; 4] {
 }
 
 /// The signed difference picture of one light (see `signed_difference_color`).
-pub fn signed_difference_image(
-    rendered_shadow: &[f32],
-    rendered_position: &[Option<Vec3>],
-    reference: &ShadowReference,
-    light_index: usize,
-    light: &Light,
-    range: f32,
-) -> Vec<[u8; 4]> {
-    compared_pairs(rendered_shadow, rendered_position, reference, light_index, light, range, false)
-        .into_iter()
-        .map(signed_difference_color)
-        .collect()
+pub fn signed_difference_image(judged: &JudgedLight) -> Vec<[u8; 4]> {
+    compared_pairs(judged, false).into_iter().map(signed_difference_color).collect()
 }
 
 #[cfg(test)]

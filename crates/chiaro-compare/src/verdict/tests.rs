@@ -24,7 +24,14 @@ fn floor_reference() -> ShadowReference {
 }
 
 fn compare(rendered: &[f32], reference: &ShadowReference, light: &Light, range: f32) -> LightComparison {
-    compare_light(rendered, &reference.position, reference, 0, light, range)
+    compare_light(&JudgedLight {
+        rendered_shadow: rendered,
+        rendered_position: &reference.position,
+        reference,
+        light_index: 0,
+        light,
+        range,
+    })
 }
 
 #[test]
@@ -61,7 +68,14 @@ fn positions_must_agree_within_a_centimetre() {
         };
         *p = if offset.is_nan() { None } else { p.map(|p| p + Vec3::Y * offset) };
     }
-    let result = compare_light(&rendered, &positions, &reference, 0, &sun(), f32::INFINITY);
+    let result = compare_light(&JudgedLight {
+        rendered_shadow: &rendered,
+        rendered_position: &positions,
+        reference: &reference,
+        light_index: 0,
+        light: &sun(),
+        range: f32::INFINITY,
+    });
     assert_eq!(result.compared, (0..W * H).filter(|i| i % 3 == 0).count());
     assert_eq!(result.false_shadow, result.compared);
 }
@@ -78,7 +92,18 @@ fn unlit_surfaces_and_non_receivers_are_not_compared() {
     reference.position[W] = None;
     assert_eq!(compare(&rendered, &reference, &sun(), f32::INFINITY).compared, W * (H - 1) - 1);
     // Out of range: the light index, and short rendered arrays.
-    assert_eq!(compare_light(&rendered, &reference.position, &reference, 1, &sun(), 1.0).compared, 0);
+    assert_eq!(
+        compare_light(&JudgedLight {
+            rendered_shadow: &rendered,
+            rendered_position: &reference.position,
+            reference: &reference,
+            light_index: 1,
+            light: &sun(),
+            range: 1.0
+        })
+        .compared,
+        0
+    );
     // Row 0 does not receive and pixel W is sky: W - 1 of the first two rows count.
     assert_eq!(compare(&rendered[..W * 2], &reference, &sun(), f32::INFINITY).compared, W - 1);
 }
@@ -140,7 +165,14 @@ fn shadow_edges_are_banded_but_sky_edges_are_not() {
     }
     // Everything rendered wrong, so every compared pixel counts.
     let rendered: Vec<f32> = reference.visibility[0].iter().map(|v| 1.0 - v).collect();
-    let verdicts = classify_pixels(&rendered, &reference.position, &reference, 0, &sun(), f32::INFINITY);
+    let verdicts = classify_pixels(&JudgedLight {
+        rendered_shadow: &rendered,
+        rendered_position: &reference.position,
+        reference: &reference,
+        light_index: 0,
+        light: &sun(),
+        range: f32::INFINITY,
+    });
     for y in 0..H {
         for x in 0..W {
             let verdict = verdicts[y * W + x];
@@ -167,7 +199,14 @@ fn difference_image_colours() {
     let mut rendered = vec![1.0; W * H];
     rendered[W * 6 + 10] = 0.0;
     rendered[W * H - 1] = 0.0;
-    let image = difference_image(&rendered, &reference.position, &reference, 0, &sun(), 1.0);
+    let image = difference_image(&JudgedLight {
+        rendered_shadow: &rendered,
+        rendered_position: &reference.position,
+        reference: &reference,
+        light_index: 0,
+        light: &sun(),
+        range: 1.0,
+    });
     assert_eq!(image.len(), W * H);
     assert_eq!(image[0], [0, 0, 0, 255]);
     assert_eq!(image[W * 6 + 10], [255, 0, 0, 255]);
@@ -178,7 +217,14 @@ fn difference_image_colours() {
     dark.visibility[0].fill(0.0);
     rendered.fill(0.0);
     rendered[3] = 1.0;
-    let image = difference_image(&rendered, &dark.position, &dark, 0, &sun(), 1.0);
+    let image = difference_image(&JudgedLight {
+        rendered_shadow: &rendered,
+        rendered_position: &dark.position,
+        reference: &dark,
+        light_index: 0,
+        light: &sun(),
+        range: 1.0,
+    });
     assert_eq!(image[3], [0, 0, 255, 255]);
     assert_eq!(image[4], [48, 48, 48, 255]);
 }
