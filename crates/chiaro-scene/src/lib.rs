@@ -12,6 +12,7 @@ pub mod environment;
 pub mod error;
 pub mod files;
 pub mod gltf_import;
+pub mod light;
 pub mod names;
 pub mod nodes;
 pub mod settings;

@@ -46,7 +46,7 @@ pub struct LightChoice {
     /// Directional lights in scene order, at most `MAX_DIRECTIONAL_LIGHTS`.
     pub directional: Vec<LightId>,
     /// Visible point and spot lights, most important first, with their ranges.
-    pub other: Vec<(LightId, f32)>,
+    pub local: Vec<(LightId, f32)>,
     /// Directional lights over the limit.
     pub dropped_directional: usize,
     /// The visible point and spot lights as chiaro_math chose them (with drop and cull
@@ -64,7 +64,7 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
     // One pass over the scene's lights (thousands, in some scenes): the directional ones
     // apart, and the bounds of each point and spot light.
     let mut all_directional = Vec::new();
-    let mut others = Vec::with_capacity(scene.lights.len());
+    let mut locals = Vec::with_capacity(scene.lights.len());
     let mut bounds = Vec::with_capacity(scene.lights.len());
     for (i, l) in scene.lights.iter().enumerate() {
         if skip_baked && l.mode == LightMode::Baked {
@@ -78,7 +78,7 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
             LightKind::Spot { outer_cone_rad, .. } => Some((l.direction(), outer_cone_rad)),
             LightKind::Point => None,
         };
-        others.push(i);
+        locals.push(i);
         bounds.push(LocalLightBounds {
             position: l.position(),
             range: l.shaded_range(settings.lights.range_threshold_lux),
@@ -107,8 +107,8 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
             settings.max_other_lights()
         );
     }
-    let other = selection.visible.iter().map(|&k| (id(others[k]), bounds[k].range)).collect();
-    LightChoice { directional, other, dropped_directional, selection }
+    let local = selection.visible.iter().map(|&k| (id(locals[k]), bounds[k].range)).collect();
+    LightChoice { directional, local, dropped_directional, selection }
 }
 
 /// The light as the shaders read it; `cookie_layer` from `cookies::cookie_slots`,

@@ -32,8 +32,8 @@ use cookies::cookie_slots;
 use culling::{CulledLights, cull_lights};
 use draws::{Draw, camera_draw_order};
 use glam::Vec3;
-use lights::{FrameLight, LightId, choose_lights, gpu_light};
-use shadows::{ShadowAtlasTiles, ShadowPlan, ShadowSlot, plan_shadows};
+use lights::{FrameLight, LightChoice, LightId, choose_lights, gpu_light};
+use shadows::{ShadowAtlasTiles, ShadowPlan, ShadowSlot, ShadowSlots, plan_shadows};
 use std::fmt;
 use volumes::{VolumeDraw, light_volume};
 
@@ -145,6 +145,75 @@ pub struct FramePlan {
     atlas_update: ShadowAtlasTiles,
 }
 
+/// Per scene light, the shadow mask channel it reads: the bake's, unless the mixed mode
+/// (baked-indirect) uses no masks.
+fn mask_channels(scene: &Scene, settings: &Settings) -> Vec<Option<u8>> {
+    let used = settings.lighting.mixed_mode.uses_shadow_mask();
+    (0..scene.lights.len()).map(|i| scene.baked.as_ref().and_then(|b| b.channel(i)).filter(|_| used)).collect()
+}
+
+/// The frame's lights in shading order, the lists by kind, and per light whether its loop
+/// needs a shadow lookup.
+struct ShadedList {
+    lights: Vec<FrameLight>,
+    lists: ShadedLights,
+    shadowed: Vec<bool>,
+}
+
+/// Directional lights first, then the chosen point and spot lights; the forward lists (all
+/// of the forward path's lights, the deferred path's transparent surfaces) take the most
+/// important `MAX_LOCAL_LIGHTS` of those.
+fn shaded_lights(choice: &LightChoice, slots: &ShadowSlots, mask_channels: &[Option<u8>]) -> ShadedList {
+    let mut out = ShadedList {
+        lights: Vec::with_capacity(choice.directional.len() + choice.local.len()),
+        lists: ShadedLights::default(),
+        shadowed: Vec::new(),
+    };
+    for (&id, &shadow) in choice.directional.iter().zip(&slots.directional) {
+        out.lists.directional.push(out.lights.len() as u32);
+        out.lights.push(FrameLight { id, range: f32::INFINITY, shadow });
+        out.shadowed.push(true);
+    }
+    for (k, (&(id, range), &shadow)) in choice.local.iter().zip(&slots.local).enumerate() {
+        // A light with a shadow mask channel has a shadow even without tiles.
+        let masked = mask_channels[id.index()].is_some();
+        let has_shadow = matches!(shadow, ShadowSlot::Realtime { .. }) || masked;
+        if k < MAX_LOCAL_LIGHTS {
+            let list = if has_shadow { &mut out.lists.shadowed_local } else { &mut out.lists.unshadowed_local };
+            list.push(out.lights.len() as u32);
+        }
+        out.lights.push(FrameLight { id, range, shadow });
+        out.shadowed.push(has_shadow);
+    }
+    out
+}
+
+/// The deferred path's light draws: the directional lights share one full-screen draw,
+/// each point and spot light has its volume.
+fn light_volumes(scene: &Scene, view: &View, lights: &[FrameLight], lists: &ShadedLights) -> Vec<VolumeDraw> {
+    let directional = lists.directional.first().map(|&k| VolumeDraw::screen(k));
+    let locals = lights
+        .iter()
+        .enumerate()
+        .skip(lists.directional.len())
+        .map(|(k, l)| light_volume(&scene.lights[l.id.index()], l.range, view, k as u32));
+    directional.into_iter().chain(locals).collect()
+}
+
+/// The forward path's MSAA samples and whether the deferred path runs FXAA. AOVs and ids
+/// test against single-sampled depth, and the G-buffer has one sample; the deferred path
+/// smooths its edges where the forward path would multisample.
+fn antialiasing(request: &PlanRequest, path: RenderPath, settings: &Settings) -> (u32, bool) {
+    let pixel_exact = request.aovs || request.shadow_aovs || request.ids;
+    let msaa = if pixel_exact || path == RenderPath::Deferred { 1 } else { settings.render.msaa };
+    let fxaa = path == RenderPath::Deferred
+        && !pixel_exact
+        && settings.render.msaa > 1
+        && request.debug.is_none()
+        && settings.render.deferred_antialiasing == DeferredAntialiasing::Fxaa;
+    (msaa, fxaa)
+}
+
 impl FramePlan {
     /// Plans a frame of `scene` (whose draws are `draws`, see `draws::scene_draws`).
     /// `atlases` is what the shadow atlases hold from earlier frames; it is only read: the
@@ -159,36 +228,10 @@ impl FramePlan {
     ) -> FramePlan {
         let mut atlases = atlases.clone();
         let choice = choose_lights(scene, view, settings);
-        let mask_channels: Vec<Option<u8>> = (0..scene.lights.len())
-            .map(|i| {
-                let used = settings.lighting.mixed_mode.uses_shadow_mask();
-                scene.baked.as_ref().and_then(|b| b.channel(i)).filter(|_| used)
-            })
-            .collect();
+        let mask_channels = mask_channels(scene, settings);
         let (mut shadows, slots) =
-            plan_shadows(scene, draws, view, settings, &choice.directional, &choice.other, &mut atlases);
-        let mut lights = Vec::with_capacity(choice.directional.len() + choice.other.len());
-        let mut lists = ShadedLights::default();
-        // Per light, whether its loop needs a shadow lookup.
-        let mut shadowed = Vec::with_capacity(lights.capacity());
-        for (&id, &shadow) in choice.directional.iter().zip(&slots.directional) {
-            lists.directional.push(lights.len() as u32);
-            lights.push(FrameLight { id, range: f32::INFINITY, shadow });
-            shadowed.push(true);
-        }
-        // The forward lists (all of the forward path's lights; the deferred path's
-        // transparent surfaces) take the most important point and spot lights.
-        for (k, (&(id, range), &shadow)) in choice.other.iter().zip(&slots.other).enumerate() {
-            // A light with a shadow mask channel has a shadow even without tiles.
-            let masked = mask_channels[id.index()].is_some();
-            let has_shadow = matches!(shadow, ShadowSlot::Realtime { .. }) || masked;
-            if k < MAX_LOCAL_LIGHTS {
-                let list = if has_shadow { &mut lists.shadowed_local } else { &mut lists.unshadowed_local };
-                list.push(lights.len() as u32);
-            }
-            lights.push(FrameLight { id, range, shadow });
-            shadowed.push(has_shadow);
-        }
+            plan_shadows(scene, draws, view, settings, &choice.directional, &choice.local, &mut atlases);
+        let ShadedList { lights, lists, shadowed } = shaded_lights(&choice, &slots, &mask_channels);
         let path = if request.deferred_view().is_some() { RenderPath::Deferred } else { settings.render.path };
         let light_buffer = settings.render.light_buffer;
         let mut frame_index = vec![None; scene.lights.len()];
@@ -198,19 +241,9 @@ impl FramePlan {
         let camera_draws = camera_draw_order(draws, view.eye());
         let transparent_from =
             camera_draws.iter().take_while(|&&d| draws[d as usize].alpha_mode != AlphaMode::Blend).count();
-        // The directional lights share one full-screen draw; each point and spot light
-        // has its volume.
         let volumes = match path {
             RenderPath::Forward => Vec::new(),
-            RenderPath::Deferred => {
-                let directional = lists.directional.first().map(|&k| VolumeDraw::screen(k));
-                let others = lights
-                    .iter()
-                    .enumerate()
-                    .skip(lists.directional.len())
-                    .map(|(k, l)| light_volume(&scene.lights[l.id.index()], l.range, view, k as u32));
-                directional.into_iter().chain(others).collect()
-            }
+            RenderPath::Deferred => light_volumes(scene, view, &lights, &lists),
         };
         let prepass_draws = match path {
             RenderPath::Forward => camera_draws[..transparent_from]
@@ -231,15 +264,7 @@ impl FramePlan {
             let first_local = lists.directional.len();
             cull_lights(culling, scene, draws, forward_draws, view, &lights, first_local, &shadowed)
         };
-        // AOVs and ids test against single-sampled depth, and the G-buffer has one sample.
-        let pixel_exact = request.aovs || request.shadow_aovs || request.ids;
-        let msaa = if pixel_exact || path == RenderPath::Deferred { 1 } else { settings.render.msaa };
-        // The deferred path smooths its edges where the forward path would multisample.
-        let fxaa = path == RenderPath::Deferred
-            && !pixel_exact
-            && settings.render.msaa > 1
-            && request.debug.is_none()
-            && settings.render.deferred_antialiasing == DeferredAntialiasing::Fxaa;
+        let (msaa, fxaa) = antialiasing(&request, path, settings);
         // A debug view of the G-buffer shades nothing, so it draws no shadow tiles (and
         // the cache keeps what the atlases hold for the next lit frame).
         shadows.redraw = if request.deferred_view().is_some() {

@@ -88,7 +88,7 @@ pub struct ShadowAtlasTiles {
     /// The directional atlas's allocator: one run of cascade tiles per light.
     pub directional: TileAllocator<LightId>,
     /// Keyed by light and tile size: a light whose tier changes is allocated anew.
-    pub other: TileAllocator<(LightId, u32)>,
+    pub local: TileAllocator<(LightId, u32)>,
     /// Each point and spot light's coverage tier last frame (`tiers::coverage_tier`).
     pub local_tiers: std::collections::HashMap<LightId, u32>,
     /// What the atlases hold, so that unchanged tiles are not drawn again.
@@ -99,7 +99,7 @@ impl Default for ShadowAtlasTiles {
     fn default() -> Self {
         ShadowAtlasTiles {
             directional: TileAllocator::new(MAX_DIRECTIONAL_SHADOW_TILES as usize),
-            other: TileAllocator::new(MAX_LOCAL_SHADOW_TILES as usize),
+            local: TileAllocator::new(MAX_LOCAL_SHADOW_TILES as usize),
             local_tiers: std::collections::HashMap::new(),
             cache: TileCache::default(),
         }
@@ -147,7 +147,7 @@ pub struct ShadowSlots {
     /// One slot per directional light.
     pub directional: Vec<ShadowSlot>,
     /// One slot per point and spot light.
-    pub other: Vec<ShadowSlot>,
+    pub local: Vec<ShadowSlot>,
 }
 
 /// The light's filter: `hard` lights take the 2x2 one whatever the settings say.
@@ -158,7 +158,7 @@ fn light_filter(light: &Light, settings_filter: ShadowFilter) -> ShadowFilter {
     }
 }
 
-/// Plans shadows for the frame's `directional` lights (slot order) and `other` lights
+/// Plans shadows for the frame's `directional` lights (slot order) and `local` lights
 /// (most important first, with the range each is shaded with).
 pub fn plan_shadows(
     scene: &Scene,
@@ -166,7 +166,7 @@ pub fn plan_shadows(
     view: &View,
     settings: &Settings,
     directional: &[LightId],
-    other: &[(LightId, f32)],
+    local: &[(LightId, f32)],
     atlases: &mut ShadowAtlasTiles,
 ) -> (ShadowPlan, ShadowSlots) {
     let ds = &settings.shadows.directional;
@@ -196,11 +196,11 @@ pub fn plan_shadows(
         redraw: Vec::new(),
     };
     let directional_slots = plan_directional(&mut plan, scene, view, settings, max_distance, directional, atlases);
-    let local_slots = plan_local(&mut plan, scene, view, settings, other, atlases);
+    let local_slots = plan_local(&mut plan, scene, view, settings, local, atlases);
     for tile in &mut plan.tiles {
         tile.casters = tile_casters(draws, tile);
     }
-    (plan, ShadowSlots { directional: directional_slots, other: local_slots })
+    (plan, ShadowSlots { directional: directional_slots, local: local_slots })
 }
 
 fn plan_directional(
@@ -306,19 +306,19 @@ fn plan_local(
     scene: &Scene,
     view: &View,
     settings: &Settings,
-    other: &[(LightId, f32)],
+    local: &[(LightId, f32)],
     atlases: &mut ShadowAtlasTiles,
 ) -> Vec<ShadowSlot> {
     let os = &settings.shadows.other;
-    let requests = local_tile_requests(scene, view, os, other, atlases);
-    let allocation = atlases.other.allocate(&requests);
+    let requests = local_tile_requests(scene, view, os, local, atlases);
+    let allocation = atlases.local.allocate(&requests);
     plan.tiles_kept &= allocation.kept;
     if requests.is_empty() {
-        return vec![ShadowSlot::None; other.len()];
+        return vec![ShadowSlot::None; local.len()];
     }
     let (first_tiles, rects) = place_local_tiles(os.atlas_size, &requests, &allocation);
     let mut overflow = Vec::new();
-    let slots = other
+    let slots = local
         .iter()
         .map(|&(id, range)| {
             let light = &scene.lights[id.index()];
@@ -352,19 +352,19 @@ fn overflow_warning(names: &[String], max_tiles: u32) -> String {
     )
 }
 
-/// The tile requests of the shadow-casting `other` lights, in their order: each light's
+/// The tile requests of the shadow-casting `local` lights, in their order: each light's
 /// key (id, tile size of its coverage tier) and tile count (six for a point light). Also
 /// records the tiers in `atlases` and resizes its allocator when `max_tiles` changed.
 fn local_tile_requests(
     scene: &Scene,
     view: &View,
     os: &LocalShadowSettings,
-    other: &[(LightId, f32)],
+    local: &[(LightId, f32)],
     atlases: &mut ShadowAtlasTiles,
 ) -> Vec<((LightId, u32), usize)> {
     let tiles_wanted = |light: &Light| if light.kind == LightKind::Point { POINT_LIGHT_FACES } else { 1 };
     let view_from_world = view.view_from_world();
-    let casting: Vec<(LightId, usize, u32)> = other
+    let casting: Vec<(LightId, usize, u32)> = local
         .iter()
         .filter(|&&(id, _)| scene.lights[id.index()].shadow.casts())
         .map(|&(id, range)| {
@@ -375,8 +375,8 @@ fn local_tile_requests(
         })
         .collect();
     atlases.local_tiers = casting.iter().map(|&(id, _, tier)| (id, tier)).collect();
-    if atlases.other.capacity() != os.max_tiles as usize {
-        atlases.other = TileAllocator::new(os.max_tiles as usize);
+    if atlases.local.capacity() != os.max_tiles as usize {
+        atlases.local = TileAllocator::new(os.max_tiles as usize);
     }
     // Which lights fit decides the tile sizes; the sizes are part of each request.
     let counts: Vec<usize> = casting.iter().map(|&(_, n, _)| n).collect();
