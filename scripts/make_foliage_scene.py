@@ -56,6 +56,23 @@ def leaf_texture(size, leaves, seed):
     return png(size, size, bytes(pixels))
 
 
+def quad_nodes(count):
+    """`count` leaf quads in a grid, each turned and tilted its own way."""
+    nodes = []
+    columns = max(1, int(math.sqrt(count)))
+    for q in range(count):
+        row, column = divmod(q, columns)
+        x = (column - columns / 2) * 1.2
+        z = (row - count / columns / 2) * 1.2
+        yaw = (q * 0.7) % math.pi
+        tilt = 0.3 * ((q % 3) - 1)
+        rotation = [math.sin(tilt / 2) * math.cos(yaw / 2), math.sin(yaw / 2) * math.cos(tilt / 2), 0.0,
+                    math.cos(yaw / 2) * math.cos(tilt / 2)]
+        nodes.append({"name": "quad %d" % q, "mesh": 1 + q % 3, "translation": [x, 0.2, z],
+                      "rotation": rotation, "scale": [1.6, 1.6, 1.6]})
+    return nodes
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("out")
@@ -101,18 +118,7 @@ def main():
                                                        "indices": 5, "material": m}]}
         for m in (1, 2, 3)
     ]
-    nodes = [{"name": "floor", "mesh": 0}]
-    columns = max(1, int(math.sqrt(args.quads)))
-    for q in range(args.quads):
-        row, column = divmod(q, columns)
-        x = (column - columns / 2) * 1.2
-        z = (row - args.quads / columns / 2) * 1.2
-        yaw = (q * 0.7) % math.pi
-        tilt = 0.3 * ((q % 3) - 1)
-        rotation = [math.sin(tilt / 2) * math.cos(yaw / 2), math.sin(yaw / 2) * math.cos(tilt / 2), 0.0,
-                    math.cos(yaw / 2) * math.cos(tilt / 2)]
-        nodes.append({"name": "quad %d" % q, "mesh": 1 + q % 3, "translation": [x, 0.2, z],
-                      "rotation": rotation, "scale": [1.6, 1.6, 1.6]})
+    nodes = [{"name": "floor", "mesh": 0}] + quad_nodes(args.quads)
     lights = [
         {"type": "directional", "name": "sun", "intensity": 3},
         {"type": "spot", "name": "spot", "intensity": 60, "range": 20, "spot": {"innerConeAngle": 0.5, "outerConeAngle": 0.7}},

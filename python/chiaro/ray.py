@@ -274,13 +274,7 @@ def render_dataset(jobs: Union[str, bytes, os.PathLike[str], os.PathLike[bytes],
     entries = _load_jobs(jobs)
     summary: DatasetSummary = {"done": 0, "skipped": 0, "failed": 0, "errors": {}, "workers": 0, "restarts": 0,
                                "retried": 0}
-    if num_workers is not None:
-        _check_whole("num_workers", num_workers, 1)
-    if gpus_per_worker < 0 or cpus_per_worker < 0:
-        raise ValueError("gpus_per_worker and cpus_per_worker cannot be negative")
-    _check_whole("max_retries", max_retries, 0)
-    _check_whole("max_restarts", max_restarts, -1)
-    _check_whole("jobs_per_task", jobs_per_task, 1)
+    _check_counts(num_workers, gpus_per_worker, cpus_per_worker, max_retries, max_restarts, jobs_per_task)
     if not entries:
         return summary
     ray = _import_ray()
@@ -292,18 +286,7 @@ def render_dataset(jobs: Union[str, bytes, os.PathLike[str], os.PathLike[bytes],
         settings = os.path.abspath(os.fsdecode(settings))
 
     if num_workers is None:
-        resources = ray.cluster_resources()
-        if gpus_per_worker > 0:
-            gpus = resources.get("GPU", 0)
-            if gpus < gpus_per_worker:
-                raise ValueError("gpus_per_worker=%g: this Ray cluster has %g GPUs; pass gpus_per_worker=0 to "
-                                 "render on CPUs, or num_workers to wait for GPUs an autoscaler will add"
-                                 % (gpus_per_worker, gpus))
-            num_workers = int(gpus // gpus_per_worker)
-        else:
-            cpus = resources.get("CPU", 1)
-            num_workers = int(cpus // cpus_per_worker) if cpus_per_worker > 0 else int(cpus)
-        num_workers = max(1, num_workers)
+        num_workers = _workers_the_cluster_holds(ray.cluster_resources(), gpus_per_worker, cpus_per_worker)
     num_workers = min(num_workers, len(entries))
     chunks = _chunks(entries, min(jobs_per_task, math.ceil(len(entries) / num_workers)))
     num_workers = min(num_workers, len(chunks))
@@ -313,88 +296,137 @@ def render_dataset(jobs: Union[str, bytes, os.PathLike[str], os.PathLike[bytes],
     worker_class = ray.remote(_Worker)
     actors = [worker_class.options(**options).remote(output, settings, device) for _ in range(num_workers)]
     summary["workers"] = num_workers
-
-    queue: Deque[_Task] = collections.deque({"jobs": chunk, "resubmits": 0} for chunk in chunks)
-    # Object ref -> (actor, task), task None for a ready call: made at the start, and after
-    # a failure to ask whether the worker still answers.
-    pending: Dict[Any, Tuple[Any, Optional[_Task]]] = {actor.ready.remote(): (actor, None) for actor in actors}
-    idle: List[Any] = []
-    pids: Dict[Any, int] = {}
-    first_error: Optional[BaseException] = None
-    task: Optional[_Task]
-    # Ray from 2.10 or so tells a worker gone for good (ActorDiedError) from one being
-    # restarted (ActorUnavailableError); older ones raise RayActorError for both.
-    died_type = getattr(ray.exceptions, "ActorDiedError", None)
-
-    def fail(task: _Task, message: str) -> None:
-        for line, job in task["jobs"]:
-            summary["failed"] += 1
-            summary["errors"][job["id"]] = message
-            _write_error(output, line, job, message)
-
+    dispatch = _Dispatch(ray, output, summary, max_retries, chunks)
     try:
-        while pending or (queue and idle):
-            while queue and idle:
-                actor, task = idle.pop(), queue.popleft()
-                pending[actor.render.remote([job for _, job in task["jobs"]])] = (actor, task)
-            if not pending:
+        dispatch.run(actors)
+    finally:
+        for actor in actors:
+            ray.kill(actor)
+    dispatch.fail_the_rest()
+    return summary
+
+
+def _check_counts(num_workers: Optional[int], gpus_per_worker: float, cpus_per_worker: float, max_retries: int,
+                  max_restarts: int, jobs_per_task: int) -> None:
+    if num_workers is not None:
+        _check_whole("num_workers", num_workers, 1)
+    if gpus_per_worker < 0 or cpus_per_worker < 0:
+        raise ValueError("gpus_per_worker and cpus_per_worker cannot be negative")
+    _check_whole("max_retries", max_retries, 0)
+    _check_whole("max_restarts", max_restarts, -1)
+    _check_whole("jobs_per_task", jobs_per_task, 1)
+
+
+def _workers_the_cluster_holds(resources: Mapping[str, float], gpus_per_worker: float,
+                               cpus_per_worker: float) -> int:
+    """How many workers fit the cluster's GPUs (its CPUs when gpus_per_worker is 0), at least 1."""
+    if gpus_per_worker > 0:
+        gpus = resources.get("GPU", 0)
+        if gpus < gpus_per_worker:
+            raise ValueError("gpus_per_worker=%g: this Ray cluster has %g GPUs; pass gpus_per_worker=0 to "
+                             "render on CPUs, or num_workers to wait for GPUs an autoscaler will add"
+                             % (gpus_per_worker, gpus))
+        return max(1, int(gpus // gpus_per_worker))
+    cpus = resources.get("CPU", 1)
+    return max(1, int(cpus // cpus_per_worker) if cpus_per_worker > 0 else int(cpus))
+
+
+class _Dispatch:
+    """Hands tasks to idle workers until every task is done, failed or left without a
+    worker, adding what the workers report to `summary`."""
+
+    def __init__(self, ray: Any, output: str, summary: DatasetSummary, max_retries: int,
+                 chunks: List[List[_Entry]]) -> None:
+        self.ray = ray
+        self.output = output
+        self.summary = summary
+        self.max_retries = max_retries
+        self.queue: Deque[_Task] = collections.deque({"jobs": chunk, "resubmits": 0} for chunk in chunks)
+        # Object ref -> (actor, task), task None for a ready call: made at the start, and
+        # after a failure to ask whether the worker still answers.
+        self.pending: Dict[Any, Tuple[Any, Optional[_Task]]] = {}
+        self.idle: List[Any] = []
+        self.pids: Dict[Any, int] = {}
+        self.first_error: Optional[BaseException] = None
+        # Ray from 2.10 or so tells a worker gone for good (ActorDiedError) from one being
+        # restarted (ActorUnavailableError); older ones raise RayActorError for both.
+        self.died_type = getattr(ray.exceptions, "ActorDiedError", None)
+
+    def run(self, actors: List[Any]) -> None:
+        ray = self.ray
+        self.pending = {actor.ready.remote(): (actor, None) for actor in actors}
+        while self.pending or (self.queue and self.idle):
+            while self.queue and self.idle:
+                actor, task = self.idle.pop(), self.queue.popleft()
+                self.pending[actor.render.remote([job for _, job in task["jobs"]])] = (actor, task)
+            if not self.pending:
                 break
-            (ref,), _ = ray.wait(list(pending), num_returns=1)
-            actor, task = pending.pop(ref)
+            (ref,), _ = ray.wait(list(self.pending), num_returns=1)
+            actor, maybe_task = self.pending.pop(ref)
             try:
                 answer = ray.get(ref)
             except ray.exceptions.RayActorError as e:
-                if task is None:
-                    # The worker is gone for good (its Renderer could not be made, or
-                    # max_restarts is spent): it gets no more tasks.
-                    first_error = first_error or e
-                elif died_type is not None and not isinstance(e, died_type):
-                    # The worker is being restarted, and this task has spent max_retries:
-                    # it ended its worker every time it ran.
-                    if not _split(queue, task):
-                        fail(task, "its worker died %d times rendering it: %s" % (max_retries + 1, _message(e)))
-                    idle.append(actor)
-                else:
-                    # The worker died for good (or an older Ray cannot say): the task goes
-                    # to the next idle worker, and a ready call asks after this one.
-                    if task["resubmits"] < max_retries:
-                        task["resubmits"] += 1
-                        summary["retried"] += 1
-                        queue.appendleft(task)
-                    elif not _split(queue, task):
-                        times = max_retries + 1
-                        fail(task, "its worker died each of the %d times it was given out: %s" % (times, _message(e)))
-                    pending[actor.ready.remote()] = (actor, None)
+                self._worker_died(actor, maybe_task, e)
                 continue
             except ray.exceptions.RayTaskError as e:
                 # render_jobs raised instead of reporting (an output folder it cannot write);
                 # a ready call returns what it holds and raises nothing of the kind.
-                assert task is not None
-                if not _split(queue, task):
-                    fail(task, _message(e))
-                idle.append(actor)
+                assert maybe_task is not None
+                if not _split(self.queue, maybe_task):
+                    self.fail(maybe_task, _message(e))
+                self.idle.append(actor)
                 continue
-            pid = answer[0]
-            if actor in pids and pids[actor] != pid:
-                summary["restarts"] += 1
-            pids[actor] = pid
-            if task is not None:
-                result = answer[1]
-                summary["done"] += int(result.get("done", 0))
-                summary["skipped"] += int(result.get("skipped", 0))
-                summary["failed"] += int(result.get("failed", 0))
-                summary["errors"].update(result.get("errors") or {})
-            idle.append(actor)
-    finally:
-        for actor in actors:
-            ray.kill(actor)
+            self._answered(actor, maybe_task, answer)
 
-    if queue:
-        if not pids and first_error is not None:
-            raise RuntimeError("no Ray worker could make a chiaro.Renderer: %s" % _message(first_error))
-        while queue:
-            fail(queue.popleft(), "every worker died before it could render this job")
-    return summary
+    def _worker_died(self, actor: Any, task: Optional[_Task], error: BaseException) -> None:
+        if task is None:
+            # The worker is gone for good (its Renderer could not be made, or max_restarts
+            # is spent): it gets no more tasks.
+            self.first_error = self.first_error or error
+        elif self.died_type is not None and not isinstance(error, self.died_type):
+            # The worker is being restarted, and this task has spent max_retries: it ended
+            # its worker every time it ran.
+            if not _split(self.queue, task):
+                self.fail(task, "its worker died %d times rendering it: %s" % (self.max_retries + 1, _message(error)))
+            self.idle.append(actor)
+        else:
+            # The worker died for good (or an older Ray cannot say): the task goes to the
+            # next idle worker, and a ready call asks after this one.
+            if task["resubmits"] < self.max_retries:
+                task["resubmits"] += 1
+                self.summary["retried"] += 1
+                self.queue.appendleft(task)
+            elif not _split(self.queue, task):
+                times = self.max_retries + 1
+                self.fail(task, "its worker died each of the %d times it was given out: %s" % (times, _message(error)))
+            self.pending[actor.ready.remote()] = (actor, None)
+
+    def _answered(self, actor: Any, task: Optional[_Task], answer: Tuple[int, JobsSummary]) -> None:
+        pid = answer[0]
+        if actor in self.pids and self.pids[actor] != pid:
+            self.summary["restarts"] += 1
+        self.pids[actor] = pid
+        if task is not None:
+            result = answer[1]
+            self.summary["done"] += int(result.get("done", 0))
+            self.summary["skipped"] += int(result.get("skipped", 0))
+            self.summary["failed"] += int(result.get("failed", 0))
+            self.summary["errors"].update(result.get("errors") or {})
+        self.idle.append(actor)
+
+    def fail(self, task: _Task, message: str) -> None:
+        for line, job in task["jobs"]:
+            self.summary["failed"] += 1
+            self.summary["errors"][job["id"]] = message
+            _write_error(self.output, line, job, message)
+
+    def fail_the_rest(self) -> None:
+        """Counts the tasks no worker was left to run as failed; raises RuntimeError when no
+        worker ever made its Renderer."""
+        if self.queue and not self.pids and self.first_error is not None:
+            raise RuntimeError("no Ray worker could make a chiaro.Renderer: %s" % _message(self.first_error))
+        while self.queue:
+            self.fail(self.queue.popleft(), "every worker died before it could render this job")
 
 
 def _check_whole(name: str, value: object, least: int) -> None:

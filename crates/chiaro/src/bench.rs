@@ -182,10 +182,21 @@ pub fn run(args: BenchArgs) -> Result<()> {
     if let Some(ms) = environment_setup_ms {
         println!("environment: {} made in {ms:.1} ms (once, before the frames)", settings.environment.describe(&scene));
     }
+    let rows = timing_rows(intervals, &gpu, &frames);
+    println!("{:<28} {:>10} {:>10} {:>10}", "ms", "median", "min", "max");
+    for (label, s) in rows {
+        println!("{label:<28} {:>10.3} {:>10.3} {:>10.3}", s.median, s.min, s.max);
+    }
+    Ok(())
+}
+
+/// The table's rows: the frame interval, GPU times per pass where the device has
+/// timestamps, and the CPU's preparation.
+fn timing_rows(intervals: Vec<f64>, gpu: &[GpuFrameTimes], frames: &[TimedFrame]) -> Vec<(String, Stats)> {
     let mut rows: Vec<(String, Stats)> = vec![("frame (back to back)".into(), stats(intervals))];
     if !gpu.is_empty() {
         rows.push(("gpu frame (timestamps)".into(), stats(gpu.iter().map(GpuFrameTimes::total_ms).collect())));
-        for (pass, times) in pass_times(&gpu) {
+        for (pass, times) in pass_times(gpu) {
             rows.push((format!("  gpu {pass} pass"), stats(times)));
         }
         let shadow_share: Vec<f64> = gpu
@@ -197,12 +208,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
         }
     }
     rows.push(("cpu prepare".into(), stats(frames.iter().map(|f| f.timings.cpu_prepare_ms).collect())));
-    if let Some(times) = thread_times(&frames) {
+    if let Some(times) = thread_times(frames) {
         rows.push(("cpu prepare (thread clock)".into(), stats(times)));
     }
-    println!("{:<28} {:>10} {:>10} {:>10}", "ms", "median", "min", "max");
-    for (label, s) in rows {
-        println!("{label:<28} {:>10.3} {:>10.3} {:>10.3}", s.median, s.min, s.max);
-    }
-    Ok(())
+    rows
 }

@@ -1,7 +1,7 @@
 //! `chiaro info`: what a scene file holds, and what was ignored and why.
 
 use anyhow::Result;
-use chiaro_scene::{AlphaMode, LightKind, load_gltf};
+use chiaro_scene::{AlphaMode, LightKind, Scene, load_gltf};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -25,6 +25,39 @@ pub fn run(args: InfoArgs) -> Result<()> {
         let tris: usize = m.primitives.iter().map(|p| p.triangle_count()).sum();
         println!("  mesh {i} '{}': {} primitives, {tris} triangles", m.name, m.primitives.len());
     }
+    print_materials(&scene);
+    print_lights(&scene);
+    println!("cameras: {}", scene.cameras.len());
+    for (i, c) in scene.cameras.iter().enumerate() {
+        println!(
+            "  camera {i} '{}' (node {}): yfov {:.1} deg, near {}, far {}",
+            c.name,
+            c.node,
+            c.yfov_rad.to_degrees(),
+            c.znear,
+            c.zfar.map(|f| f.to_string()).unwrap_or_else(|| "infinite".into())
+        );
+    }
+    if let Some(own) = &scene.environment {
+        println!(
+            "environment: {}, {} x {} texels (lights the scene unless the settings name another)",
+            own.label, own.map.width, own.map.height
+        );
+    }
+    let b = scene.bounds();
+    if b.is_empty() {
+        println!("bounds: empty");
+    } else {
+        println!("bounds: min {:.3?}, max {:.3?}", b.min.to_array(), b.max.to_array());
+    }
+    println!("ignored: {}", if scene.ignored.is_empty() { "nothing" } else { "" });
+    for reason in &scene.ignored {
+        println!("  {reason}");
+    }
+    Ok(())
+}
+
+fn print_materials(scene: &Scene) {
     println!("materials: {}", scene.materials.len());
     for (i, m) in scene.materials.iter().enumerate() {
         let textures = [
@@ -51,6 +84,9 @@ pub fn run(args: InfoArgs) -> Result<()> {
             if m.double_sided { ", double-sided" } else { "" }
         );
     }
+}
+
+fn print_lights(scene: &Scene) {
     let count = |f: fn(&LightKind) -> bool| scene.lights.iter().filter(|l| f(&l.kind)).count();
     let modes = |mode: chiaro_scene::LightMode| scene.lights.iter().filter(|l| l.mode == mode).count();
     println!(
@@ -93,32 +129,4 @@ pub fn run(args: InfoArgs) -> Result<()> {
             ),
         }
     }
-    println!("cameras: {}", scene.cameras.len());
-    for (i, c) in scene.cameras.iter().enumerate() {
-        println!(
-            "  camera {i} '{}' (node {}): yfov {:.1} deg, near {}, far {}",
-            c.name,
-            c.node,
-            c.yfov_rad.to_degrees(),
-            c.znear,
-            c.zfar.map(|f| f.to_string()).unwrap_or_else(|| "infinite".into())
-        );
-    }
-    if let Some(own) = &scene.environment {
-        println!(
-            "environment: {}, {} x {} texels (lights the scene unless the settings name another)",
-            own.label, own.map.width, own.map.height
-        );
-    }
-    let b = scene.bounds();
-    if b.is_empty() {
-        println!("bounds: empty");
-    } else {
-        println!("bounds: min {:.3?}, max {:.3?}", b.min.to_array(), b.max.to_array());
-    }
-    println!("ignored: {}", if scene.ignored.is_empty() { "nothing" } else { "" });
-    for reason in &scene.ignored {
-        println!("  {reason}");
-    }
-    Ok(())
 }

@@ -228,25 +228,7 @@ fn plan_directional(
     let layout = AtlasLayout::for_tiles(ds.atlas_size, allocation.used_tiles);
     let tile_size = layout.tile_size();
     let splits = cascade_splits(max_distance, ds.ratios(), cascade_count);
-    let tan_half_fov = (view.yfov_rad * 0.5).tan();
-    let mut texel_sizes = Vec::with_capacity(cascade_count);
-    for (i, &far) in splits.iter().enumerate() {
-        let near = if i == 0 { view.znear } else { splits[i - 1] };
-        let sphere_vs = slice_culling_sphere(near, far.max(near + 1e-3), tan_half_fov, view.aspect());
-        let sphere =
-            Sphere { center: view.world_from_view.transform_point3(sphere_vs.center), radius: sphere_vs.radius };
-        let texel = cascade_texel_size_ws(sphere.radius, tile_size);
-        // Shrink by the filter's reach so samples near the edge stay inside the tile.
-        let shrunk = (sphere.radius - texel * filter.footprint_texels()).max(sphere.radius * 0.5);
-        plan.gpu.cascades[i] = GpuCascade {
-            culling_sphere_center_ws: sphere.center,
-            radius_squared: shrunk * shrunk,
-            inverse_radius_squared: 1.0 / (shrunk * shrunk),
-            _pad: [0.0; 3],
-        };
-        plan.cascade_spheres.push(sphere);
-        texel_sizes.push(texel);
-    }
+    let texel_sizes = plan_cascade_spheres(plan, view, &splits, tile_size, filter);
     let first_tiles: std::collections::HashMap<LightId, usize> = requests
         .iter()
         .zip(&allocation.first_tiles)
@@ -296,6 +278,37 @@ fn plan_directional(
     plan.gpu.directional_atlas = atlas_params(ds.atlas_size);
     plan.directional_atlas_size = ds.atlas_size;
     slots
+}
+
+/// Each cascade's culling sphere around its slice of the view (kept in the plan, shrunk by
+/// the filter's reach for the shader), and the world-space size of its texels.
+fn plan_cascade_spheres(
+    plan: &mut ShadowPlan,
+    view: &View,
+    splits: &[f32],
+    tile_size: u32,
+    filter: ShadowFilter,
+) -> Vec<f32> {
+    let tan_half_fov = (view.yfov_rad * 0.5).tan();
+    let mut texel_sizes = Vec::with_capacity(splits.len());
+    for (i, &far) in splits.iter().enumerate() {
+        let near = if i == 0 { view.znear } else { splits[i - 1] };
+        let sphere_vs = slice_culling_sphere(near, far.max(near + 1e-3), tan_half_fov, view.aspect());
+        let sphere =
+            Sphere { center: view.world_from_view.transform_point3(sphere_vs.center), radius: sphere_vs.radius };
+        let texel = cascade_texel_size_ws(sphere.radius, tile_size);
+        // Shrink by the filter's reach so samples near the edge stay inside the tile.
+        let shrunk = (sphere.radius - texel * filter.footprint_texels()).max(sphere.radius * 0.5);
+        plan.gpu.cascades[i] = GpuCascade {
+            culling_sphere_center_ws: sphere.center,
+            radius_squared: shrunk * shrunk,
+            inverse_radius_squared: 1.0 / (shrunk * shrunk),
+            _pad: [0.0; 3],
+        };
+        plan.cascade_spheres.push(sphere);
+        texel_sizes.push(texel);
+    }
+    texel_sizes
 }
 
 /// Tiles in the second atlas for the point and spot lights that cast shadows, in

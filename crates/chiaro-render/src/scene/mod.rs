@@ -123,49 +123,10 @@ impl GpuScene {
         scene: &Scene,
     ) -> GpuScene {
         let _span = tracing::info_span!("upload scene").entered();
-        // Geometry: every mesh primitive once, in the layout the draws point into.
         let geometry = GeometryLayout::of(scene);
-        let mut vertices: Vec<GpuVertex> = Vec::with_capacity(geometry.vertex_count);
-        let mut indices: Vec<u32> = Vec::with_capacity(geometry.index_count);
-        for p in scene.meshes.iter().flat_map(|m| &m.primitives) {
-            for i in 0..p.positions.len() {
-                vertices.push(GpuVertex {
-                    position: p.positions[i].to_array(),
-                    normal: p.normals.get(i).copied().unwrap_or(Vec3::Y).to_array(),
-                    tangent: p.tangents.get(i).copied().unwrap_or(Vec4::new(1.0, 0.0, 0.0, 1.0)).to_array(),
-                    uv0: p.uv0.get(i).copied().unwrap_or_default().to_array(),
-                    uv1: p.uv1.get(i).copied().unwrap_or_default().to_array(),
-                    lightmap_uv: p.lightmap_uv.get(i).copied().unwrap_or_default().to_array(),
-                });
-            }
-            indices.extend_from_slice(&p.indices);
-        }
-        // wgpu refuses empty buffers' bindings; keep at least one element.
-        if vertices.is_empty() {
-            vertices.push(GpuVertex::zeroed());
-        }
-        if indices.is_empty() {
-            indices.push(0);
-        }
+        let (vertices, indices) = vertices_and_indices(scene, &geometry);
         let draws = scene_draws(scene, &geometry);
-        let has_probes = scene.baked.as_ref().is_some_and(|b| b.probes.is_some());
-        let mut objects: Vec<GpuObject> = scene
-            .instances
-            .iter()
-            .map(|inst| {
-                let object =
-                    GpuObject::new(inst.world_from_local, inst.receive_shadows).identified(inst.node, inst.label);
-                match inst.lightmap {
-                    Some(layer) if scene.baked.is_some() => object.lightmapped(layer),
-                    _ if has_probes => object.probe_lit(),
-                    _ => object,
-                }
-            })
-            .collect();
-        if objects.is_empty() {
-            objects.push(GpuObject::new(glam::Mat4::IDENTITY, true));
-        }
-
+        let objects = gpu_objects(scene);
         let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("scene vertices"),
             contents: bytemuck::cast_slice(&vertices),
@@ -182,52 +143,111 @@ impl GpuScene {
             usage: wgpu::BufferUsages::STORAGE,
         });
 
-        // Textures: each image once; white, flat-normal and black stand-ins.
-        let images: Vec<wgpu::TextureView> = scene.images.iter().map(|i| upload_image(device, queue, i)).collect();
-        let white = solid(device, queue, "white", [255, 255, 255, 255]);
-        let flat_normal = solid(device, queue, "flat normal", [128, 128, 255, 255]);
-        let mut samplers = SamplerCache::default();
-        let default = Material::default();
-        let materials = scene
-            .materials
-            .iter()
-            .chain(std::iter::once(&default))
-            .map(|m| {
-                let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&m.name),
-                    contents: bytemuck::bytes_of(&gpu_material(m)),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-                let slots = [
-                    (m.base_color_texture, &white),
-                    (m.metallic_roughness_texture, &white),
-                    (m.normal_texture, &flat_normal),
-                    (m.occlusion_texture, &white),
-                    (m.emissive_texture, &white),
-                ];
-                let resolved: Vec<(&wgpu::TextureView, wgpu::Sampler)> = slots
-                    .iter()
-                    .map(|(t, fallback)| match t.filter(|t| t.image < images.len()) {
-                        Some(t) => (&images[t.image], samplers.get(device, &t.sampler)),
-                        None => (*fallback, samplers.get(device, &Default::default())),
-                    })
-                    .collect();
-                let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() }];
-                for (k, (view, sampler)) in resolved.iter().enumerate() {
-                    entries.push(wgpu::BindGroupEntry {
-                        binding: 1 + 2 * k as u32,
-                        resource: wgpu::BindingResource::TextureView(view),
-                    });
-                    entries.push(wgpu::BindGroupEntry {
-                        binding: 2 + 2 * k as u32,
-                        resource: wgpu::BindingResource::Sampler(sampler),
-                    });
-                }
-                device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&m.name), layout, entries: &entries })
-            })
-            .collect();
+        let materials = material_bind_groups(device, queue, layout, scene);
         let cookies = CookieTextures::upload(device, queue, scene);
         let baked = BakedTextures::upload(device, queue, scene.baked.as_ref());
         GpuScene { vertices, indices, objects, materials, draws, cookies, baked }
     }
+}
+
+/// Every mesh primitive's vertices and indices once, in the layout the draws point into.
+fn vertices_and_indices(scene: &Scene, geometry: &GeometryLayout) -> (Vec<GpuVertex>, Vec<u32>) {
+    let mut vertices: Vec<GpuVertex> = Vec::with_capacity(geometry.vertex_count);
+    let mut indices: Vec<u32> = Vec::with_capacity(geometry.index_count);
+    for p in scene.meshes.iter().flat_map(|m| &m.primitives) {
+        for i in 0..p.positions.len() {
+            vertices.push(GpuVertex {
+                position: p.positions[i].to_array(),
+                normal: p.normals.get(i).copied().unwrap_or(Vec3::Y).to_array(),
+                tangent: p.tangents.get(i).copied().unwrap_or(Vec4::new(1.0, 0.0, 0.0, 1.0)).to_array(),
+                uv0: p.uv0.get(i).copied().unwrap_or_default().to_array(),
+                uv1: p.uv1.get(i).copied().unwrap_or_default().to_array(),
+                lightmap_uv: p.lightmap_uv.get(i).copied().unwrap_or_default().to_array(),
+            });
+        }
+        indices.extend_from_slice(&p.indices);
+    }
+    // wgpu refuses empty buffers' bindings; keep at least one element.
+    if vertices.is_empty() {
+        vertices.push(GpuVertex::zeroed());
+    }
+    if indices.is_empty() {
+        indices.push(0);
+    }
+    (vertices, indices)
+}
+
+/// One object record per instance, lit by its lightmap layer, the probes or neither.
+fn gpu_objects(scene: &Scene) -> Vec<GpuObject> {
+    let has_probes = scene.baked.as_ref().is_some_and(|b| b.probes.is_some());
+    let mut objects: Vec<GpuObject> = scene
+        .instances
+        .iter()
+        .map(|inst| {
+            let object = GpuObject::new(inst.world_from_local, inst.receive_shadows).identified(inst.node, inst.label);
+            match inst.lightmap {
+                Some(layer) if scene.baked.is_some() => object.lightmapped(layer),
+                _ if has_probes => object.probe_lit(),
+                _ => object,
+            }
+        })
+        .collect();
+    if objects.is_empty() {
+        objects.push(GpuObject::new(glam::Mat4::IDENTITY, true));
+    }
+    objects
+}
+
+/// One bind group per material (and one for the default material, last): its uniform and
+/// its five textures, each image uploaded once, white and flat-normal stand-ins for the
+/// textures a material lacks.
+fn material_bind_groups(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    layout: &wgpu::BindGroupLayout,
+    scene: &Scene,
+) -> Vec<wgpu::BindGroup> {
+    let images: Vec<wgpu::TextureView> = scene.images.iter().map(|i| upload_image(device, queue, i)).collect();
+    let white = solid(device, queue, "white", [255, 255, 255, 255]);
+    let flat_normal = solid(device, queue, "flat normal", [128, 128, 255, 255]);
+    let mut samplers = SamplerCache::default();
+    let default = Material::default();
+    scene
+        .materials
+        .iter()
+        .chain(std::iter::once(&default))
+        .map(|m| {
+            let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&m.name),
+                contents: bytemuck::bytes_of(&gpu_material(m)),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let slots = [
+                (m.base_color_texture, &white),
+                (m.metallic_roughness_texture, &white),
+                (m.normal_texture, &flat_normal),
+                (m.occlusion_texture, &white),
+                (m.emissive_texture, &white),
+            ];
+            let resolved: Vec<(&wgpu::TextureView, wgpu::Sampler)> = slots
+                .iter()
+                .map(|(t, fallback)| match t.filter(|t| t.image < images.len()) {
+                    Some(t) => (&images[t.image], samplers.get(device, &t.sampler)),
+                    None => (*fallback, samplers.get(device, &Default::default())),
+                })
+                .collect();
+            let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() }];
+            for (k, (view, sampler)) in resolved.iter().enumerate() {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 1 + 2 * k as u32,
+                    resource: wgpu::BindingResource::TextureView(view),
+                });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 2 + 2 * k as u32,
+                    resource: wgpu::BindingResource::Sampler(sampler),
+                });
+            }
+            device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&m.name), layout, entries: &entries })
+        })
+        .collect()
 }

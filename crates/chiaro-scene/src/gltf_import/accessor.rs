@@ -149,47 +149,56 @@ impl<'a> Loader<'a> {
         }
 
         if let Some(sparse) = &accessor.sparse {
-            let n = sparse.count.0;
-            if n > count as u64 {
-                return Err(self.invalid(format!("{label} replaces {n} sparse elements but has only {count}")));
-            }
-            let n = n as usize;
-            let Checked::Valid(index_type) = sparse.indices.component_type else {
-                return Err(self.invalid(format!("{label} has invalid sparse indices")));
-            };
-            let index_type = index_type.0;
-            let indices = self.sparse_slice(
-                sparse.indices.buffer_view.value(),
-                sparse.indices.byte_offset.0,
-                n * index_type.size(),
-                &label,
-            )?;
-            let values = self.sparse_slice(
-                sparse.values.buffer_view.value(),
-                sparse.values.byte_offset.0,
-                n * element_size,
-                &label,
-            )?;
-            let mut previous = None;
-            for k in 0..n {
-                let target = read_index(index_type, &indices[k * index_type.size()..])
-                    .filter(|&t| (t as usize) < count)
-                    .ok_or_else(|| self.invalid(format!("{sparse_label}: an index is out of range")))?
-                    as usize;
-                // glTF 2.0 §3.6.2.3: sparse indices strictly increase.
-                if previous.is_some_and(|p| p >= target) {
-                    return Err(self.invalid(format!(
-                        "{sparse_label}: {target} follows {}; sparse indices must strictly increase",
-                        previous.unwrap_or_default()
-                    )));
-                }
-                previous = Some(target);
-                bytes[target * element_size..(target + 1) * element_size]
-                    .copy_from_slice(&values[k * element_size..(k + 1) * element_size]);
-            }
+            self.apply_sparse(sparse, (count, element_size), (&label, &sparse_label), &mut bytes)?;
         }
 
         Ok(Packed { component, normalized: accessor.normalized, dims, bytes })
+    }
+
+    /// Substitutes a sparse accessor's values into its packed `bytes`, checking that the
+    /// indices are in range and strictly increase.
+    fn apply_sparse(
+        &self,
+        sparse: &json::accessor::sparse::Sparse,
+        (count, element_size): (usize, usize),
+        (label, sparse_label): (&str, &str),
+        bytes: &mut [u8],
+    ) -> Result<(), SceneError> {
+        let n = sparse.count.0;
+        if n > count as u64 {
+            return Err(self.invalid(format!("{label} replaces {n} sparse elements but has only {count}")));
+        }
+        let n = n as usize;
+        let Checked::Valid(index_type) = sparse.indices.component_type else {
+            return Err(self.invalid(format!("{label} has invalid sparse indices")));
+        };
+        let index_type = index_type.0;
+        let indices = self.sparse_slice(
+            sparse.indices.buffer_view.value(),
+            sparse.indices.byte_offset.0,
+            n * index_type.size(),
+            label,
+        )?;
+        let values =
+            self.sparse_slice(sparse.values.buffer_view.value(), sparse.values.byte_offset.0, n * element_size, label)?;
+        let mut previous = None;
+        for k in 0..n {
+            let target = read_index(index_type, &indices[k * index_type.size()..])
+                .filter(|&t| (t as usize) < count)
+                .ok_or_else(|| self.invalid(format!("{sparse_label}: an index is out of range")))?
+                as usize;
+            // glTF 2.0 §3.6.2.3: sparse indices strictly increase.
+            if previous.is_some_and(|p| p >= target) {
+                return Err(self.invalid(format!(
+                    "{sparse_label}: {target} follows {}; sparse indices must strictly increase",
+                    previous.unwrap_or_default()
+                )));
+            }
+            previous = Some(target);
+            bytes[target * element_size..(target + 1) * element_size]
+                .copy_from_slice(&values[k * element_size..(k + 1) * element_size]);
+        }
+        Ok(())
     }
 
     fn sparse_slice(&self, view_index: usize, offset: u64, length: usize, label: &str) -> Result<&[u8], SceneError> {

@@ -37,25 +37,7 @@ impl Loader<'_> {
         };
         let label = object_label("light", light_index, None, light.name.as_deref());
         let color = Vec3::from_array(light.color);
-        if !color.is_finite() || color.min_element() < 0.0 {
-            return Err(self.invalid(format!("{label}: colour {color} is not a linear RGB colour")));
-        }
-        if !light.intensity.is_finite() || light.intensity < 0.0 {
-            return Err(self.invalid(format!("{label}: intensity {} is negative or not finite", light.intensity)));
-        }
-        let peak = light.intensity * color.max_element();
-        if peak > MAX_LIGHT_INTENSITY {
-            return Err(self.invalid(format!(
-                "{label}: intensity {:e} times colour {color} is beyond {MAX_LIGHT_INTENSITY:e}, the brightest \
-                 light Chiaro shades",
-                light.intensity
-            )));
-        }
-        if let Some(range) = light.range
-            && !(range.is_finite() && range > 0.0)
-        {
-            return Err(self.invalid(format!("{label}: range {range} is not positive")));
-        }
+        self.check_light_strength(&label, color, light.intensity, light.range)?;
         let kind = match (light.type_, &light.spot) {
             (Checked::Valid(Type::Directional), _) => LightKind::Directional,
             (Checked::Valid(Type::Point), _) => LightKind::Point,
@@ -82,9 +64,60 @@ impl Loader<'_> {
         }
         let mode =
             super::extras::light_mode(light.extras.as_deref()).map_err(|e| self.invalid(format!("{label}: {e}")))?;
-        let cookie = match super::extras::light_cookie(light.extras.as_deref())
-            .map_err(|e| self.invalid(format!("{label}: {e}")))?
+        let cookie = self.light_cookie(&label, kind, light.extras.as_deref())?;
+        let world_from_light = light_frame(placement.world_from_local);
+        Ok(Some(Light {
+            name: light.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("light {light_index}")),
+            node: placement.node,
+            kind,
+            color,
+            intensity: light.intensity,
+            range: light.range,
+            world_from_light,
+            shadow,
+            cookie,
+            mode,
+        }))
+    }
+
+    /// Refuses colours, intensities and ranges Chiaro cannot shade.
+    fn check_light_strength(
+        &self,
+        label: &str,
+        color: Vec3,
+        intensity: f32,
+        range_m: Option<f32>,
+    ) -> Result<(), SceneError> {
+        if !color.is_finite() || color.min_element() < 0.0 {
+            return Err(self.invalid(format!("{label}: colour {color} is not a linear RGB colour")));
+        }
+        if !intensity.is_finite() || intensity < 0.0 {
+            return Err(self.invalid(format!("{label}: intensity {} is negative or not finite", intensity)));
+        }
+        let peak = intensity * color.max_element();
+        if peak > MAX_LIGHT_INTENSITY {
+            return Err(self.invalid(format!(
+                "{label}: intensity {:e} times colour {color} is beyond {MAX_LIGHT_INTENSITY:e}, the brightest \
+                 light Chiaro shades",
+                intensity
+            )));
+        }
+        if let Some(range) = range_m
+            && !(range.is_finite() && range > 0.0)
         {
+            return Err(self.invalid(format!("{label}: range {range} is not positive")));
+        }
+        Ok(())
+    }
+
+    /// The light's cookie from its extras, checked against the file's images and the light's kind.
+    fn light_cookie(
+        &self,
+        label: &str,
+        kind: LightKind,
+        extras: Option<&json::extras::RawValue>,
+    ) -> Result<Option<Cookie>, SceneError> {
+        let cookie = match super::extras::light_cookie(extras).map_err(|e| self.invalid(format!("{label}: {e}")))? {
             Some(c) => {
                 if c.image >= self.root.images.len() {
                     return Err(self.invalid(format!(
@@ -110,19 +143,7 @@ impl Loader<'_> {
             }
             None => None,
         };
-        let world_from_light = light_frame(placement.world_from_local);
-        Ok(Some(Light {
-            name: light.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("light {light_index}")),
-            node: placement.node,
-            kind,
-            color,
-            intensity: light.intensity,
-            range: light.range,
-            world_from_light,
-            shadow,
-            cookie,
-            mode,
-        }))
+        Ok(cookie)
     }
 
     pub(super) fn camera(&mut self, placement: &Placement) -> Result<Option<Camera>, SceneError> {

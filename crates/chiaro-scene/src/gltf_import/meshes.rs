@@ -53,42 +53,22 @@ impl Loader<'_> {
         let mode = match primitive.mode {
             Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => mode,
             _ => {
-                // Not drawn (yet), but placed in the scene: its data is checked all the same.
-                self.check_unread_accessors(primitive, label, true)?;
-                let vertex_count = self.read_floats::<3>(position_accessor, &format!("POSITION of {label}"))?.len();
-                self.checked_indices(primitive, vertex_count, label)?;
-                self.tally.points_or_lines += 1;
+                self.check_undrawn_primitive(primitive, position_accessor, label)?;
                 return Ok(None);
             }
         };
         self.count_ignored_attributes(primitive);
         self.check_unread_accessors(primitive, label, false)?;
 
-        let mut positions: Vec<Vec3> = self
-            .read_floats::<3>(position_accessor, &format!("POSITION of {label}"))?
-            .into_iter()
-            .map(Vec3::from_array)
-            .collect();
-        if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(self.invalid(format!("{label}: POSITION {v} is not finite")));
-        }
+        let mut positions = self.finite_positions(position_accessor, label)?;
         let vertex_count = positions.len();
         let (mut indices, left_over) = self.triangle_indices(primitive, mode, vertex_count, label)?;
         if left_over > 0 {
-            let (count, what) = match primitive.indices {
-                Some(_) => (indices.len() + left_over, "indices"),
-                None => (vertex_count, "vertices"),
-            };
-            let drawn = indices.len() / 3;
-            self.ignored.push(format!(
-                "{label}: {count} {what} do not make whole {}; the last {left_over} not drawn ({drawn} triangles drawn)",
-                mode_name(mode)
-            ));
+            self.note_left_over_vertices(primitive, mode, label, (indices.len(), vertex_count, left_over));
         }
         if indices.is_empty() {
             return Ok(None);
         }
-        let read = |accessor, name: &str| self.vertex_attribute::<3>(accessor, name, label, vertex_count);
         let read_uv = |set: u32| -> Result<Vec<Vec2>, SceneError> {
             let Some(accessor) = attribute(Semantic::TexCoords(set)) else {
                 return Ok(vec![Vec2::ZERO; vertex_count]);
@@ -100,22 +80,7 @@ impl Loader<'_> {
         let mut targets = self.morph_targets(primitive, label, vertex_count)?;
         let mut uv0 = read_uv(0)?;
         let mut uv1 = read_uv(1)?;
-        let mut normals: Option<Vec<Vec3>> = match attribute(Semantic::Normals) {
-            Some(accessor) => {
-                Some(read(accessor, "NORMAL")?.into_iter().map(|n| Vec3::from_array(n).normalize_or(Vec3::Z)).collect())
-            }
-            None => None,
-        };
-        // Tangents are only trusted alongside the file's own normals (glTF 2.0 §3.7.2.1).
-        let mut tangents = match (attribute(Semantic::Tangents), &normals) {
-            (Some(accessor), Some(normals)) => {
-                let tangents = self.vertex_attribute::<4>(accessor, "TANGENT", label, vertex_count)?;
-                let mut tangents: Vec<Vec4> = tangents.into_iter().map(Vec4::from_array).collect();
-                vertex_gen::repair_tangents(&mut tangents, normals);
-                Some(tangents)
-            }
-            _ => None,
-        };
+        let (mut normals, mut tangents) = self.file_normals_and_tangents(primitive, label, vertex_count)?;
 
         let mut flat_normals = false;
         let normals = match normals.take() {
@@ -156,6 +121,85 @@ impl Loader<'_> {
         let primitive =
             Primitive { positions, normals, tangents, uv0, uv1, indices, material, bounds, lightmap_uv: Vec::new() };
         Ok(Some((primitive, deformation)))
+    }
+
+    /// A primitive Chiaro does not draw (yet) but that is placed in the scene: its data is
+    /// checked all the same, and it is counted.
+    fn check_undrawn_primitive(
+        &mut self,
+        primitive: &json::mesh::Primitive,
+        position_accessor: usize,
+        label: &str,
+    ) -> Result<(), SceneError> {
+        self.check_unread_accessors(primitive, label, true)?;
+        let vertex_count = self.read_floats::<3>(position_accessor, &format!("POSITION of {label}"))?.len();
+        self.checked_indices(primitive, vertex_count, label)?;
+        self.tally.points_or_lines += 1;
+        Ok(())
+    }
+
+    fn finite_positions(&self, accessor: usize, label: &str) -> Result<Vec<Vec3>, SceneError> {
+        let positions: Vec<Vec3> = self
+            .read_floats::<3>(accessor, &format!("POSITION of {label}"))?
+            .into_iter()
+            .map(Vec3::from_array)
+            .collect();
+        match positions.iter().position(|p| !p.is_finite()) {
+            Some(v) => Err(self.invalid(format!("{label}: POSITION {v} is not finite"))),
+            None => Ok(positions),
+        }
+    }
+
+    /// Notes the indices (or vertices) past the last whole triangle; `counts` is the drawn
+    /// index count, the vertex count and the left-over count.
+    fn note_left_over_vertices(
+        &mut self,
+        primitive: &json::mesh::Primitive,
+        mode: json::mesh::Mode,
+        label: &str,
+        (drawn_indices, vertex_count, left_over): (usize, usize, usize),
+    ) {
+        let (count, what) = match primitive.indices {
+            Some(_) => (drawn_indices + left_over, "indices"),
+            None => (vertex_count, "vertices"),
+        };
+        let drawn = drawn_indices / 3;
+        self.ignored.push(format!(
+            "{label}: {count} {what} do not make whole {}; the last {left_over} not drawn ({drawn} triangles drawn)",
+            mode_name(mode)
+        ));
+    }
+
+    /// The file's own normals (normalised) and tangents (repaired), where it has them.
+    /// Tangents are only trusted alongside the file's own normals (glTF 2.0 §3.7.2.1).
+    #[allow(clippy::type_complexity)]
+    fn file_normals_and_tangents(
+        &self,
+        primitive: &json::mesh::Primitive,
+        label: &str,
+        vertex_count: usize,
+    ) -> Result<(Option<Vec<Vec3>>, Option<Vec<Vec4>>), SceneError> {
+        use json::mesh::Semantic;
+        let attribute = |semantic: Semantic| primitive.attributes.get(&Checked::Valid(semantic)).map(|a| a.value());
+        let normals: Option<Vec<Vec3>> = match attribute(Semantic::Normals) {
+            Some(accessor) => Some(
+                self.vertex_attribute::<3>(accessor, "NORMAL", label, vertex_count)?
+                    .into_iter()
+                    .map(|n| Vec3::from_array(n).normalize_or(Vec3::Z))
+                    .collect(),
+            ),
+            None => None,
+        };
+        let tangents = match (attribute(Semantic::Tangents), &normals) {
+            (Some(accessor), Some(normals)) => {
+                let tangents = self.vertex_attribute::<4>(accessor, "TANGENT", label, vertex_count)?;
+                let mut tangents: Vec<Vec4> = tangents.into_iter().map(Vec4::from_array).collect();
+                vertex_gen::repair_tangents(&mut tangents, normals);
+                Some(tangents)
+            }
+            _ => None,
+        };
+        Ok((normals, tangents))
     }
 }
 

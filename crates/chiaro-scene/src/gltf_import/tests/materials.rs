@@ -27,16 +27,15 @@ fn unsupported_image_formats_name_the_image() {
     assert!(message.starts_with("image 0: unsupported image format"), "{message}");
 }
 
-#[test]
-fn materials_textures_and_generated_tangents() {
-    let dir = TempDir::new("material");
+/// A quad facing +Z with upright glTF UVs (v = 0 at the top, y = 1) and a material that
+/// sets every factor and texture slot, two images written into `dir`.
+fn painted_quad(dir: &TempDir) -> serde_json::Value {
     let mut rgba = image::RgbaImage::new(2, 1);
     rgba.put_pixel(1, 0, image::Rgba([10, 20, 30, 255]));
     dir.write("color.png", &png_bytes(rgba.into()));
     let grey16 = image::ImageBuffer::<image::Luma<u16>, _>::from_raw(1, 1, vec![65535u16]).unwrap();
     dir.write("orm.png", &png_bytes(image::DynamicImage::ImageLuma16(grey16)));
 
-    // A quad facing +Z with upright glTF UVs (v = 0 at the top, y = 1).
     let mut bytes = f32_bytes(&[
         0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0, // POSITION
         0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, // NORMAL
@@ -76,7 +75,13 @@ fn materials_textures_and_generated_tangents() {
     doc["samplers"] = json!([{ "magFilter": 9728, "minFilter": 9729, "wrapS": 33071, "wrapT": 33648 }]);
     doc["textures"] = json!([{ "source": 0, "sampler": 0 }, { "source": 1 }, { "source": 0 }]);
     doc["images"] = json!([{ "uri": "color.png" }, { "uri": "orm.png" }, { "uri": "never-read.png" }]);
-    let scene = load_doc(&dir, &doc).unwrap();
+    doc
+}
+
+#[test]
+fn materials_textures_and_generated_tangents() {
+    let dir = TempDir::new("material");
+    let scene = load_doc(&dir, &painted_quad(&dir)).unwrap();
 
     // Image 0 is both colour and normal map: decoded once, as sRGB.
     assert_eq!(scene.images.len(), 2);
