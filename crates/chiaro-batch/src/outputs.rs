@@ -96,6 +96,7 @@ impl Outputs {
             shadow_aovs: self.wants(Output::Shadow),
             ids: any(&[Output::Instance, Output::Label]),
             readback: any(&[Output::Rgb, Output::Hdr, Output::Depth, Output::Normal, Output::Position]),
+            skip_hdr: !self.wants(Output::Hdr),
             read_shadow_atlas: false,
             debug: None,
         }

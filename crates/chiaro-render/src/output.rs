@@ -2,7 +2,7 @@
 //! each light's shadow status, and the frame's timings.
 
 use crate::debug_view::DebugView;
-use crate::graph::{FrameGraph, Target};
+use crate::graph::{FrameGraph, PassStats, Target};
 use crate::plan::FramePlan;
 use crate::plan::lights::LightId;
 use crate::plan::shadows::ShadowSlot;
@@ -24,6 +24,9 @@ pub struct FrameOptions {
     /// Copy the images back to the CPU, waiting for the frame (off for benchmarking and
     /// for frames that go to a window).
     pub readback: bool,
+    /// With `readback`, leave the linear radiance on the GPU: `FrameOutput::hdr` comes
+    /// back empty and only the tone-mapped image is copied, for callers that want no more.
+    pub skip_hdr: bool,
     /// Copy the shadow atlases back to the CPU.
     pub read_shadow_atlas: bool,
     /// A debug view the frame's passes draw (cascades, the deferred views); the others
@@ -151,6 +154,33 @@ pub struct FrameOutput {
 }
 
 impl FrameOutput {
+    /// A submitted frame's output before anything is read back: its size, the passes'
+    /// counts, the CPU timings, the plan and the graph.
+    pub(crate) fn before_read_back(
+        (width, height): (u32, u32),
+        timings: FrameTimings,
+        stats: PassStats,
+        plan: FramePlan,
+        graph: FrameGraph,
+    ) -> FrameOutput {
+        FrameOutput {
+            width,
+            height,
+            hdr: Vec::new(),
+            ldr: Vec::new(),
+            aovs: None,
+            ids: None,
+            timings,
+            shadow_aovs: Vec::new(),
+            shadow_atlases: Vec::new(),
+            shadow_tiles: stats.shadow_tiles_rendered,
+            shadow_caster_draws: stats.shadow_caster_draws,
+            images: Default::default(),
+            plan,
+            graph,
+        }
+    }
+
     /// Point and spot lights shaded.
     pub fn local_lights_shaded(&self) -> usize {
         self.plan.shaded_local_lights()

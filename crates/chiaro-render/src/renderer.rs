@@ -238,6 +238,18 @@ impl Renderer {
         self.submit_frame(scene, prepared, view, settings, options, None)
     }
 
+    fn check_output_size(&self, view: &View) -> Result<(), RenderError> {
+        let max = self.ctx.max_texture_size();
+        if view.width == 0 || view.height == 0 || view.width > max || view.height > max {
+            return Err(RenderError::OutputSize {
+                width: view.width,
+                height: view.height,
+                reason: format!("each side must be between 1 and {max} (this device's limit)"),
+            });
+        }
+        Ok(())
+    }
+
     fn submit_frame(
         &mut self,
         scene: &Scene,
@@ -250,14 +262,7 @@ impl Renderer {
         let _span = tracing::info_span!("frame", width = view.width, height = view.height).entered();
         let start = Instant::now();
         let thread_start = thread_cpu_ms();
-        let max = self.ctx.max_texture_size();
-        if view.width == 0 || view.height == 0 || view.width > max || view.height > max {
-            return Err(RenderError::OutputSize {
-                width: view.width,
-                height: view.height,
-                reason: format!("each side must be between 1 and {max} (this device's limit)"),
-            });
-        }
+        self.check_output_size(view)?;
         let frame = self.next_frame;
         self.next_frame += 1;
         let mut plan = self.plan(scene, prepared, view, settings, options);
@@ -312,22 +317,8 @@ impl Renderer {
             timer.submitted();
         }
 
-        let out = FrameOutput {
-            width: view.width,
-            height: view.height,
-            hdr: Vec::new(),
-            ldr: Vec::new(),
-            aovs: None,
-            ids: None,
-            timings: FrameTimings { frame, cpu_prepare_ms, cpu_prepare_thread_ms, ..Default::default() },
-            shadow_aovs: Vec::new(),
-            shadow_atlases: Vec::new(),
-            shadow_tiles: stats.shadow_tiles_rendered,
-            shadow_caster_draws: stats.shadow_caster_draws,
-            images: Default::default(),
-            plan,
-            graph,
-        };
+        let timings = FrameTimings { frame, cpu_prepare_ms, cpu_prepare_thread_ms, ..Default::default() };
+        let out = FrameOutput::before_read_back((view.width, view.height), timings, stats, plan, graph);
         self.targets.set_external_output(None);
         if !options.reads_back() {
             self.ctx.device.poll(wgpu::PollType::Poll).map_err(|e| RenderError::Gpu(e.to_string()))?;
@@ -417,7 +408,7 @@ fn read_backs(graph: &FrameGraph, plan: &FramePlan, options: FrameOptions) -> Ve
     };
     let mut read = Vec::new();
     if options.readback {
-        if graph.has(HDR) {
+        if graph.has(HDR) && !options.skip_hdr {
             read.push((HDR, texel(&HDR)));
         }
         read.push((OUTPUT, OUTPUT_FORMAT.block_copy_size(None).expect("colour")));

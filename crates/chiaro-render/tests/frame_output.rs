@@ -162,3 +162,20 @@ fn a_depth_only_frame_gives_the_depth_of_a_full_aov_frame() {
     assert!(all.depth.iter().any(|d| d.is_infinite()) && all.depth.iter().any(|d| d.is_finite()));
     assert!(only.position_ws.is_empty() && only.normal_ws.is_empty() && only.baked_irradiance.is_empty());
 }
+
+#[test]
+fn a_frame_that_skips_the_radiance_gives_the_same_image_and_depth_without_it() {
+    let mut renderer = renderer();
+    let scene = demo_scene(4);
+    let prepared = renderer.prepare(&scene).unwrap();
+    let view = View::from_camera(&scene, 0, SIZE, SIZE);
+    let settings = Settings::default();
+    let full = FrameOptions { readback: true, aovs: true, depth_only: true, ..Default::default() };
+    let with = renderer.render(&scene, &prepared, &view, &settings, full).unwrap();
+    let without =
+        renderer.render(&scene, &prepared, &view, &settings, FrameOptions { skip_hdr: true, ..full }).unwrap();
+    assert_eq!(with.hdr.len(), (SIZE * SIZE) as usize);
+    assert!(without.hdr.is_empty(), "the radiance stayed on the GPU");
+    assert_eq!(with.ldr, without.ldr);
+    assert_eq!(with.aovs.unwrap().depth, without.aovs.unwrap().depth);
+}

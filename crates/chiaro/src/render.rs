@@ -4,11 +4,12 @@ use crate::output::{Encoded, aov_path, atlas_grey, check_outputs, output_format,
 use crate::scene_input::SceneInput;
 use anyhow::Result;
 use anyhow::bail;
+use chiaro_render::output::AtlasImage;
 use chiaro_render::{DebugView, FrameOptions, GpuContext, Renderer};
 use chiaro_scene::RenderPath;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, ValueEnum};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Aov {
@@ -142,34 +143,13 @@ pub fn run(args: RenderArgs) -> Result<()> {
     args.input.path.check_device(&ctx, &settings, args.input.settings.as_deref())?;
     let mut renderer = Renderer::new(ctx)?;
     let prepared = renderer.prepare(&scene)?;
-    let wants = |aov: Aov| args.aov.contains(&aov);
-    let options = FrameOptions {
-        aovs: wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Depth) || wants(Aov::Lightmap),
-        depth_only: !(wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Lightmap)),
-        shadow_aovs: wants(Aov::Shadow),
-        ids: wants(Aov::Instance) || wants(Aov::Label),
-        readback: true,
-        read_shadow_atlas: args.debug.contains(&DebugView::ShadowAtlases),
-        debug,
-    };
+    let options = frame_options(&args, debug);
     let frame = renderer.render(&scene, &prepared, &view, &settings, options)?;
     warn_if_clipped(&frame.hdr, settings.render.exposure_ev100);
     warn_if_not_finite(&frame.hdr);
 
     let rgb: Vec<[f32; 3]> = frame.hdr.iter().map(|p| [p[0], p[1], p[2]]).collect();
-    let atlases: Vec<(PathBuf, u32, Vec<u8>)> = frame
-        .shadow_atlases
-        .iter()
-        .map(|atlas| {
-            let grey = atlas_grey(&atlas.depths);
-            let file = if atlas.name == "directional" {
-                "shadow-atlas.png".to_string()
-            } else {
-                format!("{}-shadow-atlas.png", atlas.name)
-            };
-            (sibling_path(&args.output, &file), atlas.size, grey)
-        })
-        .collect();
+    let atlases = atlas_images(&args.output, &frame.shadow_atlases);
     let mut files = vec![(args.output.clone(), format.frame_image(width, height, &frame.ldr, &rgb))];
     if let Some(aovs) = &frame.aovs {
         for aov in &args.aov {
@@ -211,6 +191,37 @@ pub fn run(args: RenderArgs) -> Result<()> {
         frame.timings.wall_ms.unwrap_or_default()
     );
     Ok(())
+}
+
+/// What the frame reads back: the image always, the AOVs and atlases the flags ask for.
+fn frame_options(args: &RenderArgs, debug: Option<DebugView>) -> FrameOptions {
+    let wants = |aov: Aov| args.aov.contains(&aov);
+    FrameOptions {
+        aovs: wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Depth) || wants(Aov::Lightmap),
+        depth_only: !(wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Lightmap)),
+        shadow_aovs: wants(Aov::Shadow),
+        ids: wants(Aov::Instance) || wants(Aov::Label),
+        readback: true,
+        skip_hdr: false,
+        read_shadow_atlas: args.debug.contains(&DebugView::ShadowAtlases),
+        debug,
+    }
+}
+
+/// Each shadow atlas as a grey image, and the file beside the output it goes to.
+fn atlas_images(output: &Path, atlases: &[AtlasImage]) -> Vec<(PathBuf, u32, Vec<u8>)> {
+    atlases
+        .iter()
+        .map(|atlas| {
+            let grey = atlas_grey(&atlas.depths);
+            let file = if atlas.name == "directional" {
+                "shadow-atlas.png".to_string()
+            } else {
+                format!("{}-shadow-atlas.png", atlas.name)
+            };
+            (sibling_path(output, &file), atlas.size, grey)
+        })
+        .collect()
 }
 
 /// The HDR target holds half floats: shading clamps pre-exposed radiance to
