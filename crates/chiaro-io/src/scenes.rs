@@ -4,7 +4,7 @@
 use anyhow::{Context, Result, bail};
 use chiaro_math::camera::can_frame;
 use chiaro_render::View;
-use chiaro_scene::demo::demo_scene_with_shadows;
+use chiaro_scene::demo::demo_scene_in_studio;
 use chiaro_scene::{Scene, Settings, load_gltf};
 use std::path::Path;
 
@@ -41,7 +41,7 @@ pub fn load_scene(path: Option<&Path>, demo: &DemoScene) -> Result<Scene> {
             }
             Ok(scene)
         }
-        None => Ok(demo_scene_with_shadows(demo.lights, demo.shadowed_spots, demo.shadowed_points)),
+        None => Ok(demo_scene_in_studio(demo.lights, demo.shadowed_spots, demo.shadowed_points)),
     }
 }
 
@@ -95,6 +95,7 @@ mod tests {
         let scene = load_scene(None, &demo).unwrap();
         let made = chiaro_scene::demo::demo_scene_with_shadows(4, 1, 1);
         assert_eq!(scene.lights.len(), made.lights.len());
+        assert!(scene.environment.is_some(), "the demo shows in its studio");
         let settings = Settings::default();
         let error = choose_view(&scene, Some("nope"), &settings, 64, 64).unwrap_err().to_string();
         assert!(error.starts_with("no camera 'nope' in the scene (cameras: 0: "), "{error}");

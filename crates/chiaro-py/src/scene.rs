@@ -115,7 +115,8 @@ pub fn matrix_rows(m: Mat4) -> [[f32; 4]; 4] {
 impl Scene {
     /// The built-in demo scene: a floor, boxes and spheres, a sun, and `lights` point and
     /// spot lights (alternating, spots first) of which the first `shadowed_spots` spots and
-    /// `shadowed_points` points cast shadows.
+    /// `shadowed_points` points cast shadows, in a studio environment of its own (as
+    /// `chiaro render` shows it; `environment.source = "ambient"` takes it off).
     #[staticmethod]
     #[pyo3(signature = (lights = 8, shadowed_spots = 4, shadowed_points = 2))]
     fn demo(lights: i64, shadowed_spots: i64, shadowed_points: i64) -> PyResult<Scene> {
@@ -127,7 +128,7 @@ impl Scene {
                 return Err(PyValueError::new_err(format!("{name}: {value} is not between 0 and {MAX_DEMO_LIGHTS}")));
             }
         }
-        let scene = chiaro_scene::demo::demo_scene_with_shadows(
+        let scene = chiaro_scene::demo::demo_scene_in_studio(
             lights as usize,
             shadowed_spots as usize,
             shadowed_points as usize,

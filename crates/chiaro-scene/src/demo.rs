@@ -1,7 +1,9 @@
 //! The built-in demo scene, made in code: a floor, boxes and spheres, one sun, a ring of
-//! coloured point and spot lights, and a camera. `chiaro render` with no scene draws it,
-//! and the benchmarks vary its number of local lights.
+//! coloured point and spot lights, and a camera. `chiaro render` with no scene draws it in
+//! a studio environment (`demo_scene_in_studio`), and the benchmarks vary its number of
+//! local lights.
 
+use crate::environment::{SceneEnvironment, neutral, scene_sun};
 use crate::shapes;
 use crate::types::*;
 use chiaro_math::rigid::looking_along;
@@ -34,6 +36,19 @@ pub const DEMO_SHADOWED_POINTS: usize = 2;
 /// four spots and two points cast shadows.
 pub fn demo_scene(local_lights: usize) -> Scene {
     demo_scene_with_shadows(local_lights, DEMO_SHADOWED_SPOTS, DEMO_SHADOWED_POINTS)
+}
+
+/// The demo as the front ends show it when no scene file is given (`chiaro render`, the
+/// viewer, `chiaro.Scene.demo()`): `demo_scene_with_shadows` with an environment of its
+/// own, as a glTF file's EXT_lights_image_based would give it: the neutral studio at a
+/// fifth of its sun's illuminance, so that the metals reflect something and the shadows
+/// are filled yet read. `environment.source = "ambient"` takes it off; the tests use the
+/// plain `demo_scene`, whose light is the lights' alone.
+pub fn demo_scene_in_studio(local_lights: usize, shadowed_spots: usize, shadowed_points: usize) -> Scene {
+    let mut scene = demo_scene_with_shadows(local_lights, shadowed_spots, shadowed_points);
+    let sun_lux = scene_sun(&scene).map(|(_, lux)| lux);
+    scene.environment = Some(SceneEnvironment::new("the demo's studio".into(), neutral(sun_lux)));
+    scene
 }
 
 /// The demo scene where the first `shadowed_spots` spots and `shadowed_points` points cast
