@@ -9,9 +9,11 @@ as_root() {
     if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
 }
 
+# A driver's manifest in either folder, and the loader. (One `ls` of both globs fails when
+# either folder is empty; `grep -q` on a pipe can fail it under pipefail.)
 have_vulkan_driver() {
-    ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1 &&
-        ldconfig -p 2>/dev/null | grep -q 'libvulkan.so.1'
+    { compgen -G '/usr/share/vulkan/icd.d/*.json' || compgen -G '/etc/vulkan/icd.d/*.json'; } >/dev/null &&
+        [[ "$(ldconfig -p 2>/dev/null)" == *libvulkan.so.1* ]]
 }
 
 packages=()

@@ -15,11 +15,11 @@ fi
 # The package itself is rebuilt (cargo keeps what has not changed) and reinstalled.
 "$venv/bin/python" -m pip install -q --force-reinstall --no-deps ./python
 # test_ray.py compares chiaro.ray's files with those of the CLI's `chiaro batch`: the
-# binary CHIARO_BIN names (scripts/test.sh passes the one its cargo test built), else one
-# built here. Building chiaro alone would unify features differently from the workspace
-# build and compile much of it again.
+# binary CHIARO_BIN names (scripts/test.sh passes the one its cargo test built), else the
+# workspace's (built as scripts/demo.sh and scripts/test.sh build it; chiaro alone would
+# unify features differently and compile much of it again).
 if [ -z "${CHIARO_BIN:-}" ]; then
-    cargo build --release -p chiaro -q
+    cargo build --release --workspace -q
     CHIARO_BIN="$(realpath "${CARGO_TARGET_DIR:-target}")/release/chiaro"
 fi
 export CHIARO_BIN
