@@ -101,13 +101,17 @@ impl Renderer {
         })
     }
 
-    /// Forgets what earlier frames leave to later ones: where each light's shadow tiles
-    /// sit in the atlases, the coverage tiers' hysteresis and the cache of drawn tiles. The
+    /// Forgets what earlier frames leave to later ones that would change the image: where
+    /// each light's shadow tiles sit in the atlases and the coverage tiers' hysteresis. The
     /// next frame then renders exactly as it would on a new renderer, whatever came before:
     /// what a job needs, since a job's pixels must not depend on the jobs before it. A
-    /// viewer keeps its history instead (tiles stay put and are not drawn again).
+    /// viewer keeps its history instead (tiles stay put while the lights' order changes).
+    /// The cache of drawn tiles stays: its keys hold everything a tile's depths depend on,
+    /// so a tile it keeps is the tile a new renderer would draw, and a job that places its
+    /// tiles where the last one did draws none again.
     pub fn forget_history(&mut self) {
-        self.atlas_tiles = ShadowAtlasTiles::default();
+        let cache = std::mem::take(&mut self.atlas_tiles.cache);
+        self.atlas_tiles = ShadowAtlasTiles { cache, ..ShadowAtlasTiles::default() };
     }
 
     /// Uploads a scene's geometry, objects, materials and textures.

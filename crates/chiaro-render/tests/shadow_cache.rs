@@ -114,3 +114,30 @@ fn a_moving_object_draws_only_the_tiles_it_casts_into() {
     assert!((1..6).contains(&point_faces), "the faces the box reaches, not all six: {tiles:?}");
     assert_same_image(&moved, &frame(&mut renderer(), &scene, &s), "moved near box");
 }
+
+#[test]
+fn forgetting_history_keeps_the_tiles_a_new_renderer_would_draw() {
+    let s = unlit_settings();
+    let scene = scene();
+    let mut gpu = renderer();
+    let first = frame(&mut gpu, &scene, &s);
+    // Another job between, with its lights in another order and a box moved: its tiles
+    // overwrite some of the first scene's.
+    let mut other = scene.clone();
+    other.lights.swap(1, 2);
+    let moved = other.instances.iter().position(|i| i.world_from_local.w_axis.x == -2.0).unwrap();
+    other.instances[moved].world_from_local *= Mat4::from_translation(Vec3::new(0.5, 0.0, 0.3));
+    gpu.forget_history();
+    frame(&mut gpu, &other, &s);
+    gpu.forget_history();
+    let again = frame(&mut gpu, &scene, &s);
+    gpu.forget_history();
+    let still = frame(&mut gpu, &scene, &s);
+    let fresh = frame(&mut renderer(), &scene, &s);
+    println!("after forgetting: {} tiles, then {}", again.shadow_tiles, still.shadow_tiles);
+    assert!(again.shadow_tiles > 0, "the tiles the other job overwrote are drawn again");
+    assert_same_image(&again, &fresh, "after another scene");
+    assert_same_image(&still, &fresh, "the same job twice");
+    assert_eq!(still.shadow_tiles, 0, "the same job again draws no tile: the cache outlives the history");
+    assert_eq!(first.hdr, fresh.hdr);
+}
