@@ -1,5 +1,5 @@
 //! What the baker needs to know about a point on a surface: its material as the renderer
-//! shades it (base colour, metallic and roughness, textures included), from which it
+//! shades it (base colour, metallic and roughness, textures and vertex colours included), from which it
 //! reflects bounced light, its emission, whether its back face reflects, and its shading
 //! normal.
 
@@ -79,7 +79,11 @@ impl<'a> Surfaces<'a> {
                 None => Vec4::ONE,
             }
         };
-        let base = material.base_color * texture(&material.base_color_texture);
+        let vertex_color: Vec4 = match p.colors.is_empty() {
+            true => Vec4::ONE,
+            false => corners.iter().zip(w).map(|(&i, wk)| p.colors.get(i).copied().unwrap_or(Vec4::ONE) * wk).sum(),
+        };
+        let base = material.base_color * vertex_color * texture(&material.base_color_texture);
         let metallic_roughness = texture(&material.metallic_roughness_texture);
         let metallic = (material.metallic * metallic_roughness.z).clamp(0.0, 1.0);
         let roughness = (material.roughness * metallic_roughness.y).clamp(MIN_ROUGHNESS, 1.0);
@@ -121,5 +125,52 @@ impl<'a> Surfaces<'a> {
             _ => px[k] as f32 / 255.0,
         };
         Vec4::new(channel(0), channel(1), channel(2), channel(3))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use chiaro_scene::{CastShadows, Mesh, MeshInstance, shapes};
+
+    #[test]
+    fn vertex_colours_multiply_the_base_colour_bounces_reflect() {
+        let mut plane = shapes::plane(2.0, 1);
+        plane.material = Some(0);
+        // Red along x = -1, blue along x = +1.
+        plane.colors = plane
+            .positions
+            .iter()
+            .map(|p| if p.x < 0.0 { Vec4::new(1.0, 0.0, 0.0, 1.0) } else { Vec4::new(0.0, 0.0, 1.0, 1.0) })
+            .collect();
+        let scene = Scene {
+            meshes: vec![Mesh { name: "plane".into(), primitives: vec![plane] }],
+            materials: vec![Material { base_color: Vec4::new(0.5, 0.5, 0.5, 1.0), ..Material::default() }],
+            instances: vec![MeshInstance {
+                mesh: 0,
+                node: 0,
+                name: "plane".into(),
+                world_from_local: glam::Mat4::IDENTITY,
+                cast_shadows: CastShadows::On,
+                receive_shadows: true,
+                is_static: true,
+                lightmap: None,
+                label: 0,
+            }],
+            ..Scene::default()
+        };
+        let surfaces = Surfaces::new(&scene);
+        let p = &scene.meshes[0].primitives[0];
+        // Every corner of the first triangle, and its centre.
+        for k in 0..3 {
+            let mut w = [0.0; 3];
+            w[k] = 1.0;
+            let corner = p.indices[k] as usize;
+            let expected = 0.5 * p.colors[corner].truncate();
+            assert_eq!(surfaces.at(0, 0, 0, w).base_color, expected, "corner {k}");
+        }
+        let centre = surfaces.at(0, 0, 0, [1.0 / 3.0; 3]).base_color;
+        let expected: Vec3 = (0..3).map(|k| p.colors[p.indices[k] as usize].truncate() * 0.5 / 3.0).sum();
+        assert!(centre.distance(expected) < 1e-6, "{centre} vs {expected}");
     }
 }

@@ -204,6 +204,7 @@ fn per_corner(p: &Primitive, uvs: &[Vec2]) -> Primitive {
         tangents: gather(&p.tangents, &p.indices),
         uv0: gather(&p.uv0, &p.indices),
         uv1: gather(&p.uv1, &p.indices),
+        colors: gather(&p.colors, &p.indices),
         indices: (0..p.indices.len() as u32).collect(),
         material: p.material,
         bounds: p.bounds,

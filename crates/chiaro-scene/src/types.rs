@@ -21,6 +21,9 @@ pub struct Primitive {
     pub uv0: Vec<Vec2>,
     /// Second texture coordinate set (TEXCOORD_1); zeros where the file has none.
     pub uv1: Vec<Vec2>,
+    /// Linear RGBA vertex colours (COLOR_0), each channel in 0..1, multiplying the base
+    /// colour and its alpha; empty where the file has none (white).
+    pub colors: Vec<Vec4>,
     /// Triangle list indices.
     pub indices: Vec<u32>,
     /// Index into `Scene::materials`; `None` uses the glTF default material.

@@ -111,6 +111,10 @@ fn geometry_hash(p: &Primitive) -> u64 {
     for uv in p.uv0.iter().chain(&p.uv1) {
         uv.to_array().map(f32::to_bits).hash(&mut h);
     }
+    // Alpha-tested casters read the vertex colours' alpha.
+    for c in &p.colors {
+        c.w.to_bits().hash(&mut h);
+    }
     h.finish()
 }
 

@@ -163,6 +163,7 @@ fn vertices_and_indices(scene: &Scene, geometry: &GeometryLayout) -> (Vec<GpuVer
                 uv0: p.uv0.get(i).copied().unwrap_or_default().to_array(),
                 uv1: p.uv1.get(i).copied().unwrap_or_default().to_array(),
                 lightmap_uv: p.lightmap_uv.get(i).copied().unwrap_or_default().to_array(),
+                color: GpuVertex::unorm16(p.colors.get(i).copied().unwrap_or(Vec4::ONE)),
             });
         }
         indices.extend_from_slice(&p.indices);

@@ -80,6 +80,7 @@ impl Loader<'_> {
         let mut targets = self.morph_targets(primitive, label, vertex_count)?;
         let mut uv0 = read_uv(0)?;
         let mut uv1 = read_uv(1)?;
+        let mut colors = self.vertex_colors(primitive, label, vertex_count)?;
         let (mut normals, mut tangents) = self.file_normals_and_tangents(primitive, label, vertex_count)?;
 
         let mut flat_normals = false;
@@ -89,6 +90,9 @@ impl Loader<'_> {
                 positions = vertex_gen::unweld(&positions, &indices);
                 uv0 = vertex_gen::unweld(&uv0, &indices);
                 uv1 = vertex_gen::unweld(&uv1, &indices);
+                if !colors.is_empty() {
+                    colors = vertex_gen::unweld(&colors, &indices);
+                }
                 if let Some(skin) = &mut skin {
                     skin.unweld(&indices);
                 }
@@ -118,8 +122,18 @@ impl Loader<'_> {
             skin,
             flat_normals,
         });
-        let primitive =
-            Primitive { positions, normals, tangents, uv0, uv1, indices, material, bounds, lightmap_uv: Vec::new() };
+        let primitive = Primitive {
+            positions,
+            normals,
+            tangents,
+            uv0,
+            uv1,
+            colors,
+            indices,
+            material,
+            bounds,
+            lightmap_uv: Vec::new(),
+        };
         Ok(Some((primitive, deformation)))
     }
 
@@ -170,6 +184,50 @@ impl Loader<'_> {
         ));
     }
 
+    /// COLOR_0 as linear RGBA (alpha 1 where it is RGB), or nothing where the primitive has
+    /// none. glTF 2.0 §3.7.2.1 allows float and normalised unsigned byte and short, VEC3 or
+    /// VEC4; floats outside 0..1 are clamped into it (non-finite ones read as white), so
+    /// that no colour brightens a material or makes a NaN.
+    fn vertex_colors(
+        &self,
+        primitive: &json::mesh::Primitive,
+        label: &str,
+        vertex_count: usize,
+    ) -> Result<Vec<Vec4>, SceneError> {
+        use json::accessor::{ComponentType, Type};
+        let Some(index) = primitive.attributes.get(&Checked::Valid(json::mesh::Semantic::Colors(0))).map(|a| a.value())
+        else {
+            return Ok(Vec::new());
+        };
+        let accessor = &self.root.accessors[index];
+        let component = match accessor.component_type {
+            Checked::Valid(c) => Some(c.0),
+            Checked::Invalid => None,
+        };
+        match (component, accessor.normalized) {
+            (Some(ComponentType::F32), _) | (Some(ComponentType::U8 | ComponentType::U16), true) => {}
+            _ => {
+                return Err(self.invalid(format!(
+                    "{label}: COLOR_0 (accessors[{index}]) must be float, or normalized unsigned byte or short"
+                )));
+            }
+        }
+        let colors: Vec<Vec4> = match accessor.type_ {
+            Checked::Valid(Type::Vec3) => self
+                .vertex_attribute::<3>(index, "COLOR_0", label, vertex_count)?
+                .into_iter()
+                .map(|c| Vec3::from_array(c).extend(1.0))
+                .collect(),
+            Checked::Valid(Type::Vec4) => self
+                .vertex_attribute::<4>(index, "COLOR_0", label, vertex_count)?
+                .into_iter()
+                .map(Vec4::from_array)
+                .collect(),
+            _ => return Err(self.invalid(format!("{label}: COLOR_0 (accessors[{index}]) must be VEC3 or VEC4"))),
+        };
+        Ok(colors.into_iter().map(|c| if c.is_finite() { c.clamp(Vec4::ZERO, Vec4::ONE) } else { Vec4::ONE }).collect())
+    }
+
     /// The file's own normals (normalised) and tangents (repaired), where it has them.
     /// Tangents are only trusted alongside the file's own normals (glTF 2.0 §3.7.2.1).
     #[allow(clippy::type_complexity)]
@@ -204,7 +262,8 @@ impl Loader<'_> {
 }
 
 impl Loader<'_> {
-    /// Counts the attributes Chiaro reads past: vertex colours, UV sets past the second.
+    /// Counts the attributes Chiaro reads past: colour sets past the first, UV sets past
+    /// the second.
     fn count_ignored_attributes(&mut self, primitive: &json::mesh::Primitive) {
         use json::mesh::Semantic;
         let has = |wanted: fn(&Semantic) -> bool| {
@@ -213,7 +272,7 @@ impl Loader<'_> {
                 Checked::Invalid => false,
             })
         };
-        self.tally.vertex_colors += usize::from(has(|s| matches!(s, Semantic::Colors(_))));
+        self.tally.vertex_colors += usize::from(has(|s| matches!(s, Semantic::Colors(1..))));
         self.tally.extra_uv_sets += usize::from(has(|s| matches!(s, Semantic::TexCoords(2..))));
     }
 
@@ -295,6 +354,7 @@ impl Loader<'_> {
             let read = match semantic {
                 Checked::Valid(Semantic::Positions | Semantic::Normals | Semantic::Tangents) => true,
                 Checked::Valid(Semantic::TexCoords(set)) => *set < 2,
+                Checked::Valid(Semantic::Colors(set)) => *set == 0,
                 Checked::Valid(Semantic::Joints(set)) => has(Semantic::Weights(*set)),
                 Checked::Valid(Semantic::Weights(set)) => has(Semantic::Joints(*set)),
                 _ => false,

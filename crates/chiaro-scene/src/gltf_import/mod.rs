@@ -279,7 +279,7 @@ impl<'a> Loader<'a> {
     fn note_tally(&mut self) {
         let t = &self.tally;
         let notes = [
-            (t.vertex_colors, "primitive with vertex colours", "not supported, ignored"),
+            (t.vertex_colors, "primitive with COLOR_1 or above", "only COLOR_0 is read"),
             (t.points_or_lines, "primitive of points or lines", "not supported, ignored"),
             (t.without_positions, "primitive without POSITION", "nothing to draw, ignored"),
             (t.extra_uv_sets, "primitive with TEXCOORD_2 or above", "only TEXCOORD_0 and TEXCOORD_1 are read"),

@@ -114,3 +114,23 @@ fn barycentrics_rebuild_the_point() {
     let w = barycentrics(a, b, c, p);
     assert!((w[0] - 0.2).abs() < 1e-6 && (w[1] - 0.3).abs() < 1e-6 && (w[2] - 0.5).abs() < 1e-6, "{w:?}");
 }
+
+#[test]
+fn vertex_colour_alpha_multiplies_the_materials() {
+    // Plane corners: x = -1 at alpha 0, x = +1 at alpha 1; alpha rises linearly across.
+    let material = Material {
+        alpha_mode: AlphaMode::Mask,
+        alpha_cutoff: 0.5,
+        base_color: glam::Vec4::new(1.0, 1.0, 1.0, 0.8),
+        shadow_casting: ShadowCasting::Clip,
+        ..Material::default()
+    };
+    let mut scene = plane_scene(material, Vec::new());
+    let plane = &mut scene.meshes[0].primitives[0];
+    plane.colors = plane.positions.iter().map(|p| glam::Vec4::new(1.0, 1.0, 1.0, 0.5 * (p.x + 1.0))).collect();
+    let bvh = SceneBvh::build(&scene);
+    // 0.8 * alpha passes 0.5 where alpha > 0.625, x > 0.25.
+    for (x, blocked) in [(-0.5, false), (0.2, false), (0.3, true), (0.9, true)] {
+        assert_eq!(bvh.occluded(Vec3::new(x, 1.0, 0.1), Vec3::NEG_Y, f32::INFINITY), blocked, "x = {x}");
+    }
+}

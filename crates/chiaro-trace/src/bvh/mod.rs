@@ -87,6 +87,8 @@ struct AlphaTriangle {
     material: u32,
     /// Texture coordinates of its corners, in the UV set its material's texture reads.
     uv: [Vec2; 3],
+    /// Its corners' vertex colour alpha (COLOR_0), 1 without vertex colours.
+    vertex_alpha: [f32; 3],
 }
 
 /// One triangle gathered from the scene: its world corners, instance, mask bits, and
@@ -96,7 +98,8 @@ struct Gathered {
     instance: u32,
     source: (u32, u32),
     mask: u8,
-    alpha: Option<(u32, [Vec2; 3])>,
+    /// The material, the corners' texture coordinates and vertex colour alpha.
+    alpha: Option<(u32, [Vec2; 3], [f32; 3])>,
 }
 
 impl SceneBvh {
@@ -167,8 +170,8 @@ impl SceneBvh {
             triangle_source.push(g.source);
             triangle_mask.push(g.mask);
             triangle_alpha.push(match g.alpha {
-                Some((material, uv)) => {
-                    alpha_triangles.push(AlphaTriangle { original: i, material, uv });
+                Some((material, uv, vertex_alpha)) => {
+                    alpha_triangles.push(AlphaTriangle { original: i, material, uv, vertex_alpha });
                     (alpha_triangles.len() - 1) as u32
                 }
                 None => NO_ALPHA,
@@ -294,7 +297,9 @@ impl SceneBvh {
         let direction = Vec3::from_array(ray.direction.into());
         let [u, v, w] = barycentrics(a, b, c, origin + direction * t);
         let [ua, ub, uc] = alpha_triangle.uv;
-        Some((material, material.alpha(&self.alpha_images, ua * u + ub * v + uc * w)))
+        let [aa, ab, ac] = alpha_triangle.vertex_alpha;
+        let vertex_alpha = aa * u + ab * v + ac * w;
+        Some((material, vertex_alpha * material.alpha(&self.alpha_images, ua * u + ub * v + uc * w)))
     }
 }
 
@@ -375,8 +380,12 @@ fn world_triangles<'a>(
             let [a, b, c] = world;
             // Catches non-finite corners too: their cross product does not normalise.
             (b - a).cross(c - a).try_normalize()?;
-            let alpha = alpha
-                .map(|(m, uvs)| (m, [0, 1, 2].map(|k| uvs.get(corners[k] as usize).copied().unwrap_or(Vec2::ZERO))));
+            let alpha = alpha.map(|(m, uvs)| {
+                let corner = |k: usize| corners[k] as usize;
+                let uv = [0, 1, 2].map(|k| uvs.get(corner(k)).copied().unwrap_or(Vec2::ZERO));
+                let vertex_alpha = [0, 1, 2].map(|k| primitive.colors.get(corner(k)).map_or(1.0, |c| c.w));
+                (m, uv, vertex_alpha)
+            });
             Some(Gathered {
                 triangle: Triangle { v0: a.to_array().into(), v1: b.to_array().into(), v2: c.to_array().into() },
                 instance: index,

@@ -5,7 +5,7 @@
 use super::{TRIANGLE, TempDir, data_uri, f32_bytes, invalid_message, load_doc, triangle_doc};
 use crate::error::SceneError;
 use crate::gltf_import::load_gltf;
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use serde_json::json;
 
 #[test]
@@ -166,7 +166,7 @@ fn ignored_features_are_counted_once_per_kind() {
     let mut points = prim.clone();
     points["mode"] = json!(0);
     let mut colored = prim.clone();
-    colored["attributes"]["COLOR_0"] = json!(0);
+    colored["attributes"]["COLOR_1"] = json!(0);
     doc["meshes"][0]["primitives"] = json!([prim, points.clone(), points, colored, { "attributes": {} }]);
     doc["animations"] = json!([
         { "channels": [], "samplers": [] },
@@ -178,7 +178,7 @@ fn ignored_features_are_counted_once_per_kind() {
     assert_eq!(
         scene.ignored,
         vec![
-            "1 primitive with vertex colours: not supported, ignored".to_owned(),
+            "1 primitive with COLOR_1 or above: only COLOR_0 is read".to_owned(),
             "2 primitives of points or lines: not supported, ignored".to_owned(),
             "1 primitive without POSITION: nothing to draw, ignored".to_owned(),
         ]
@@ -238,4 +238,51 @@ fn animated_nodes_and_their_children_are_dynamic_and_extras_override() {
     let mut bad = triangle_doc();
     bad["nodes"][0]["extras"] = json!({ "static": 1 });
     assert!(invalid_message(load_doc(&dir, &bad)).contains("extras.static"));
+}
+
+#[test]
+fn vertex_colours_load_from_every_allowed_layout() {
+    let dir = TempDir::new("colours");
+    // The triangle's three corners: float RGB, normalised unsigned byte RGBA and
+    // normalised unsigned short RGBA, each its own accessor after the positions.
+    let mut bytes = f32_bytes(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+    let float_rgb = bytes.len();
+    bytes.extend(f32_bytes(&[1.0, 0.5, 0.25, 2.0, -1.0, 0.0, 0.0, 0.0, 1.0]));
+    let byte_rgba = bytes.len();
+    bytes.extend([255u8, 0, 0, 255, 0, 255, 0, 128, 0, 0, 255, 0]);
+    let short_rgba = bytes.len();
+    for v in [65535u16, 0, 0, 65535, 0, 32768, 0, 65535, 0, 0, 0, 0] {
+        bytes.extend(v.to_le_bytes());
+    }
+    let mut doc = triangle_doc();
+    doc["accessors"] = json!([
+        { "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0] },
+        { "bufferView": 0, "byteOffset": float_rgb, "componentType": 5126, "count": 3, "type": "VEC3" },
+        { "bufferView": 0, "byteOffset": byte_rgba, "componentType": 5121, "normalized": true, "count": 3, "type": "VEC4" },
+        { "bufferView": 0, "byteOffset": short_rgba, "componentType": 5123, "normalized": true, "count": 3, "type": "VEC4" },
+        { "bufferView": 0, "byteOffset": byte_rgba, "componentType": 5121, "count": 3, "type": "VEC4" }
+    ]);
+    doc["bufferViews"] = json!([{ "buffer": 0, "byteLength": bytes.len() }]);
+    doc["buffers"] = json!([{ "byteLength": bytes.len(), "uri": data_uri(&bytes) }]);
+    let colours = |accessor: usize| {
+        let mut doc = doc.clone();
+        doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = json!(accessor);
+        load_doc(&dir, &doc)
+    };
+    // The triangle has no normals: its corners are unwelded, and keep their colours.
+    let float = colours(1).unwrap().meshes[0].primitives[0].colors.clone();
+    assert_eq!(
+        float,
+        vec![Vec4::new(1.0, 0.5, 0.25, 1.0), Vec4::new(1.0, 0.0, 0.0, 1.0), Vec4::new(0.0, 0.0, 1.0, 1.0)]
+    );
+    let byte = colours(2).unwrap().meshes[0].primitives[0].colors.clone();
+    assert_eq!(byte[1], Vec4::new(0.0, 1.0, 0.0, 128.0 / 255.0));
+    let short = colours(3).unwrap().meshes[0].primitives[0].colors.clone();
+    assert_eq!(short[0], Vec4::new(1.0, 0.0, 0.0, 1.0));
+    assert_eq!(short[1].y, 32768.0 / 65535.0);
+    // Integers that are not normalised are not colours.
+    let message = invalid_message(colours(4));
+    assert!(message.contains("COLOR_0") && message.contains("UNSIGNED_BYTE"), "{message}");
+    // Without COLOR_0 the primitive stays white.
+    assert!(load_doc(&dir, &triangle_doc()).unwrap().meshes[0].primitives[0].colors.is_empty());
 }
