@@ -11,7 +11,7 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 "$venv/bin/python" -m pip install -q --upgrade pip
 "$venv/bin/python" -m pip install -q numpy pytest
-# chiaro.ray's extra, for test_ray.py (a local Ray; about 40 s and 370 MB the first time).
+# chiaro.ray's extra, for test_ray.py (a local Ray; a large download the first time).
 "$venv/bin/python" -m pip install -q "ray>=2.9"
 # mypy, for the strict check of the package's annotations below.
 "$venv/bin/python" -m pip install -q mypy
