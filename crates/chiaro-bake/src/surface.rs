@@ -131,34 +131,15 @@ impl<'a> Surfaces<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use chiaro_scene::{CastShadows, Mesh, MeshInstance, shapes};
 
     #[test]
     fn vertex_colours_multiply_the_base_colour_bounces_reflect() {
-        let mut plane = shapes::plane(2.0, 1);
-        plane.material = Some(0);
-        // Red along x = -1, blue along x = +1.
-        plane.colors = plane
-            .positions
-            .iter()
-            .map(|p| if p.x < 0.0 { Vec4::new(1.0, 0.0, 0.0, 1.0) } else { Vec4::new(0.0, 0.0, 1.0, 1.0) })
-            .collect();
-        let scene = Scene {
-            meshes: vec![Mesh { name: "plane".into(), primitives: vec![plane] }],
-            materials: vec![Material { base_color: Vec4::new(0.5, 0.5, 0.5, 1.0), ..Material::default() }],
-            instances: vec![MeshInstance {
-                mesh: 0,
-                node: 0,
-                name: "plane".into(),
-                world_from_local: glam::Mat4::IDENTITY,
-                cast_shadows: CastShadows::On,
-                receive_shadows: true,
-                is_static: true,
-                lightmap: None,
-                label: 0,
-            }],
-            ..Scene::default()
-        };
+        let mut scene = chiaro_testkit::floor_scene(2.0, Vec3::Y, Vec::new());
+        scene.materials[0].base_color = Vec4::new(0.5, 0.5, 0.5, 1.0);
+        // Blue at x = -1 turning red at x = +1: a triangle's corners differ.
+        let floor = &mut scene.meshes[0].primitives[0];
+        floor.colors =
+            floor.positions.iter().map(|p| Vec4::new(0.5 * (p.x + 1.0), 0.0, 0.5 * (1.0 - p.x), 1.0)).collect();
         let surfaces = Surfaces::new(&scene);
         let p = &scene.meshes[0].primitives[0];
         // Every corner of the first triangle, and its centre.

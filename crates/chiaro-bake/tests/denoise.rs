@@ -3,11 +3,13 @@
 //! shadows (the boxes stand on the floor): closer than the noisy bake everywhere, and
 //! never blended across a chart border or into a contact shadow.
 
+mod common;
+
 use chiaro_bake::convergence::{DARK_SHARE, quantile, texel_errors};
-use chiaro_bake::raster::{TexelTriangles, barycentric, clamp_to_triangle};
 use chiaro_bake::{BakeResult, Silent, bake};
 use chiaro_scene::{CastShadows, Light, LightKind, LightMode, Material, Mesh, MeshInstance, Scene, Settings, shapes};
 use chiaro_testkit::floor_scene;
+use common::texel_places;
 use glam::{Mat4, Vec3, Vec4};
 use std::sync::atomic::AtomicBool;
 
@@ -122,36 +124,6 @@ fn the_denoised_default_bake_is_closer_to_64_times_the_samples_than_the_noisy_on
     assert!((traced / nm - 1.0).abs() < 0.5, "estimated {traced}, measured {nm}");
     assert_eq!(b.noisy.stats.noise, b.noisy.stats.noise_traced);
     assert!(left < traced / 2.0, "estimated {traced} -> {left}");
-}
-
-/// Where a surface covers a texel: its chart, its instance and the world position of the
-/// texel's centre.
-type Place = Option<(u32, u32, Vec3)>;
-
-/// Per atlas, per texel, its place.
-fn texel_places(scene: &Scene, result: &BakeResult) -> Vec<Vec<Place>> {
-    let size = result.layout.size;
-    (0..result.layout.atlas_count)
-        .map(|layer| {
-            let triangles: Vec<_> = result.layout.triangles_of(layer).copied().collect();
-            let map = TexelTriangles::build(size, &triangles);
-            (0..size * size)
-                .map(|texel| {
-                    let &id = map.of(texel as usize).first()?;
-                    let t = &triangles[id as usize];
-                    let centre = glam::Vec2::new((texel % size) as f32 + 0.5, (texel / size) as f32 + 0.5);
-                    let w = barycentric(&t.corners, centre)
-                        .filter(|w| w.iter().all(|&v| v >= 0.0))
-                        .unwrap_or_else(|| clamp_to_triangle(&t.corners, centre));
-                    let instance = &scene.instances[t.instance as usize];
-                    let p = &scene.meshes[instance.mesh].primitives[t.primitive as usize];
-                    let corner = |k: usize| p.positions[p.indices[3 * t.triangle as usize + k] as usize];
-                    let local = corner(0) * w[0] + corner(1) * w[1] + corner(2) * w[2];
-                    Some((t.chart, t.instance, instance.world_from_local.transform_point3(local)))
-                })
-                .collect()
-        })
-        .collect()
 }
 
 fn luminance(t: &[f32; 4]) -> f32 {

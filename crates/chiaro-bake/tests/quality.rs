@@ -4,11 +4,13 @@
 //! where a box meets the floor (the contact shadows of bounced light, where a blur shows
 //! first), the default bake is within 5%, for at most a tenth of the converged bake's rays.
 
+mod common;
+
 use chiaro_bake::convergence::{DARK_SHARE, quantile};
-use chiaro_bake::raster::{TexelTriangles, barycentric, clamp_to_triangle};
 use chiaro_bake::{BakeResult, Silent, bake};
 use chiaro_scene::{CastShadows, Light, LightKind, LightMode, Scene, Settings};
 use chiaro_testkit::{add_box, floor_scene};
+use common::texel_places;
 use glam::{Vec2, Vec3, Vec4};
 use std::sync::atomic::AtomicBool;
 
@@ -62,32 +64,11 @@ fn run(scene: &Scene, s: &Settings) -> BakeResult {
     bake(scene, s, &Silent, &AtomicBool::new(false)).unwrap()
 }
 
-/// Per atlas, per texel: the world position of the floor (instance 0) it wholly covers.
+/// Per atlas, per texel: the world position of the floor (instance 0) it covers.
 fn floor_texels(scene: &Scene, result: &BakeResult) -> Vec<Vec<Option<Vec3>>> {
-    let size = result.layout.size;
-    (0..result.layout.atlas_count)
-        .map(|layer| {
-            let triangles: Vec<_> = result.layout.triangles_of(layer).copied().collect();
-            let map = TexelTriangles::build(size, &triangles);
-            (0..size * size)
-                .map(|texel| {
-                    let &id = map.of(texel as usize).first()?;
-                    let t = &triangles[id as usize];
-                    if t.instance != 0 {
-                        return None;
-                    }
-                    let centre = Vec2::new((texel % size) as f32 + 0.5, (texel / size) as f32 + 0.5);
-                    let w = barycentric(&t.corners, centre)
-                        .filter(|w| w.iter().all(|&v| v >= 0.0))
-                        .unwrap_or_else(|| clamp_to_triangle(&t.corners, centre));
-                    let instance = &scene.instances[0];
-                    let p = &scene.meshes[instance.mesh].primitives[t.primitive as usize];
-                    let corner = |k: usize| p.positions[p.indices[3 * t.triangle as usize + k] as usize];
-                    let local = corner(0) * w[0] + corner(1) * w[1] + corner(2) * w[2];
-                    Some(instance.world_from_local.transform_point3(local))
-                })
-                .collect()
-        })
+    texel_places(scene, result)
+        .into_iter()
+        .map(|layer| layer.into_iter().map(|place| place.filter(|&(_, i, _)| i == 0).map(|(_, _, p)| p)).collect())
         .collect()
 }
 
