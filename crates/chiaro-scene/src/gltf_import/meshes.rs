@@ -185,45 +185,31 @@ impl Loader<'_> {
     }
 
     /// COLOR_0 as linear RGBA (alpha 1 where it is RGB), or nothing where the primitive has
-    /// none. glTF 2.0 §3.7.2.1 allows float and normalised unsigned byte and short, VEC3 or
-    /// VEC4; floats outside 0..1 are clamped into it (non-finite ones read as white), so
-    /// that no colour brightens a material or makes a NaN.
+    /// none. Its type and components were checked with the file's (`spec.rs`: float, or
+    /// normalised unsigned byte or short; VEC3 or VEC4); floats outside 0..1 are clamped
+    /// into it (non-finite ones read as white), so that no colour brightens a material or
+    /// makes a NaN.
     fn vertex_colors(
         &self,
         primitive: &json::mesh::Primitive,
         label: &str,
         vertex_count: usize,
     ) -> Result<Vec<Vec4>, SceneError> {
-        use json::accessor::{ComponentType, Type};
         let Some(index) = primitive.attributes.get(&Checked::Valid(json::mesh::Semantic::Colors(0))).map(|a| a.value())
         else {
             return Ok(Vec::new());
         };
-        let accessor = &self.root.accessors[index];
-        let component = match accessor.component_type {
-            Checked::Valid(c) => Some(c.0),
-            Checked::Invalid => None,
-        };
-        match (component, accessor.normalized) {
-            (Some(ComponentType::F32), _) | (Some(ComponentType::U8 | ComponentType::U16), true) => {}
-            _ => {
-                return Err(self.invalid(format!(
-                    "{label}: COLOR_0 (accessors[{index}]) must be float, or normalized unsigned byte or short"
-                )));
-            }
-        }
-        let colors: Vec<Vec4> = match accessor.type_ {
-            Checked::Valid(Type::Vec3) => self
+        let colors: Vec<Vec4> = match self.root.accessors[index].type_ {
+            Checked::Valid(json::accessor::Type::Vec3) => self
                 .vertex_attribute::<3>(index, "COLOR_0", label, vertex_count)?
                 .into_iter()
                 .map(|c| Vec3::from_array(c).extend(1.0))
                 .collect(),
-            Checked::Valid(Type::Vec4) => self
+            _ => self
                 .vertex_attribute::<4>(index, "COLOR_0", label, vertex_count)?
                 .into_iter()
                 .map(Vec4::from_array)
                 .collect(),
-            _ => return Err(self.invalid(format!("{label}: COLOR_0 (accessors[{index}]) must be VEC3 or VEC4"))),
         };
         Ok(colors.into_iter().map(|c| if c.is_finite() { c.clamp(Vec4::ZERO, Vec4::ONE) } else { Vec4::ONE }).collect())
     }
