@@ -113,6 +113,8 @@ fn interesting_value(rng: &mut Rng) -> Value {
         json!([[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]),
         json!({"KHR_lights_punctual": {"light": 0}, "KHR_texture_transform": {"scale": [1e38, 0]}}),
         json!(["KHR_draco_mesh_compression"]),
+        // Any buffer view read as a Draco stream.
+        json!({"KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0, "NORMAL": 1}}}),
         json!(0.0),
         json!(1.0),
         json!(2.5),

@@ -1,8 +1,10 @@
 //! The corpus the mutators start from: every scene of the repository's `tests/assets`, made
 //! self-contained (buffers inlined as data URIs, images swapped for a 1x1 PNG so that
-//! each input loads in milliseconds), one of them packed as a GLB, the seeds written by
-//! code for the rules and extensions the assets lack (`spec_seeds`), and a few settings
-//! files that cover every section.
+//! each input loads in milliseconds), one of them packed as a GLB, the GLBs there (the
+//! Draco- and meshopt-compressed files) with their binary chunk inlined, so that payload
+//! mutations reach the compressed streams, the seeds written by code for the rules and
+//! extensions the assets lack (`spec_seeds`), and a few settings files that cover every
+//! section.
 
 use base64::Engine as _;
 use serde_json::Value;
@@ -16,16 +18,30 @@ pub fn test_assets() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets"))
 }
 
-fn gltf_files(dir: &Path, found: &mut Vec<PathBuf>) -> std::io::Result<()> {
+/// The files under `dir` whose extension is `extension`.
+fn files_named(dir: &Path, extension: &str, found: &mut Vec<PathBuf>) -> std::io::Result<()> {
     for entry in std::fs::read_dir(dir)? {
         let path = entry?.path();
         if path.is_dir() {
-            gltf_files(&path, found)?;
-        } else if path.extension().is_some_and(|e| e == "gltf") {
+            files_named(&path, extension, found)?;
+        } else if path.extension().is_some_and(|e| e == extension) {
             found.push(path);
         }
     }
     Ok(())
+}
+
+/// A GLB as a .gltf document whose one buffer, the BIN chunk, is a data URI.
+fn unpacked_glb(path: &Path) -> anyhow::Result<Vec<u8>> {
+    let bytes = std::fs::read(path)?;
+    let (json, bin) =
+        chiaro_scene::gltf_import::glb::split_glb(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let mut doc: Value = serde_json::from_slice(json)?;
+    if let (Some(bin), Some(buffer)) = (bin, doc.pointer_mut("/buffers/0").and_then(Value::as_object_mut)) {
+        let payload = base64::engine::general_purpose::STANDARD.encode(bin);
+        buffer.insert("uri".into(), Value::from(format!("data:application/octet-stream;base64,{payload}")));
+    }
+    Ok(serde_json::to_vec(&doc)?)
 }
 
 /// One asset as a self-contained document: its JSON and the bytes of its buffers.
@@ -82,7 +98,7 @@ pub fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
 /// The glTF seeds: each test scene inlined, the smallest also as a GLB, then the spec seeds.
 pub fn gltf_seeds() -> anyhow::Result<Vec<Vec<u8>>> {
     let mut files = Vec::new();
-    gltf_files(&test_assets(), &mut files)?;
+    files_named(&test_assets(), "gltf", &mut files)?;
     files.sort();
     anyhow::ensure!(!files.is_empty(), "no glTF files under {}", test_assets().display());
     let mut seeds = Vec::new();
@@ -97,6 +113,12 @@ pub fn gltf_seeds() -> anyhow::Result<Vec<Vec<u8>>> {
     if let Some((mut doc, bin)) = smallest {
         doc["buffers"][0].as_object_mut().map(|b| b.remove("uri"));
         seeds.push(glb(&serde_json::to_vec(&doc)?, &bin));
+    }
+    let mut containers = Vec::new();
+    files_named(&test_assets(), "glb", &mut containers)?;
+    containers.sort();
+    for path in &containers {
+        seeds.push(unpacked_glb(path)?);
     }
     seeds.extend(crate::spec_seeds::spec_seeds().into_iter().map(|seed| seed.bytes));
     Ok(seeds)

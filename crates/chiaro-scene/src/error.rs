@@ -26,7 +26,7 @@ pub enum SceneError {
     UnsupportedExtension {
         /// The glTF file.
         path: PathBuf,
-        /// The extension's name, such as `KHR_draco_mesh_compression`.
+        /// The extension's name, such as `EXT_lights_ies`.
         extension: String,
     },
     /// The file breaks the glTF specification or holds values Chiaro refuses.

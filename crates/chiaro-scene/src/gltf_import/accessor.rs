@@ -12,7 +12,7 @@ use std::borrow::Cow;
 
 /// Accessors with more elements than this are rejected before anything is allocated:
 /// 67 million vertices in one primitive is far past what a real-time scene draws.
-const MAX_ACCESSOR_COUNT: usize = 1 << 26;
+pub(super) const MAX_ACCESSOR_COUNT: usize = 1 << 26;
 
 impl<'a> Loader<'a> {
     /// Buffer `index`'s bytes, read on first use: the GLB's BIN chunk or its URI, checked
@@ -112,6 +112,11 @@ impl<'a> Loader<'a> {
                 accessor.count.0
             ))
         })?;
+        if let Some(decompressed) = self.decompressed.get(&index) {
+            // KHR_draco_mesh_compression: the decoded values, as many as the stream holds.
+            let bytes = decompressed.bytes.clone();
+            return Ok(Packed { component: decompressed.component, normalized: accessor.normalized, dims, bytes });
+        }
         let element_size = dims * component.size();
         let mut bytes = Vec::new();
 

@@ -22,6 +22,7 @@ impl Loader<'_> {
         let mut deformations = Vec::new();
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let label = format!("meshes[{index}].primitives[{p}]{name}");
+            self.decode_draco(index, p, &label)?;
             if let Some((primitive, deformation)) = self.primitive(primitive, &label, materials)? {
                 primitives.push(primitive);
                 deformations.push(deformation);

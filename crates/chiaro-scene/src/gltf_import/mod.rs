@@ -21,6 +21,7 @@
 mod accessor;
 mod animation;
 mod document;
+mod draco;
 mod extras;
 pub mod glb;
 mod image_based_light;
@@ -54,7 +55,7 @@ use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 9] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 10] = [
     "KHR_lights_punctual",
     image_based_light::EXTENSION,
     "KHR_materials_emissive_strength",
@@ -63,6 +64,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 9] = [
     "KHR_mesh_quantization",
     "KHR_node_visibility",
     "EXT_meshopt_compression",
+    draco::EXTENSION,
     "EXT_texture_webp",
 ];
 
@@ -86,6 +88,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
         bin: document.bin,
         buffers: vec![OnceCell::new(); document.root.buffers.len()],
         decoded_views: vec![OnceCell::new(); document.root.buffer_views.len()],
+        decompressed: HashMap::new(),
         skipped_lights: &document.skipped_lights,
         ignored: document.notes.clone(),
         tally: Tally::default(),
@@ -129,6 +132,8 @@ struct Loader<'a> {
     buffers: Vec<OnceCell<Cow<'a, [u8]>>>,
     /// EXT_meshopt_compression views, decoded when first read.
     decoded_views: Vec<OnceCell<Vec<u8>>>,
+    /// Accessors decoded from KHR_draco_mesh_compression streams, by accessor index.
+    decompressed: HashMap<usize, draco::Decompressed>,
     /// Per KHR_lights_punctual light, whether its type is unknown and it is skipped.
     skipped_lights: &'a [bool],
     ignored: Vec<String>,

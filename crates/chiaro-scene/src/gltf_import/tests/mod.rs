@@ -5,6 +5,7 @@
 
 mod animation;
 mod conformance;
+mod encoded_assets;
 mod geometry;
 mod image_based_light;
 mod invalid_files;
