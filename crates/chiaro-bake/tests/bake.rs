@@ -31,6 +31,7 @@ fn room(size: f32, rho: f32) -> Scene {
             receive_shadows: true,
             is_static: true,
             lightmap: None,
+            gpu_instance: None,
             label: 0,
         }],
         materials: vec![Material {
@@ -170,6 +171,7 @@ fn a_small_glowing_square_lights_the_floor_as_the_formula_says_texel_by_texel() 
         receive_shadows: false,
         is_static: true,
         lightmap: None,
+        gpu_instance: None,
         label: 0,
     });
     let result = bake(&scene, &settings(64, 1, 16.0), &Silent, &AtomicBool::new(false)).unwrap();

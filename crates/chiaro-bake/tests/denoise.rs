@@ -38,6 +38,7 @@ fn add_coloured_box(scene: &mut Scene, x: f32, z: f32, size: Vec3, colour: Vec3)
         receive_shadows: true,
         is_static: true,
         lightmap: None,
+        gpu_instance: None,
         label: 0,
     });
 }

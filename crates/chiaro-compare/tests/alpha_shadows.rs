@@ -42,6 +42,7 @@ fn add_quad(scene: &mut Scene, height: f32, material: Material) {
         receive_shadows: true,
         is_static: true,
         lightmap: None,
+        gpu_instance: None,
         label: 0,
     });
 }

@@ -100,7 +100,9 @@ pub struct Aovs {
 /// Which surface each pixel shows, exactly (one sample a pixel, never blended).
 #[derive(Clone, Debug, Default)]
 pub struct Ids {
-    /// The glTF node (demo object) whose mesh the pixel shows; `NO_NODE` (u32::MAX) on the sky.
+    /// The glTF node (demo object) whose mesh the pixel shows, or for a copy made by
+    /// EXT_mesh_gpu_instancing its own id (`MeshInstance::aov_id`); `NO_NODE` (u32::MAX)
+    /// on the sky.
     pub instance: Vec<u32>,
     /// That node's `extras.label`; 0 where it has none and on the sky.
     pub label: Vec<u32>,

@@ -114,6 +114,7 @@ fn place_demo_objects(scene: &mut Scene) {
             receive_shadows: true,
             is_static: true,
             lightmap: None,
+            gpu_instance: None,
             label: 0,
         });
     };

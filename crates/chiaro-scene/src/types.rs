@@ -89,6 +89,38 @@ pub struct MeshInstance {
     pub lightmap: Option<u32>,
     /// Node `extras.label`: an integer class id for datasets, 0 if none.
     pub label: u32,
+    /// Where it is one of the copies EXT_mesh_gpu_instancing makes of its node's mesh.
+    pub gpu_instance: Option<GpuInstance>,
+}
+
+impl MeshInstance {
+    /// Its id in the instance AOV: the glTF node index, or a GPU instance's own id.
+    pub fn aov_id(&self) -> usize {
+        self.gpu_instance.map_or(self.node, |g| g.id as usize)
+    }
+
+    /// One copy of this node instance per GPU instance, each placed within the node and
+    /// named after it with its position among the copies.
+    pub fn gpu_instances<'a>(&'a self, copies: &'a [GpuInstance]) -> impl Iterator<Item = MeshInstance> + 'a {
+        copies.iter().enumerate().map(move |(k, copy)| MeshInstance {
+            name: format!("{} [{k}]", self.name),
+            world_from_local: self.world_from_local * copy.node_from_instance,
+            gpu_instance: Some(*copy),
+            ..self.clone()
+        })
+    }
+}
+
+/// One copy of a node's mesh made by EXT_mesh_gpu_instancing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuInstance {
+    /// Its id in the instance AOV. glTF node indices come first, so instance ids start at
+    /// the file's node count: the instances of the node with the lowest index that has
+    /// the extension take the next ids, in the order of its accessors, then the next such
+    /// node's, and so on (docs/gltf.md).
+    pub id: u32,
+    /// Its transform within the node: the extension's TRANSLATION, ROTATION and SCALE.
+    pub node_from_instance: Mat4,
 }
 
 /// glTF's alpha mode: how base colour alpha is used.
@@ -349,6 +381,9 @@ pub struct Scene {
     pub cameras: Vec<Camera>,
     /// What the file had that Chiaro does not use, one line each, saying why.
     pub ignored: Vec<String>,
+    /// What the file's extensions that Chiaro reads gave, one line each (compression,
+    /// instancing, material variants), for `chiaro info`.
+    pub extensions_read: Vec<String>,
     /// Files the scene was read from: the document, then its external buffers and images.
     pub inputs: Vec<PathBuf>,
     /// Lightmaps and light probes, once a bake is applied (`baked::apply`).

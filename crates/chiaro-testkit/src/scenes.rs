@@ -30,6 +30,7 @@ pub fn floor_scene(size: f32, eye: Vec3, lights: Vec<Light>) -> Scene {
             receive_shadows: true,
             is_static: true,
             lightmap: None,
+            gpu_instance: None,
             label: 0,
         }],
         materials: vec![Material {
@@ -79,6 +80,7 @@ pub fn add_box(scene: &mut Scene, position: Vec3, size: Vec3, yaw_rad: f32, cast
         receive_shadows: true,
         is_static: true,
         lightmap: None,
+        gpu_instance: None,
         label: 0,
     });
 }
@@ -192,6 +194,7 @@ pub fn spheres_scene(materials: &[SphereMaterial]) -> Scene {
             receive_shadows: true,
             is_static: false,
             lightmap: None,
+            gpu_instance: None,
             label: 0,
         });
     }

@@ -212,6 +212,7 @@ mod tests {
             receive_shadows: true,
             is_static: true,
             lightmap: None,
+            gpu_instance: None,
             label: 0,
         }
     }

@@ -44,6 +44,12 @@ pub fn run(args: InfoArgs) -> Result<()> {
             own.label, own.map.width, own.map.height
         );
     }
+    if !scene.extensions_read.is_empty() {
+        println!("extensions read:");
+        for line in &scene.extensions_read {
+            println!("  {line}");
+        }
+    }
     let b = scene.bounds();
     if b.is_empty() {
         println!("bounds: empty");

@@ -281,6 +281,20 @@ fn info_lists_lights_and_cameras() {
 }
 
 #[test]
+fn info_lists_compression_and_instancing() {
+    let assets = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets"));
+    for (file, line) in [
+        ("ShadowsSpot/encoded/shadows-spot-draco-edgebreaker.glb", "KHR_draco_mesh_compression: 5 primitives decoded"),
+        ("ShadowsSpot/encoded/shadows-spot-meshopt.glb", "EXT_meshopt_compression: 19 buffer views decoded"),
+        ("InstancedBoxes/boxes-instanced.glb", "EXT_mesh_gpu_instancing: node 4 '': 64 copies, instance ids 5..=68"),
+    ] {
+        let run = chiaro(&["info", &assets.join(file).to_string_lossy()], &[], assets);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        assert!(run.stdout.contains(&format!("extensions read:\n  {line}\n")), "{file}: {}", run.stdout);
+    }
+}
+
+#[test]
 fn triangle_without_camera_is_framed_and_rendered() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("tri.gltf"), good_triangle()).unwrap();

@@ -28,7 +28,7 @@ pub use timer::{GpuTimer, PassTimestamps};
 pub struct PassStats {
     /// Shadow atlas tiles the shadow pass drew this frame.
     pub shadow_tiles_rendered: usize,
-    /// Caster draws issued into those tiles.
+    /// Caster draw calls issued into those tiles (an instanced draw counts once).
     pub shadow_caster_draws: usize,
 }
 

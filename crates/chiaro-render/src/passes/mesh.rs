@@ -7,7 +7,7 @@ use crate::gpu::GpuVertex;
 use crate::graph::{PassContext, Target, TargetDesc};
 use crate::overrides::Override;
 use crate::plan::FramePlan;
-use crate::plan::draws::Draw;
+use crate::plan::draws::{Draw, instanced_runs};
 use crate::scene::GpuScene;
 use chiaro_scene::AlphaMode;
 use std::collections::HashMap;
@@ -256,8 +256,7 @@ impl MeshPipelines {
         pass.set_index_buffer(scene.indices.slice(..), wgpu::IndexFormat::Uint32);
         let mut bound_material = usize::MAX;
         let mut bound_key = None;
-        for &i in order {
-            let d = &scene.draws[i as usize];
+        for (d, instances) in instanced_runs(&scene.draws, order) {
             let key = self.key(d);
             if bound_key != Some(key) {
                 pass.set_pipeline(&self.pipelines[&key]);
@@ -267,7 +266,11 @@ impl MeshPipelines {
                 pass.set_bind_group(1, &scene.materials[d.material], &[]);
                 bound_material = d.material;
             }
-            pass.draw_indexed(d.first_index..d.first_index + d.index_count, d.base_vertex, d.object..d.object + 1);
+            pass.draw_indexed(
+                d.first_index..d.first_index + d.index_count,
+                d.base_vertex,
+                d.object..d.object + instances,
+            );
         }
     }
 }

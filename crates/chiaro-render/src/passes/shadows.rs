@@ -9,6 +9,7 @@ use crate::gpu::{GpuCasterView, GpuVertex};
 use crate::graph::target::ATTACHMENT_SAMPLED;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::plan::FramePlan;
+use crate::plan::draws::instanced_runs;
 use crate::plan::shadows::{CasterTile, ShadowAtlas};
 use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES};
 use crate::shaders;
@@ -303,8 +304,7 @@ impl FramePass for ShadowPass {
                 pass.set_bind_group(0, bind_group, &[(i as u64 * self.stride) as u32]);
                 let mut bound = None;
                 let mut bound_material = usize::MAX;
-                for &d in &tile.casters {
-                    let draw = &cx.scene.draws[d as usize];
+                for (draw, instances) in instanced_runs(&cx.scene.draws, &tile.casters) {
                     let key = caster_key(tile, draw);
                     if bound != Some(key) {
                         pass.set_pipeline(&self.pipelines[&key]);
@@ -318,12 +318,12 @@ impl FramePass for ShadowPass {
                     pass.draw_indexed(
                         draw.first_index..draw.first_index + draw.index_count,
                         draw.base_vertex,
-                        draw.object..draw.object + 1,
+                        draw.object..draw.object + instances,
                     );
+                    cx.stats.shadow_caster_draws += 1;
                 }
                 pass.pop_debug_group();
                 cx.stats.shadow_tiles_rendered += 1;
-                cx.stats.shadow_caster_draws += tile.casters.len();
             }
         }
     }

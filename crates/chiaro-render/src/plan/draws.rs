@@ -171,16 +171,46 @@ pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
     draws
 }
 
+/// The draws of `order` as instanced draws: each run of draws of the same primitive
+/// with the same material and state whose objects follow one another (the copies of an
+/// EXT_mesh_gpu_instancing node, or nodes placing one mesh in a row) comes out as its
+/// first draw and the number of objects it covers, drawn as instances `object..object + n`.
+pub fn instanced_runs<'a>(draws: &'a [Draw], order: &'a [u32]) -> impl Iterator<Item = (&'a Draw, u32)> + 'a {
+    let mut rest = order;
+    std::iter::from_fn(move || {
+        let (&first, tail) = rest.split_first()?;
+        let first = &draws[first as usize];
+        let joins = |(k, &i): (usize, &u32)| {
+            let d = &draws[i as usize];
+            d.object == first.object + 1 + k as u32 && draws_alike(first, d)
+        };
+        let run = 1 + tail.iter().enumerate().take_while(|&entry| joins(entry)).count();
+        rest = &rest[run..];
+        Some((first, run as u32))
+    })
+}
+
+/// Whether two draws draw the same primitive with the same material in the same state,
+/// so that one instanced draw can issue both.
+fn draws_alike(a: &Draw, b: &Draw) -> bool {
+    (a.first_index, a.index_count, a.base_vertex, a.material)
+        == (b.first_index, b.index_count, b.base_vertex, b.material)
+        && (a.alpha_mode, a.textured, a.double_sided, a.mirrored)
+            == (b.alpha_mode, b.textured, b.double_sided, b.mirrored)
+        && (a.cast_shadows, a.shadow_casting) == (b.cast_shadows, b.shadow_casting)
+}
+
 /// The camera's draw order, as indices into `draws`: opaque and masked draws first,
-/// grouped by pipeline state and material; then transparent draws from far to near, so
-/// that blending composes correctly.
+/// grouped by pipeline state, material and primitive (which keeps the copies of an
+/// instanced mesh together, in object order, for `instanced_runs`); then transparent
+/// draws from far to near, so that blending composes correctly.
 pub fn camera_draw_order(draws: &[Draw], eye: Vec3) -> Vec<u32> {
     let (mut blended, mut solid): (Vec<u32>, Vec<u32>) = (0..draws.len() as u32)
         .filter(|&i| draws[i as usize].visible())
         .partition(|&i| draws[i as usize].alpha_mode == AlphaMode::Blend);
     solid.sort_by_key(|&i| {
         let d = &draws[i as usize];
-        (d.double_sided, d.mirrored, d.material)
+        (d.double_sided, d.mirrored, d.material, d.first_index)
     });
     let distance = |i: u32| draws[i as usize].center_ws.distance_squared(eye);
     blended.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
@@ -215,6 +245,7 @@ mod tests {
                 receive_shadows: true,
                 is_static: true,
                 lightmap: None,
+                gpu_instance: None,
                 label: 0,
             });
         }
@@ -235,6 +266,23 @@ mod tests {
         assert_eq!(draws[3].first_index, layout.ranges[0][1].first_index);
         assert!(draws[1].bounds_ws.center().abs_diff_eq(Vec3::ZERO, 1e-6));
         assert!(draws[4].bounds_ws.center().abs_diff_eq(Vec3::new(-8.0, 0.0, 0.0), 1e-6));
+    }
+
+    #[test]
+    fn runs_of_alike_draws_of_consecutive_objects_draw_as_one() {
+        let mut scene = scene();
+        let draws = scene_draws(&scene, &GeometryLayout::of(&scene));
+        let runs = |draws: &[Draw], order: &[u32]| -> Vec<(u32, u32)> {
+            instanced_runs(draws, order).map(|(d, n)| (d.object, n)).collect()
+        };
+        // The middle cube casts shadows only: its draw cannot join the others'.
+        assert_eq!(runs(&draws, &[0, 2, 4]), vec![(0, 1), (1, 1), (2, 1)]);
+        scene.instances[1].cast_shadows = CastShadows::On;
+        let draws = scene_draws(&scene, &GeometryLayout::of(&scene));
+        assert_eq!(runs(&draws, &[0, 2, 4]), vec![(0, 3)]);
+        // A gap in the objects, or another primitive, starts a new run.
+        assert_eq!(runs(&draws, &[0, 4]), vec![(0, 1), (2, 1)]);
+        assert_eq!(runs(&draws, &[0, 2, 3, 5]), vec![(0, 2), (1, 2)]);
     }
 
     #[test]

@@ -506,7 +506,12 @@ fn tile_casters(draws: &[Draw], tile: &CasterTile) -> Vec<u32> {
         Some(sphere) => caster_in_range(&d.bounds_ws, sphere) && pyramid.sides_hold_aabb(&d.bounds_ws),
         None => caster_in_tile(&tile.clip_from_world, &d.bounds_ws, true),
     };
-    (0..draws.len() as u32).filter(|&i| draws[i as usize].casts_shadows() && reaches(&draws[i as usize])).collect()
+    let mut casters: Vec<u32> =
+        (0..draws.len() as u32).filter(|&i| draws[i as usize].casts_shadows() && reaches(&draws[i as usize])).collect();
+    // Primitive by primitive, so that the copies of an instanced mesh draw as one
+    // instanced draw (`instanced_runs`); depth-only drawing does not depend on order.
+    casters.sort_by_key(|&i| (draws[i as usize].first_index, i));
+    casters
 }
 
 #[cfg(test)]

@@ -185,7 +185,8 @@ fn gpu_objects(scene: &Scene) -> Vec<GpuObject> {
         .instances
         .iter()
         .map(|inst| {
-            let object = GpuObject::new(inst.world_from_local, inst.receive_shadows).identified(inst.node, inst.label);
+            let object =
+                GpuObject::new(inst.world_from_local, inst.receive_shadows).identified(inst.aov_id(), inst.label);
             match inst.lightmap {
                 Some(layer) if scene.baked.is_some() => object.lightmapped(layer),
                 _ if has_probes => object.probe_lit(),

@@ -177,7 +177,7 @@ impl Scene {
         let placed = |node: usize| world.get(node).copied().flatten();
         for instance in &mut self.instances {
             if let Some(m) = placed(instance.node) {
-                instance.world_from_local = m;
+                instance.world_from_local = m * instance.gpu_instance.map_or(Mat4::IDENTITY, |g| g.node_from_instance);
             }
         }
         for light in &mut self.lights {

@@ -279,6 +279,7 @@ impl Loader<'_> {
         }
         tracing::trace!(label, points = decoded.point_count(), "decoded Draco primitive");
         self.decompressed.extend(accessors);
+        self.decompressed_primitives += 1;
         Ok(())
     }
 }

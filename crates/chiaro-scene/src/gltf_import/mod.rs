@@ -26,6 +26,7 @@ mod extras;
 pub mod glb;
 mod image_based_light;
 mod images;
+mod instancing;
 mod lights_cameras;
 mod materials;
 mod meshes;
@@ -41,7 +42,7 @@ mod tests;
 
 use crate::animation::deform::Deformation;
 use crate::error::SceneError;
-use crate::types::{Material, Mesh, MeshInstance, Scene};
+use crate::types::{GpuInstance, Material, Mesh, MeshInstance, Scene};
 use document::Document;
 use gltf::json;
 use json::validation::Checked;
@@ -55,7 +56,7 @@ use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 10] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 11] = [
     "KHR_lights_punctual",
     image_based_light::EXTENSION,
     "KHR_materials_emissive_strength",
@@ -65,6 +66,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 10] = [
     "KHR_node_visibility",
     "EXT_meshopt_compression",
     draco::EXTENSION,
+    instancing::EXTENSION,
     "EXT_texture_webp",
 ];
 
@@ -89,6 +91,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
         buffers: vec![OnceCell::new(); document.root.buffers.len()],
         decoded_views: vec![OnceCell::new(); document.root.buffer_views.len()],
         decompressed: HashMap::new(),
+        decompressed_primitives: 0,
         skipped_lights: &document.skipped_lights,
         ignored: document.notes.clone(),
         tally: Tally::default(),
@@ -134,6 +137,8 @@ struct Loader<'a> {
     decoded_views: Vec<OnceCell<Vec<u8>>>,
     /// Accessors decoded from KHR_draco_mesh_compression streams, by accessor index.
     decompressed: HashMap<usize, draco::Decompressed>,
+    /// Primitives decoded from Draco streams.
+    decompressed_primitives: usize,
     /// Per KHR_lights_punctual light, whether its type is unknown and it is skipped.
     skipped_lights: &'a [bool],
     ignored: Vec<String>,
@@ -157,6 +162,7 @@ impl<'a> Loader<'a> {
             (0..self.root.materials.len()).map(|index| self.material(index)).collect::<Result<Vec<_>, _>>()?;
         let mut meshes = self.drawn_meshes(&placements, &materials)?;
 
+        let gpu_instances = self.gpu_instances(&placements)?;
         let mut instances = Vec::new();
         let mut lights = Vec::new();
         let mut cameras = Vec::new();
@@ -164,7 +170,10 @@ impl<'a> Loader<'a> {
             // KHR_node_visibility: a hidden node neither draws nor lights; cameras stay.
             if placement.visible {
                 if let Some(instance) = self.instance(placement, &moving)? {
-                    instances.push(instance);
+                    match gpu_instances.get(&placement.node) {
+                        Some(copies) => instances.extend(instance.gpu_instances(copies)),
+                        None => instances.push(instance),
+                    }
                 }
                 if let Some(light) = self.light(placement)? {
                     lights.push(light);
@@ -190,6 +199,7 @@ impl<'a> Loader<'a> {
             lights,
             cameras,
             ignored: std::mem::take(&mut self.ignored),
+            extensions_read: self.extensions_read(&gpu_instances),
             inputs: Vec::new(),
             baked: None,
             nodes: self.node_table(&placements),
@@ -224,6 +234,57 @@ impl<'a> Loader<'a> {
             .collect()
     }
 
+    /// Per visible mesh node with EXT_mesh_gpu_instancing, its copies, numbered for the
+    /// instance AOV from the file's node count on, node by node in index order.
+    fn gpu_instances(&self, placements: &[Placement]) -> Result<HashMap<usize, Vec<GpuInstance>>, SceneError> {
+        let mut nodes: Vec<usize> = placements
+            .iter()
+            .filter(|p| p.visible && self.root.nodes[p.node].mesh.is_some() && self.is_instanced(p.node))
+            .map(|p| p.node)
+            .collect();
+        nodes.sort_unstable();
+        let mut next_id = self.root.nodes.len();
+        let mut copies = HashMap::new();
+        for node in nodes {
+            let transforms = self.instance_transforms(node)?.unwrap_or_default();
+            let first = next_id;
+            next_id += transforms.len();
+            let id = |k: usize| u32::try_from(first + k).map_err(|_| self.invalid("more than 2^32 instances"));
+            let node_copies = transforms
+                .into_iter()
+                .enumerate()
+                .map(|(k, node_from_instance)| Ok(GpuInstance { id: id(k)?, node_from_instance }))
+                .collect::<Result<Vec<_>, SceneError>>()?;
+            copies.insert(node, node_copies);
+        }
+        Ok(copies)
+    }
+
+    /// One line per extension read that changed what the file holds: compressed
+    /// primitives and views, and each instanced node with its copies' ids.
+    fn extensions_read(&self, gpu_instances: &HashMap<usize, Vec<GpuInstance>>) -> Vec<String> {
+        let mut lines = Vec::new();
+        let draco = self.decompressed_primitives;
+        if draco > 0 {
+            lines.push(format!("{}: {draco} primitives decoded", draco::EXTENSION));
+        }
+        let meshopt = self.decoded_views.iter().filter(|v| v.get().is_some()).count();
+        if meshopt > 0 {
+            lines.push(format!("EXT_meshopt_compression: {meshopt} buffer views decoded"));
+        }
+        let mut nodes: Vec<(&usize, &Vec<GpuInstance>)> = gpu_instances.iter().collect();
+        nodes.sort_by_key(|(node, _)| **node);
+        for (node, copies) in nodes {
+            let name = self.root.nodes[*node].name.as_deref().unwrap_or_default();
+            let ids = match (copies.first(), copies.last()) {
+                (Some(first), Some(last)) => format!("instance ids {}..={}", first.id, last.id),
+                _ => "no copies".into(),
+            };
+            lines.push(format!("{}: node {node} '{name}': {} copies, {ids}", instancing::EXTENSION, copies.len()));
+        }
+        lines
+    }
+
     fn instance(&self, placement: &Placement, moving: &[bool]) -> Result<Option<MeshInstance>, SceneError> {
         let node = &self.root.nodes[placement.node];
         let Some(mesh) = node.mesh else { return Ok(None) };
@@ -248,6 +309,7 @@ impl<'a> Loader<'a> {
             receive_shadows,
             is_static,
             lightmap: None,
+            gpu_instance: None,
             label,
         }))
     }

@@ -22,6 +22,7 @@ fn plane_scene(material: Material, images: Vec<Image>) -> Scene {
             receive_shadows: true,
             is_static: true,
             lightmap: None,
+            gpu_instance: None,
             label: 0,
         }],
         ..Scene::default()

@@ -17,6 +17,7 @@ fn instance(mesh: usize, world_from_local: Mat4, cast_shadows: CastShadows) -> M
         receive_shadows: true,
         is_static: true,
         lightmap: None,
+        gpu_instance: None,
         label: 0,
     }
 }

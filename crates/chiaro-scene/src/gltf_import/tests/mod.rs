@@ -8,6 +8,7 @@ mod conformance;
 mod encoded_assets;
 mod geometry;
 mod image_based_light;
+mod instancing;
 mod invalid_files;
 mod lights_cameras;
 mod materials;
