@@ -91,11 +91,13 @@ def devices() -> _List[DeviceInfo]:
     return _chiaro.adapters()
 
 
-def load(path: PathArg, time: _Optional[float] = None) -> Scene:
+def load(path: PathArg, time: _Optional[float] = None, variant: _Optional[str] = None) -> Scene:
     """Loads a .gltf or .glb file into a `Scene`, posed at `time` seconds of its glTF
-    animations (None: the rest pose; see `Scene.pose`). Raises `SceneError` with the file
-    and the problem (as `chiaro render` prints it)."""
-    return _chiaro.load(_os.fspath(path), time)
+    animations (None: the rest pose; see `Scene.pose`), in the KHR_materials_variants
+    variant named `variant` (None: the file's default materials; `Scene.variants` lists
+    them, `Scene.select_variant` switches). Raises `SceneError` with the file and the
+    problem (as `chiaro render` prints it), ValueError for a variant the file lacks."""
+    return _chiaro.load(_os.fspath(path), time, variant)
 
 
 def _settings_args(settings: SettingsArg) -> _Tuple[_Optional[str], _Optional[str]]:

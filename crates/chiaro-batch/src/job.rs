@@ -14,7 +14,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 /// Every key a job may have.
-pub const KEYS: [&str; 9] = ["id", "scene", "camera", "time", "width", "height", "outputs", "settings", "seed"];
+pub const KEYS: [&str; 10] =
+    ["id", "scene", "camera", "time", "variant", "width", "height", "outputs", "settings", "seed"];
 /// The longest id, bytes: a folder name every file system takes with room for suffixes.
 pub const MAX_ID_BYTES: usize = 200;
 /// The widest side a job may ask for, pixels (the device's own limit may be lower).
@@ -107,6 +108,9 @@ pub struct JobSpec {
     pub camera: CameraSpec,
     /// Seconds into the scene's animations; `None` for the rest pose.
     pub time: Option<f32>,
+    /// The KHR_materials_variants variant, by name: the job's `"variant"`, else its
+    /// settings' `scene.variant`; `None`: the file's default materials.
+    pub variant: Option<String>,
     /// Image size, pixels.
     pub width: u32,
     pub height: u32,
@@ -161,6 +165,11 @@ impl Job {
                 Some(t)
             }
         };
+        let variant = match get("variant") {
+            None => settings.scene.variant.clone(),
+            Some(Value::String(name)) if !name.trim().is_empty() => Some(name.clone()),
+            Some(other) => return Err(format!("variant: expected a variant's name, not {}", kind(other))),
+        };
         let side = |key: &str, default: u32| -> Result<u32, String> {
             match get(key) {
                 None => Ok(default),
@@ -193,7 +202,7 @@ impl Job {
             None => 0,
             Some(value) => value.as_u64().ok_or_else(|| format!("seed: {value} is not a whole number from 0"))?,
         };
-        Ok(JobSpec { scene, camera, time, width, height, outputs, settings, seed })
+        Ok(JobSpec { scene, camera, time, variant, width, height, outputs, settings, seed })
     }
 
     /// The job's failure message: the list, the line, then `problem`.

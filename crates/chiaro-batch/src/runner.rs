@@ -60,10 +60,11 @@ struct LoadedScene {
     inputs: Vec<InputRecord>,
 }
 
-/// The scene on the device: which load of it, at which time.
+/// The scene on the device: which load of it, at which time, in which material variant.
 struct Uploaded {
     load: u64,
     time: Option<u32>,
+    variant: Option<usize>,
     gpu: PreparedScene,
 }
 
@@ -210,6 +211,10 @@ impl<'r> BatchRunner<'r> {
             loaded.scene.pose(time.map(f32::from_bits)).map_err(|e| format!("time: {e}"))?;
             loaded.posed_at = Some(time);
         }
+        if loaded.scene.selected_variant() != spec.variant.as_deref() {
+            loaded.scene.select_variant(spec.variant.as_deref()).map_err(|e| format!("variant: {e}"))?;
+        }
+        let variant = loaded.scene.variants.selected;
         let scene = &loaded.scene;
         let view = spec.camera.view(scene, &spec.settings, spec.width, spec.height)?;
         let layers = self.renderer.ctx.device.limits().max_texture_array_layers as usize;
@@ -220,11 +225,12 @@ impl<'r> BatchRunner<'r> {
                 scene.lights.len()
             ));
         }
-        let fresh = !self.uploaded.as_ref().is_some_and(|u| u.load == loaded.load && u.time == time);
+        let fresh =
+            !self.uploaded.as_ref().is_some_and(|u| u.load == loaded.load && u.time == time && u.variant == variant);
         if fresh {
             self.uploaded = None;
             let gpu = self.renderer.prepare(scene).map_err(|e| e.to_string())?;
-            self.uploaded = Some(Uploaded { load: loaded.load, time, gpu });
+            self.uploaded = Some(Uploaded { load: loaded.load, time, variant, gpu });
         }
         let gpu = &self.uploaded.as_ref().expect("uploaded above").gpu;
         // Every tile drawn afresh, placed as on a new renderer: the job renders the same

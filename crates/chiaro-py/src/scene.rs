@@ -70,14 +70,18 @@ impl Scene {
 }
 
 /// Loads a .gltf or .glb file, posed at `time` seconds of its animations (None: the rest
-/// pose). Raises `SceneError` naming the file and the problem (the message `chiaro render`
-/// prints), ValueError for a time that is not finite.
+/// pose), in the KHR_materials_variants variant named `variant` (None: the file's default
+/// materials). Raises `SceneError` naming the file and the problem (the message `chiaro
+/// render` prints), ValueError for a time that is not finite or a variant the file lacks.
 #[pyfunction]
-#[pyo3(signature = (path, time = None))]
-pub fn load(py: Python<'_>, path: PathBuf, time: Option<f64>) -> PyResult<Scene> {
+#[pyo3(signature = (path, time = None, variant = None))]
+pub fn load(py: Python<'_>, path: PathBuf, time: Option<f64>, variant: Option<String>) -> PyResult<Scene> {
     let time = seconds(time)?;
     let loaded = py.detach(|| chiaro_scene::load_gltf(&path));
     let mut scene = loaded.map_err(|e| SceneError::new_err(e.to_string()))?;
+    scene
+        .select_variant(variant.as_deref())
+        .map_err(|e| PyValueError::new_err(format!("{}: variant: {e}", path.display())))?;
     scene.source = Some(path);
     scene.pose(time).map_err(|e| PyValueError::new_err(format!("time: {e}")))?;
     let scene = Scene::new(scene);
@@ -232,6 +236,31 @@ impl Scene {
         writing(&self.state, |s| -> Result<(), String> {
             s.scene.pose(time).map_err(|e| format!("time: {e}"))?;
             s.time = time;
+            s.geometry_version += 1;
+            Ok(())
+        })
+        .map_err(PyValueError::new_err)
+    }
+
+    /// The file's KHR_materials_variants variants, by name, in the file's order.
+    #[getter]
+    fn variants(&self) -> Vec<String> {
+        reading(&self.state, |s| s.scene.variants.names.clone())
+    }
+
+    /// The selected material variant's name; None for the file's default materials.
+    #[getter]
+    fn variant(&self) -> Option<String> {
+        reading(&self.state, |s| s.scene.selected_variant().map(str::to_owned))
+    }
+
+    /// Gives every primitive the material of the variant named `name` (None: the file's
+    /// default materials); the next frame shows it. Raises ValueError, listing the file's
+    /// variants, for a name it lacks.
+    #[pyo3(signature = (name = None))]
+    fn select_variant(&self, name: Option<String>) -> PyResult<()> {
+        writing(&self.state, |s| -> Result<(), String> {
+            s.scene.select_variant(name.as_deref()).map_err(|e| format!("variant: {e}"))?;
             s.geometry_version += 1;
             Ok(())
         })

@@ -18,6 +18,7 @@ pub mod nodes;
 pub mod settings;
 pub mod shapes;
 pub mod types;
+pub mod variants;
 pub mod vertex_gen;
 
 pub use animation::{AnimationError, SceneAnimation};
@@ -26,3 +27,4 @@ pub use gltf_import::{load_gltf, load_gltf_bytes};
 pub use nodes::{NodeError, NodeMove, SceneNode};
 pub use settings::{CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
 pub use types::*;
+pub use variants::{MaterialVariants, VariantError, VariantMapping};

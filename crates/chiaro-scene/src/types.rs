@@ -397,6 +397,9 @@ pub struct Scene {
     /// The environment the file carries (EXT_lights_image_based), used when the settings
     /// name none of their own.
     pub environment: Option<crate::environment::SceneEnvironment>,
+    /// KHR_materials_variants: the file's variants, the materials they give, and which is
+    /// selected (`Scene::select_variant`).
+    pub variants: crate::variants::MaterialVariants,
 }
 
 impl Scene {

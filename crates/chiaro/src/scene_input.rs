@@ -30,6 +30,10 @@ pub struct SceneInput {
     /// back to it.
     #[arg(long)]
     pub settings: Option<PathBuf>,
+    /// The KHR_materials_variants variant to render, by name (`chiaro info` lists a
+    /// file's); overrides the settings' `scene.variant`.
+    #[arg(long, value_name = "NAME")]
+    pub variant: Option<String>,
     #[command(flatten)]
     pub demo: DemoArgs,
     #[command(flatten)]
@@ -55,9 +59,13 @@ impl SceneInput {
         Ok(settings)
     }
 
-    /// The scene file (or the demo) with its bake, posed at `--time`.
+    /// The scene file (or the demo) in the variant of `--variant` (else the settings'),
+    /// with its bake, posed at `--time`.
     pub fn scene(&self, settings: &Settings) -> Result<Scene> {
         let mut scene = load_scene(self.scene.as_deref(), &self.demo)?;
+        if let Some(name) = self.variant.as_deref().or(settings.scene.variant.as_deref()) {
+            scene.select_variant(Some(name)).map_err(|e| anyhow::anyhow!("{}: {e}", self.name()))?;
+        }
         self.bake.apply(&mut scene, self.scene.as_deref(), settings)?;
         self.time.apply(&mut scene)?;
         Ok(scene)

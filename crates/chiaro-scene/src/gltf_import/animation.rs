@@ -28,6 +28,7 @@ impl Loader<'_> {
         let skins = self.skins()?;
         let nodes = &self.root.nodes;
         let mut posed = Vec::new();
+        let mut copies = Vec::new();
         for (i, instance) in instances.iter_mut().enumerate() {
             let Some(deformations) = self.deformations.get(&instance.mesh) else { continue };
             let skin = nodes[instance.node].skin.map(|s| s.value()).filter(|&s| s < skins.len());
@@ -57,9 +58,11 @@ impl Loader<'_> {
                 .collect();
             let copy = Mesh { name: format!("{} (posed for {})", mesh.name, instance.name), ..mesh.clone() };
             meshes.push(copy);
+            copies.push((instance.mesh, meshes.len() - 1));
             instance.mesh = meshes.len() - 1;
             posed.push(PosedInstance { instance: i, mesh: instance.mesh, skin: skin.filter(|_| skinned), primitives });
         }
+        self.mesh_copies = copies;
         if channels.is_empty() && posed.is_empty() {
             return Ok(None);
         }

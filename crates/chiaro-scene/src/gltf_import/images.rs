@@ -11,11 +11,16 @@ use std::borrow::Cow;
 
 /// The colour space each glTF image is sampled in by the materials the drawn meshes use;
 /// `None` for images nothing drawn uses, which are not read.
-pub(super) fn image_uses(materials: &[Material], meshes: &[Mesh]) -> Vec<Option<ColorSpace>> {
+pub(super) fn image_uses(
+    materials: &[Material],
+    meshes: &[Mesh],
+    variant_materials: impl Iterator<Item = usize>,
+) -> Vec<Option<ColorSpace>> {
     let mut drawn = vec![false; materials.len()];
-    for primitive in meshes.iter().flat_map(|m| &m.primitives) {
-        if let Some(material) = primitive.material {
-            drawn[material] = true;
+    let primitive_materials = meshes.iter().flat_map(|m| &m.primitives).filter_map(|p| p.material);
+    for material in primitive_materials.chain(variant_materials) {
+        if let Some(drawn) = drawn.get_mut(material) {
+            *drawn = true;
         }
     }
     let mut uses: Vec<Option<ColorSpace>> = Vec::new();

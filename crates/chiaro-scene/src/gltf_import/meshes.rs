@@ -24,6 +24,9 @@ impl Loader<'_> {
             let label = format!("meshes[{index}].primitives[{p}]{name}");
             self.decode_draco(index, p, &label)?;
             if let Some((primitive, deformation)) = self.primitive(primitive, &label, materials)? {
+                if let Some(mapping) = self.variant_mapping((index, p), primitives.len(), &label)? {
+                    self.variant_mappings.push(mapping);
+                }
                 primitives.push(primitive);
                 deformations.push(deformation);
             }

@@ -36,6 +36,7 @@ mod normalize;
 mod spec;
 mod uri;
 mod validate;
+mod variants;
 
 #[cfg(test)]
 mod tests;
@@ -56,7 +57,7 @@ use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 11] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 12] = [
     "KHR_lights_punctual",
     image_based_light::EXTENSION,
     "KHR_materials_emissive_strength",
@@ -67,6 +68,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 11] = [
     "EXT_meshopt_compression",
     draco::EXTENSION,
     instancing::EXTENSION,
+    variants::EXTENSION,
     "EXT_texture_webp",
 ];
 
@@ -92,6 +94,9 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
         decoded_views: vec![OnceCell::new(); document.root.buffer_views.len()],
         decompressed: HashMap::new(),
         decompressed_primitives: 0,
+        variant_names: Vec::new(),
+        variant_mappings: Vec::new(),
+        mesh_copies: Vec::new(),
         skipped_lights: &document.skipped_lights,
         ignored: document.notes.clone(),
         tally: Tally::default(),
@@ -139,6 +144,11 @@ struct Loader<'a> {
     decompressed: HashMap<usize, draco::Decompressed>,
     /// Primitives decoded from Draco streams.
     decompressed_primitives: usize,
+    /// KHR_materials_variants: the variants' names, and the primitives they change.
+    variant_names: Vec<String>,
+    variant_mappings: Vec<crate::variants::VariantMapping>,
+    /// Meshes the animation copied for an instance to pose: (original, copy).
+    mesh_copies: Vec<(usize, usize)>,
     /// Per KHR_lights_punctual light, whether its type is unknown and it is skipped.
     skipped_lights: &'a [bool],
     ignored: Vec<String>,
@@ -158,6 +168,7 @@ impl<'a> Loader<'a> {
         self.note_unsupported_extensions();
         let placements = self.walk_scene()?;
         let moving = self.animated_nodes();
+        self.variant_names = self.variant_names()?;
         let mut materials =
             (0..self.root.materials.len()).map(|index| self.material(index)).collect::<Result<Vec<_>, _>>()?;
         let mut meshes = self.drawn_meshes(&placements, &materials)?;
@@ -185,7 +196,8 @@ impl<'a> Loader<'a> {
         }
 
         let animation = self.animation(&placements, &mut instances, &mut meshes)?;
-        let image_uses = images::image_uses(&materials, &meshes);
+        let variants = self.material_variants();
+        let image_uses = images::image_uses(&materials, &meshes, variants.variant_materials());
         let images = self.decode_images(&image_uses, &mut materials, &mut lights)?;
         let environment = self.scene_environment(self.scene_index())?;
         self.note_tally();
@@ -205,6 +217,7 @@ impl<'a> Loader<'a> {
             nodes: self.node_table(&placements),
             animation: animation.map(Box::new),
             environment,
+            variants,
         };
         // Skinned and morphed meshes at rest: joints at their rest transforms, the rest
         // weights applied. The rest time is always a valid pose.
@@ -260,8 +273,24 @@ impl<'a> Loader<'a> {
         Ok(copies)
     }
 
+    /// The file's variants and mappings, each mapping repeated for the copies the
+    /// animation made of its mesh.
+    fn material_variants(&mut self) -> crate::variants::MaterialVariants {
+        let mut mappings = std::mem::take(&mut self.variant_mappings);
+        for &(original, copy) in &self.mesh_copies {
+            let copies: Vec<_> = mappings
+                .iter()
+                .filter(|m| m.mesh == original)
+                .map(|m| crate::variants::VariantMapping { mesh: copy, ..m.clone() })
+                .collect();
+            mappings.extend(copies);
+        }
+        crate::variants::MaterialVariants { names: self.variant_names.clone(), mappings, selected: None }
+    }
+
     /// One line per extension read that changed what the file holds: compressed
-    /// primitives and views, and each instanced node with its copies' ids.
+    /// primitives and views, each instanced node with its copies' ids, and the material
+    /// variants.
     fn extensions_read(&self, gpu_instances: &HashMap<usize, Vec<GpuInstance>>) -> Vec<String> {
         let mut lines = Vec::new();
         let draco = self.decompressed_primitives;
@@ -271,6 +300,10 @@ impl<'a> Loader<'a> {
         let meshopt = self.decoded_views.iter().filter(|v| v.get().is_some()).count();
         if meshopt > 0 {
             lines.push(format!("EXT_meshopt_compression: {meshopt} buffer views decoded"));
+        }
+        if !self.variant_names.is_empty() {
+            let names: Vec<String> = self.variant_names.iter().map(|n| format!("'{n}'")).collect();
+            lines.push(format!("{}: {} variants: {}", variants::EXTENSION, names.len(), names.join(", ")));
         }
         let mut nodes: Vec<(&usize, &Vec<GpuInstance>)> = gpu_instances.iter().collect();
         nodes.sort_by_key(|(node, _)| **node);

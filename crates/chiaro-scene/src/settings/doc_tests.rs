@@ -88,6 +88,7 @@ fn every_key_in_code_is_documented_and_every_documented_key_exists() {
     all.shadows.directional.cascade_ratios = Some(DEFAULT_CASCADE_RATIOS.to_vec());
     all.bake.samples = Some(1);
     all.bake.probe_samples = Some(1);
+    all.scene.variant = Some("midnight".into());
     let mut in_code = BTreeSet::new();
     leaf_keys(&toml::Table::try_from(&all).unwrap(), "", &mut in_code);
     let doc = settings_doc();

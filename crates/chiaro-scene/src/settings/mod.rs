@@ -5,8 +5,8 @@
 //! name the key: a typo must never fall back to a default silently.
 //!
 //! One module per section of the file (`render`, `lights`, `camera`, `shadows` with its
-//! `directional` and `other` subsections, `lighting`, `bake`), each holding its struct,
-//! defaults, ranges and validation. Every numeric range is a `Bound` written once, which
+//! `directional` and `other` subsections, `lighting`, `bake`, `environment`, `scene`),
+//! each holding its struct, defaults, ranges and validation. Every numeric range is a `Bound` written once, which
 //! validation checks and a test compares with docs/settings.md.
 
 pub mod bake;
@@ -16,6 +16,7 @@ pub mod environment;
 pub mod lighting;
 pub mod lights;
 pub mod render;
+pub mod scene;
 pub mod shadows;
 mod text;
 
@@ -31,6 +32,7 @@ pub use environment::{EnvironmentMode, EnvironmentSettings, EnvironmentSource};
 pub use lighting::{LightingSettings, MixedMode};
 pub use lights::{LightCulling, LightSettings};
 pub use render::{DeferredAntialiasing, LightBuffer, RenderPath, RenderSettings};
+pub use scene::SceneSettings;
 pub use shadows::{
     CascadeBlend, DEFAULT_CASCADE_RATIOS, DirectionalShadowSettings, LocalShadowSettings, ShadowSettings,
 };
@@ -57,6 +59,8 @@ pub struct Settings {
     pub lighting: LightingSettings,
     /// `[environment]`: image-based light from a studio, a sky or an HDR image.
     pub environment: EnvironmentSettings,
+    /// `[scene]`: which material variant of the file to render.
+    pub scene: SceneSettings,
 }
 
 /// Why a settings file could not be used; both variants name the file.
@@ -147,6 +151,7 @@ impl Settings {
         self.camera.validate()?;
         self.shadows.validate()?;
         self.bake.validate()?;
-        self.environment.validate()
+        self.environment.validate()?;
+        self.scene.validate()
     }
 }

@@ -14,6 +14,7 @@ mod lights_cameras;
 mod materials;
 mod test_assets;
 mod validator_rules;
+mod variants;
 
 use super::load_gltf;
 use crate::error::SceneError;
