@@ -22,6 +22,7 @@ fn checker_image() -> Image {
         width: 2,
         height: 2,
         rgba8: [texel(255), texel(0), texel(0), texel(255)].concat(),
+        file_mips: Vec::new(),
         color_space: ColorSpace::Srgb,
     }
 }

@@ -1,6 +1,6 @@
 //! The corpus the mutators start from: every scene of the repository's `tests/assets`, made
 //! self-contained (buffers inlined as data URIs, images swapped for a 1x1 PNG so that
-//! each input loads in milliseconds), one of them packed as a GLB, the GLBs there (the
+//! each input loads in milliseconds, but KTX2 images inlined whole), one of them packed as a GLB, the GLBs there (the
 //! Draco- and meshopt-compressed files) with their binary chunk inlined, so that payload
 //! mutations reach the compressed streams, the seeds written by code for the rules and
 //! extensions the assets lack (`spec_seeds`), and a few settings files that cover every
@@ -66,9 +66,20 @@ fn inline(path: &Path) -> anyhow::Result<(Value, Vec<Vec<u8>>)> {
     }
     for image in doc.get_mut("images").and_then(Value::as_array_mut).into_iter().flatten() {
         if let Some(object) = image.as_object_mut() {
+            // KTX2 images are small and are what the KHR_texture_basisu seeds are for:
+            // inlined whole, so that payload mutations reach the transcoder.
+            let ktx2 = object.get("mimeType").and_then(Value::as_str) == Some("image/ktx2");
+            let uri = object.get("uri").and_then(Value::as_str).map(str::to_owned);
             object.remove("bufferView");
             object.remove("mimeType");
-            object.insert("uri".into(), Value::from(TINY_PNG));
+            let inlined = match uri {
+                Some(uri) if ktx2 => format!(
+                    "data:image/ktx2;base64,{}",
+                    base64::engine::general_purpose::STANDARD.encode(std::fs::read(dir.join(&uri))?)
+                ),
+                _ => TINY_PNG.to_owned(),
+            };
+            object.insert("uri".into(), Value::from(inlined));
         }
     }
     Ok((doc, buffers))

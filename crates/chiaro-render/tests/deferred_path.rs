@@ -204,6 +204,7 @@ fn cookies_agree_on_both_paths() {
         width: 48,
         height: 8,
         rgba8: (0..8 * 48).flat_map(|i| [((i % 48) * 5) as u8, 255 - ((i % 48) * 5) as u8, 128, 255]).collect(),
+        file_mips: Vec::new(),
         color_space: ColorSpace::Linear,
     };
     let with = |mut light: Light, size_m| {

@@ -38,3 +38,23 @@ fn compressed_files_render_as_their_original() {
         assert!(differing < 16, "{file}: {differing} pixels differ");
     }
 }
+
+/// tests/assets/TexturedKtx2: a floor textured from a PNG, and from the same PNG encoded
+/// to KTX2 by the Basis Universal encoder (ETC1S, UASTC with Zstandard), mip levels from
+/// the files. Measured on lavapipe: mean FLIP 0.036 for ETC1S and 0.010 for UASTC, whose
+/// texels are within 0.24 levels of the PNG's on average: most of its difference is the
+/// encoder's mip levels (a sharper filter than the renderer's box) on the far floor.
+#[test]
+fn ktx2_textured_files_render_as_their_png() {
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets/TexturedKtx2"));
+    let rendered = |file: &str| {
+        let scene = load_gltf(&root.join(file)).unwrap_or_else(|e| panic!("{e}"));
+        ldr_rgb(&render(&mut renderer(), &scene, &chiaro_scene::Settings::default(), SIZE))
+    };
+    let png = rendered("textured-png.gltf");
+    for (file, bound) in [("textured-etc1s.gltf", 0.05), ("textured-uastc.gltf", 0.02)] {
+        let flip = mean_flip(SIZE, &png, &rendered(file));
+        println!("{file}: mean FLIP {flip:.4} against the PNG");
+        assert!(flip < bound, "{file}: mean FLIP {flip}");
+    }
+}

@@ -66,6 +66,7 @@ fn scene(light: Light, eye: Vec3) -> Scene {
         width: 12,
         height: 2,
         rgba8: rgba8.collect(),
+        file_mips: Vec::new(),
         color_space: ColorSpace::Linear,
     });
     if eye.distance(TARGET) > 1e-3 {

@@ -23,7 +23,14 @@ fn rgb_image(width: u32, height: u32, rgb: impl Fn(u32, u32) -> [u8; 3]) -> Imag
         let [r, g, b] = rgb(x, y);
         [r, g, b, 255]
     });
-    Image { name: "cookie".into(), width, height, rgba8: rgba8.collect(), color_space: ColorSpace::Linear }
+    Image {
+        name: "cookie".into(),
+        width,
+        height,
+        rgba8: rgba8.collect(),
+        file_mips: Vec::new(),
+        color_space: ColorSpace::Linear,
+    }
 }
 
 fn render_hdr(renderer: &mut Renderer, scene: &Scene, settings: &Settings) -> FrameOutput {

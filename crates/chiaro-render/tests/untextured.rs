@@ -23,7 +23,14 @@ fn coloured_floor() -> Scene {
 /// The same floor with white 1x1 base colour, metallic-roughness, occlusion and emissive
 /// textures: a texture multiplies its factor, so white changes nothing.
 fn with_white_textures(mut scene: Scene) -> Scene {
-    let image = |color_space| Image { name: "white".into(), width: 1, height: 1, rgba8: vec![255; 4], color_space };
+    let image = |color_space| Image {
+        name: "white".into(),
+        width: 1,
+        height: 1,
+        rgba8: vec![255; 4],
+        file_mips: Vec::new(),
+        color_space,
+    };
     scene.images = vec![image(ColorSpace::Srgb), image(ColorSpace::Linear)];
     let texture =
         |image| Some(TextureRef { image, sampler: Default::default(), tex_coord: 0, transform: Default::default() });

@@ -339,6 +339,9 @@ pub struct Image {
     pub height: u32,
     /// Row-major RGBA8 texels from the top-left, `width * height * 4` bytes.
     pub rgba8: Vec<u8>,
+    /// The smaller mip levels the file stores (KTX2), each half the size of the one
+    /// before; empty where the renderer makes them.
+    pub file_mips: Vec<Vec<u8>>,
     /// Whether the texels are colour or data.
     pub color_space: ColorSpace,
 }

@@ -148,6 +148,7 @@ mod tests {
             height: 2,
             rgba8: [[255, 255, 255, a[0]], [255, 255, 255, a[1]], [255, 255, 255, a[2]], [255, 255, 255, a[3]]]
                 .concat(),
+            file_mips: Vec::new(),
             color_space: ColorSpace::Srgb,
         }
     }

@@ -176,7 +176,14 @@ mod tests {
     fn point_cookies_split_into_six_faces_in_order() {
         // A 12x2 strip: face k is filled with 10 k.
         let rgba8 = (0..2).flat_map(|_| (0..12).flat_map(|x| [(x / 2 * 10) as u8, 0, 0, 255])).collect();
-        let image = Image { name: "strip".into(), width: 12, height: 2, rgba8, color_space: ColorSpace::Linear };
+        let image = Image {
+            name: "strip".into(),
+            width: 12,
+            height: 2,
+            rgba8,
+            file_mips: Vec::new(),
+            color_space: ColorSpace::Linear,
+        };
         let cookie = Some(Cookie { image: 0, size_m: Vec2::ONE });
         let scene = Scene {
             images: vec![image],

@@ -1,4 +1,5 @@
-//! Scene images to GPU textures with a full mip chain, and samplers shared by description.
+//! Scene images to GPU textures with a full mip chain (the file's levels where it stores
+//! them, else box-filtered ones), and samplers shared by description.
 
 use chiaro_scene::{ColorSpace, Image, SamplerDesc, WrapMode};
 use std::collections::HashMap;
@@ -74,7 +75,14 @@ pub fn upload_image(device: &wgpu::Device, queue: &wgpu::Queue, image: &Image) -
     let (mut data, mut w, mut h) = (image.rgba8.clone(), image.width, image.height);
     for level in 0..mip_level_count {
         if level > 0 {
-            (data, w, h) = downsample(&data, w, h);
+            // The file's own level where it has one (KTX2), else made from the last.
+            let (next_w, next_h) = ((w / 2).max(1), (h / 2).max(1));
+            match image.file_mips.get(level as usize - 1) {
+                Some(stored) if stored.len() == (next_w * next_h * 4) as usize => {
+                    (data, w, h) = (stored.clone(), next_w, next_h);
+                }
+                _ => (data, w, h) = downsample(&data, w, h),
+            }
         }
         queue.write_texture(
             wgpu::TexelCopyTextureInfo {
@@ -96,7 +104,14 @@ pub fn solid(device: &wgpu::Device, queue: &wgpu::Queue, name: &str, rgba: [u8; 
     upload_image(
         device,
         queue,
-        &Image { name: name.into(), width: 1, height: 1, rgba8: rgba.to_vec(), color_space: ColorSpace::Linear },
+        &Image {
+            name: name.into(),
+            width: 1,
+            height: 1,
+            rgba8: rgba.to_vec(),
+            file_mips: Vec::new(),
+            color_space: ColorSpace::Linear,
+        },
     )
 }
 

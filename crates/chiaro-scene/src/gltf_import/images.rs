@@ -1,13 +1,17 @@
 //! The colour space each glTF image is used in flows in, decoded RGBA8 [`Image`]s out:
 //! only images a drawn material uses are decoded, each once (sRGB if it is colour
 //! anywhere), and the materials' texture references are renumbered into `Scene::images`.
-//! PNG, JPEG and WebP (EXT_texture_webp) are read, from a buffer view or a URI; anything
-//! else names the image.
+//! PNG, JPEG and WebP (EXT_texture_webp) are read, from a buffer view or a URI, and KTX2
+//! (KHR_texture_basisu) for material textures, with the mip levels the file stores;
+//! anything else names the image.
 
-use super::{Loader, object_label, uri};
+use super::{Loader, ktx2_image, object_label, uri};
 use crate::error::SceneError;
 use crate::types::{ColorSpace, Image, Light, LightKind, Material, Mesh};
 use std::borrow::Cow;
+
+/// An image's bytes, its MIME type if known, and its label for messages.
+type ImageBytes<'a> = (Cow<'a, [u8]>, Option<String>, String);
 
 /// The colour space each glTF image is sampled in by the materials the drawn meshes use;
 /// `None` for images nothing drawn uses, which are not read.
@@ -124,20 +128,48 @@ impl Loader<'_> {
     }
 
     fn decode_image(&self, index: usize, color_space: ColorSpace) -> Result<Image, SceneError> {
-        let rgba = self.decode_pixels(index, None)?.into_rgba8();
         let image = &self.root.images[index];
         let name = image
             .name
             .clone()
             .or_else(|| image.uri.clone().filter(|u| !u.starts_with("data:")))
             .unwrap_or_else(|| format!("image {index}"));
-        Ok(Image { name, width: rgba.width(), height: rgba.height(), rgba8: rgba.into_raw(), color_space })
+        let (bytes, mime, label) = self.image_bytes(index)?;
+        if ktx2_image::is_ktx2(&bytes) || mime.as_deref() == Some("image/ktx2") {
+            let levels = ktx2_image::decode(&bytes).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+            let mut rgba8 = levels.rgba8.into_iter();
+            let base = rgba8.next().ok_or_else(|| self.invalid(format!("{label}: the KTX2 file has no levels")))?;
+            return Ok(Image {
+                name,
+                width: levels.width,
+                height: levels.height,
+                rgba8: base,
+                file_mips: rgba8.collect(),
+                color_space,
+            });
+        }
+        let rgba = self.pixels(&bytes, mime.as_deref(), &label, None)?.into_rgba8();
+        Ok(Image {
+            name,
+            width: rgba.width(),
+            height: rgba.height(),
+            rgba8: rgba.into_raw(),
+            file_mips: Vec::new(),
+            color_space,
+        })
     }
 
     /// The pixels of image `index` as the file stores them (channels and bit depth kept),
     /// read from its buffer view or URI; an error names the image. An image wider or
     /// taller than `max_side` is refused from its header, before it is decoded.
     pub(super) fn decode_pixels(&self, index: usize, max_side: Option<u32>) -> Result<image::DynamicImage, SceneError> {
+        let (bytes, mime, label) = self.image_bytes(index)?;
+        self.pixels(&bytes, mime.as_deref(), &label, max_side)
+    }
+
+    /// Image `index`'s bytes, from its buffer view or URI, with its MIME type (the
+    /// image's, else a data URI's) and its label for messages.
+    fn image_bytes(&self, index: usize) -> Result<ImageBytes<'_>, SceneError> {
         let image = &self.root.images[index];
         let label = object_label("image", index, image.uri.as_deref(), image.name.as_deref());
         let (bytes, mime): (Cow<[u8]>, Option<String>) = match (&image.buffer_view, &image.uri) {
@@ -159,14 +191,25 @@ impl Loader<'_> {
                 return Err(self.invalid(format!("{label} has neither a uri nor a bufferView")));
             }
         };
-        if let Some(mime) = mime.as_deref()
+        Ok((bytes, mime, label))
+    }
+
+    /// PNG, JPEG or WebP `bytes` decoded; `max_side` as for `decode_pixels`.
+    fn pixels(
+        &self,
+        bytes: &[u8],
+        mime: Option<&str>,
+        label: &str,
+        max_side: Option<u32>,
+    ) -> Result<image::DynamicImage, SceneError> {
+        if let Some(mime) = mime
             && !matches!(mime, "image/png" | "image/jpeg" | "image/jpg" | "image/webp")
         {
             return Err(
                 self.invalid(format!("{label}: unsupported image format {mime}; Chiaro reads PNG, JPEG and WebP"))
             );
         }
-        let format = match image::guess_format(&bytes) {
+        let format = match image::guess_format(bytes) {
             Ok(format @ (image::ImageFormat::Png | image::ImageFormat::Jpeg | image::ImageFormat::WebP)) => format,
             Ok(other) => {
                 return Err(self.invalid(format!(
@@ -179,7 +222,7 @@ impl Loader<'_> {
         };
         let cannot_decode = |e: image::ImageError| self.invalid(format!("{label}: cannot decode: {e}"));
         if let Some(max_side) = max_side {
-            let reader = image::ImageReader::with_format(std::io::Cursor::new(&bytes), format);
+            let reader = image::ImageReader::with_format(std::io::Cursor::new(bytes), format);
             let (width, height) = reader.into_dimensions().map_err(cannot_decode)?;
             if width.max(height) > max_side {
                 return Err(self.invalid(format!(
@@ -187,6 +230,6 @@ impl Loader<'_> {
                 )));
             }
         }
-        image::load_from_memory_with_format(&bytes, format).map_err(cannot_decode)
+        image::load_from_memory_with_format(bytes, format).map_err(cannot_decode)
     }
 }

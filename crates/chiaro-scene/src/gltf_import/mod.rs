@@ -27,6 +27,7 @@ pub mod glb;
 mod image_based_light;
 mod images;
 mod instancing;
+mod ktx2_image;
 mod lights_cameras;
 mod materials;
 mod meshes;
@@ -57,7 +58,7 @@ use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 12] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 13] = [
     "KHR_lights_punctual",
     image_based_light::EXTENSION,
     "KHR_materials_emissive_strength",
@@ -70,6 +71,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 12] = [
     instancing::EXTENSION,
     variants::EXTENSION,
     "EXT_texture_webp",
+    ktx2_image::EXTENSION,
 ];
 
 /// Loads a `.gltf` or `.glb` file and everything it references.

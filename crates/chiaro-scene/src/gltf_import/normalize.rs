@@ -6,7 +6,8 @@
 //! - `animations[i].channels[j].target.node` is optional (an extension targets something
 //!   else), so such channels are set aside;
 //! - a KHR_lights_punctual light of a type the extension does not define is skipped;
-//! - a texture with EXT_texture_webp takes its image from the extension.
+//! - a texture with EXT_texture_webp or KHR_texture_basisu takes its image from the
+//!   extension.
 
 use serde_json::{Map, Value};
 
@@ -28,7 +29,7 @@ pub(super) fn normalize(mut json: Value) -> Normalized {
     default_scene_nodes(&mut json);
     drop_channels_without_node(&mut json, &mut notes);
     let skipped_lights = skip_unknown_light_types(&mut json, &mut notes);
-    take_webp_sources(&mut json);
+    take_extension_sources(&mut json);
     Normalized { json, skipped_lights, notes }
 }
 
@@ -102,12 +103,15 @@ fn skip_unknown_light_types(json: &mut Value, notes: &mut Vec<String>) -> Vec<bo
     skipped
 }
 
-/// EXT_texture_webp names the WebP image; `source`, when present, is a fallback for viewers
-/// without WebP, and Chiaro reads WebP.
-fn take_webp_sources(json: &mut Value) {
+/// EXT_texture_webp and KHR_texture_basisu name the WebP or KTX2 image; `source`, when
+/// present, is a fallback for viewers without them, and Chiaro reads both.
+fn take_extension_sources(json: &mut Value) {
     for texture in array_mut(json, "textures") {
-        let webp = texture.get("extensions").and_then(|e| e.get("EXT_texture_webp")).and_then(|w| w.get("source"));
-        if let Some(source) = webp.cloned() {
+        let extensions = texture.get("extensions");
+        let source = ["EXT_texture_webp", "KHR_texture_basisu"]
+            .iter()
+            .find_map(|name| extensions.and_then(|e| e.get(*name)).and_then(|w| w.get("source")));
+        if let Some(source) = source.cloned() {
             texture.insert("source".into(), source);
         }
     }

@@ -37,6 +37,7 @@ fn checker_material(alpha_mode: AlphaMode, casting: ShadowCasting) -> (Material,
         width: 2,
         height: 2,
         rgba8: [texel(255), texel(0), texel(0), texel(255)].concat(),
+        file_mips: Vec::new(),
         color_space: ColorSpace::Srgb,
     };
     let material = Material {

@@ -84,3 +84,80 @@ fn draco_and_meshopt_files_load_as_their_original_within_the_quantisation() {
         }
     }
 }
+
+/// The mean and largest difference, in 8-bit levels, between two RGBA8 images' colours.
+fn texel_error(a: &[u8], b: &[u8]) -> (f64, u8) {
+    let differences: Vec<u8> =
+        a.chunks_exact(4).zip(b.chunks_exact(4)).flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c]))).collect();
+    let mean = differences.iter().map(|&d| f64::from(d)).sum::<f64>() / differences.len() as f64;
+    (mean, differences.iter().copied().max().unwrap_or(0))
+}
+
+#[test]
+fn ktx2_textures_load_as_their_png_within_the_codecs_error_with_the_files_mips() {
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets/TexturedKtx2"));
+    let load = |file: &str| load_gltf(&root.join(file)).unwrap_or_else(|e| panic!("{e}"));
+    let png = load("textured-png.gltf");
+    // (file, mean error bound, in 8-bit levels): ETC1S is the lossier codec.
+    for (file, mean_bound) in [("textured-etc1s.gltf", 6.0), ("textured-uastc.gltf", 1.0)] {
+        let ktx2 = load(file);
+        assert_eq!(ktx2.images.len(), 1, "{file}: only the KTX2 image is read, not the fallback");
+        let (a, b) = (&png.images[0], &ktx2.images[0]);
+        assert_eq!((a.width, a.height), (b.width, b.height), "{file}");
+        assert_eq!(b.color_space, crate::types::ColorSpace::Srgb, "{file}: a base colour texture is sRGB");
+        let (mean, worst) = texel_error(&a.rgba8, &b.rgba8);
+        println!("{file}: texels off by {mean:.2} levels on average, {worst} at worst");
+        assert!(mean < mean_bound, "{file}: mean error {mean}");
+        // 128 x 128 down to 1 x 1: the file's seven smaller levels, each half the last.
+        assert_eq!(b.file_mips.len(), 7, "{file}");
+        for (k, level) in b.file_mips.iter().enumerate() {
+            let side = 128 >> (k + 1);
+            assert_eq!(level.len(), side * side * 4, "{file}: level {}", k + 1);
+        }
+    }
+}
+
+/// The Draco files with bytes of their binary chunk (all Draco streams) flipped, cut or
+/// repeated: every mutant loads or is refused, none panics or aborts.
+#[test]
+fn mutated_draco_streams_are_refused_or_decoded_never_a_panic() {
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state as usize
+    };
+    let (mut loaded, mut refused) = (0, 0);
+    for file in ["shadows-spot-draco-edgebreaker.glb", "shadows-spot-draco-sequential.glb"] {
+        let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets/ShadowsSpot/encoded")).join(file);
+        let original = std::fs::read(&path).unwrap();
+        let (json, _) = crate::gltf_import::glb::split_glb(&original).unwrap();
+        // The BIN chunk's bytes start after the JSON chunk and the BIN chunk's header.
+        let bin_start = 12 + 8 + json.len().next_multiple_of(4) + 8;
+        for _ in 0..3000 {
+            let mut mutant = original.clone();
+            let span = mutant.len() - bin_start;
+            match next() % 3 {
+                0 => {
+                    // Zero a run, as a truncated stream padded out would read.
+                    let at = bin_start + next() % span;
+                    let end = (at + 1 + next() % 256).min(mutant.len());
+                    mutant[at..end].fill(0);
+                }
+                _ => {
+                    for _ in 0..1 + next() % 8 {
+                        let at = bin_start + next() % span;
+                        mutant[at] ^= 1 << (next() % 8);
+                    }
+                }
+            }
+            match crate::gltf_import::load_gltf_bytes(&path, &mutant) {
+                Ok(_) => loaded += 1,
+                Err(_) => refused += 1,
+            }
+        }
+    }
+    println!("{loaded} mutants loaded, {refused} refused");
+    assert!(refused > 100, "{loaded} loaded, {refused} refused");
+}

@@ -19,6 +19,7 @@ fn test_assets_load_with_their_documented_lights() {
         ("IridescenceSuzanne", 1, 0, 0, 0),
         ("chiaro-bench", 1, 4, 60, 1),
         ("InstancedBoxes", 1, 1, 0, 1),
+        ("TexturedKtx2", 1, 0, 0, 1),
     ];
     fn scene_files(dir: &Path, out: &mut Vec<PathBuf>) {
         for entry in std::fs::read_dir(dir).unwrap() {
