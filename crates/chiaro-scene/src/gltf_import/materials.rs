@@ -148,11 +148,47 @@ impl Loader<'_> {
                 return Err(self.invalid(format!("{label}: KHR_texture_transform is not finite")));
             }
         }
-        if reference.tex_coord > 1 {
-            self.ignored.push(format!("{label}: TEXCOORD_{} is not read, uses TEXCOORD_0", reference.tex_coord));
-            reference.tex_coord = 0;
-        }
         Ok(Some(reference))
+    }
+
+    /// The two texture coordinate sets material `index` reads, which its primitives load
+    /// into the vertex's two UV slots, with its textures' `tex_coord` rewritten from set
+    /// to slot. Sets 0 and 1 stay where they are; a material that names a later set has
+    /// it in a slot it leaves free (a third distinct set falls back to slot 0, noted).
+    pub(super) fn assign_uv_slots(&mut self, index: usize, material: &mut Material) -> [u32; 2] {
+        let textures = [
+            &mut material.base_color_texture,
+            &mut material.metallic_roughness_texture,
+            &mut material.normal_texture,
+            &mut material.occlusion_texture,
+            &mut material.emissive_texture,
+        ];
+        let sets: Vec<u32> = textures.iter().flat_map(|t| t.map(|t| t.tex_coord)).collect();
+        let mut later: Vec<u32> = sets.iter().copied().filter(|&set| set > 1).collect();
+        later.sort_unstable();
+        later.dedup();
+        let slots = match (sets.contains(&0), sets.contains(&1), later.as_slice()) {
+            (_, _, []) => [0, 1],
+            (true, _, [k, ..]) => [0, *k],
+            (false, _, [k]) => [*k, 1],
+            (false, true, [k, ..]) => [*k, 1],
+            (false, false, [k, l, ..]) => [*k, *l],
+        };
+        for texture in textures.into_iter().flatten() {
+            texture.tex_coord = match texture.tex_coord {
+                set if set == slots[0] => 0,
+                set if set == slots[1] => 1,
+                set => {
+                    self.ignored.push(format!(
+                        "materials[{index}]: a texture reads TEXCOORD_{set}, a third set besides TEXCOORD_{} and \
+                         TEXCOORD_{}; it reads TEXCOORD_{} instead",
+                        slots[0], slots[1], slots[0]
+                    ));
+                    0
+                }
+            };
+        }
+        slots
     }
 }
 

@@ -82,8 +82,11 @@ impl Loader<'_> {
         };
         let mut skin = self.skin_weights(primitive, label, vertex_count)?;
         let mut targets = self.morph_targets(primitive, label, vertex_count)?;
-        let mut uv0 = read_uv(0)?;
-        let mut uv1 = read_uv(1)?;
+        // The sets the material reads, in the vertex's two UV slots.
+        let material = primitive.material.map(|m| m.value());
+        let [set0, set1] = material.and_then(|m| self.material_uv_sets.get(m)).copied().unwrap_or([0, 1]);
+        let mut uv0 = read_uv(set0)?;
+        let mut uv1 = read_uv(set1)?;
         let mut colors = self.vertex_colors(primitive, label, vertex_count)?;
         let (mut normals, mut tangents) = self.file_normals_and_tangents(primitive, label, vertex_count)?;
 
@@ -109,7 +112,6 @@ impl Loader<'_> {
             }
         };
 
-        let material = primitive.material.map(|m| m.value());
         let normal_map_uv_set =
             material.and_then(|m| materials.get(m)).and_then(|m| m.normal_texture).map(|t| t.tex_coord);
         let tangents = tangents.take().unwrap_or_else(|| {
@@ -253,9 +255,11 @@ impl Loader<'_> {
 
 impl Loader<'_> {
     /// Counts the attributes Chiaro reads past: colour sets past the first, UV sets past
-    /// the second.
+    /// the second that the primitive's material does not read.
     fn count_ignored_attributes(&mut self, primitive: &json::mesh::Primitive) {
         use json::mesh::Semantic;
+        let read_sets =
+            primitive.material.and_then(|m| self.material_uv_sets.get(m.value())).copied().unwrap_or([0, 1]);
         let has = |wanted: fn(&Semantic) -> bool| {
             primitive.attributes.keys().any(|s| match s {
                 Checked::Valid(s) => wanted(s),
@@ -263,7 +267,11 @@ impl Loader<'_> {
             })
         };
         self.tally.vertex_colors += usize::from(has(|s| matches!(s, Semantic::Colors(1..))));
-        self.tally.extra_uv_sets += usize::from(has(|s| matches!(s, Semantic::TexCoords(2..))));
+        let unread_uv_set = primitive
+            .attributes
+            .keys()
+            .any(|s| matches!(s, Checked::Valid(Semantic::TexCoords(set)) if *set >= 2 && !read_sets.contains(set)));
+        self.tally.extra_uv_sets += usize::from(unread_uv_set);
     }
 
     /// Vertex attribute `name` of the primitive `label` from `accessor`: exactly one value

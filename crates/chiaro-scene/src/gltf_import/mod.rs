@@ -99,6 +99,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
         variant_names: Vec::new(),
         variant_mappings: Vec::new(),
         mesh_copies: Vec::new(),
+        material_uv_sets: Vec::new(),
         skipped_lights: &document.skipped_lights,
         ignored: document.notes.clone(),
         tally: Tally::default(),
@@ -149,6 +150,8 @@ struct Loader<'a> {
     /// KHR_materials_variants: the variants' names, and the primitives they change.
     variant_names: Vec<String>,
     variant_mappings: Vec<crate::variants::VariantMapping>,
+    /// Per material, the texture coordinate sets its primitives load into the two UV slots.
+    material_uv_sets: Vec<[u32; 2]>,
     /// Meshes the animation copied for an instance to pose: (original, copy).
     mesh_copies: Vec<(usize, usize)>,
     /// Per KHR_lights_punctual light, whether its type is unknown and it is skipped.
@@ -173,6 +176,8 @@ impl<'a> Loader<'a> {
         self.variant_names = self.variant_names()?;
         let mut materials =
             (0..self.root.materials.len()).map(|index| self.material(index)).collect::<Result<Vec<_>, _>>()?;
+        self.material_uv_sets =
+            materials.iter_mut().enumerate().map(|(index, m)| self.assign_uv_slots(index, m)).collect();
         let mut meshes = self.drawn_meshes(&placements, &materials)?;
 
         let gpu_instances = self.gpu_instances(&placements)?;
@@ -384,7 +389,7 @@ impl<'a> Loader<'a> {
             (t.vertex_colors, "primitive with COLOR_1 or above", "only COLOR_0 is read"),
             (t.points_or_lines, "primitive of points or lines", "not supported, ignored"),
             (t.without_positions, "primitive without POSITION", "nothing to draw, ignored"),
-            (t.extra_uv_sets, "primitive with TEXCOORD_2 or above", "only TEXCOORD_0 and TEXCOORD_1 are read"),
+            (t.extra_uv_sets, "primitive with TEXCOORD_2 or above that its material does not read", "not read"),
         ];
         for (count, what, why) in notes {
             if count > 0 {

@@ -157,3 +157,47 @@ fn khr_materials_unlit_marks_its_materials_unlit() {
     assert!(!scene.materials[1].unlit, "a material without the extension is lit");
     assert!(!scene.ignored.iter().any(|note| note.contains("KHR_materials_unlit")), "{:?}", scene.ignored);
 }
+
+/// A material that names TEXCOORD_2 (and TEXCOORD_3) gets those sets in the vertex's UV
+/// slots, its textures pointed at the slots.
+#[test]
+fn any_texcoord_set_a_material_names_is_read() {
+    let dir = TempDir::new("texcoord-n");
+    let mut doc = textured_doc(json!({ "uri": data_uri(&png_bytes(image::DynamicImage::new_rgba8(1, 1))) }));
+    // TEXCOORD_1, _2 and _3 after TEXCOORD_0 (accessor 1) in a second buffer.
+    let sets: [[f32; 6]; 3] =
+        [[0.1, 0.1, 0.1, 0.1, 0.1, 0.1], [0.2, 0.0, 0.4, 0.0, 0.2, 0.6], [0.9, 0.8, 0.7, 0.6, 0.5, 0.4]];
+    let bytes = f32_bytes(&sets.concat());
+    doc["buffers"].as_array_mut().unwrap().push(json!({ "byteLength": bytes.len(), "uri": data_uri(&bytes) }));
+    doc["bufferViews"].as_array_mut().unwrap().push(json!({ "buffer": 1, "byteLength": bytes.len() }));
+    for (k, name) in ["TEXCOORD_1", "TEXCOORD_2", "TEXCOORD_3"].iter().enumerate() {
+        let accessor = doc["accessors"].as_array().unwrap().len();
+        doc["accessors"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({ "bufferView": 1, "byteOffset": 24 * k, "componentType": 5126, "count": 3, "type": "VEC2" }));
+        doc["meshes"][0]["primitives"][0]["attributes"][*name] = json!(accessor);
+    }
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = json!(2);
+    let scene = load_doc(&dir, &doc).unwrap();
+    let primitive = &scene.meshes[0].primitives[0];
+    assert_eq!(primitive.uv0, sets[1].chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect::<Vec<_>>());
+    assert_eq!(primitive.uv1, sets[0].chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect::<Vec<_>>());
+    assert_eq!(scene.materials[0].base_color_texture.unwrap().tex_coord, 0);
+    assert!(scene.ignored.iter().all(|n| !n.contains("a third set")), "{:?}", scene.ignored);
+
+    // Sets 0 and 3: TEXCOORD_3 in the second slot.
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = json!(3);
+    doc["materials"][0]["emissiveTexture"] = json!({ "index": 0, "texCoord": 0 });
+    let scene = load_doc(&dir, &doc).unwrap();
+    let primitive = &scene.meshes[0].primitives[0];
+    assert_eq!(primitive.uv1, sets[2].chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect::<Vec<_>>());
+    let material = &scene.materials[0];
+    assert_eq!((material.base_color_texture.unwrap().tex_coord, material.emissive_texture.unwrap().tex_coord), (1, 0));
+    // TEXCOORD_2 is read by no material now: noted.
+    assert!(
+        scene.ignored.iter().any(|n| n.contains("TEXCOORD_2 or above that its material does not read")),
+        "{:?}",
+        scene.ignored
+    );
+}
