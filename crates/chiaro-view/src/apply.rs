@@ -114,6 +114,12 @@ impl Viewer {
             self.state.panel.error = Some(e);
             return;
         }
+        if settings.scene.variant != self.state.settings.current.scene.variant
+            && let Err(e) = self.select_variant(settings.scene.variant.as_deref())
+        {
+            self.state.panel.error = Some(e);
+            return;
+        }
         self.state.settings.current = settings;
         self.state.panel.error = None;
         self.follow_view_size();
@@ -154,6 +160,17 @@ impl Viewer {
 
     /// Poses the scene at `time` and uploads it again (posed meshes are new geometry; the
     /// shadow cache redraws the tiles whose casters moved).
+    /// Gives the scene the materials of variant `name` (None: the file's) and uploads it
+    /// again.
+    fn select_variant(&mut self, name: Option<&str>) -> Result<(), String> {
+        let scene = &mut self.state.scene.scene;
+        scene.select_variant(name).map_err(|e| format!("scene.variant: {e}"))?;
+        if let Some(gpu) = self.gpu.as_mut() {
+            gpu.prepared = gpu.renderer.prepare(scene).map_err(|e| format!("scene.variant: {e}"))?;
+        }
+        Ok(())
+    }
+
     fn set_time(&mut self, time: Option<f32>) {
         let state = &mut self.state;
         if let Err(e) = state.scene.scene.pose(time) {

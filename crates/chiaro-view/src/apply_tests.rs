@@ -50,6 +50,42 @@ fn an_invalid_setting_is_refused_and_reported() {
     assert_eq!(viewer.state.panel.error, None, "an accepted edit clears the error");
 }
 
+/// The panel's `scene.variant` gives the scene its variant's materials; a name the scene
+/// lacks is refused and shown.
+#[test]
+fn the_variant_setting_switches_the_scenes_materials() {
+    let mut scene = chiaro_scene::demo::demo_scene(0);
+    let default_material = scene.meshes[0].primitives[0].material;
+    scene.variants = chiaro_scene::MaterialVariants {
+        names: vec!["Blue".into()],
+        mappings: vec![chiaro_scene::VariantMapping {
+            mesh: 0,
+            primitive: 0,
+            default_material,
+            materials: vec![(0, scene.materials.len())],
+        }],
+        selected: None,
+    };
+    let mut viewer = viewer_of(scene, None);
+    let mut blue = viewer.state.settings.current.clone();
+    blue.scene.variant = Some("Blue".into());
+    viewer.apply(Action::SetSettings(Box::new(blue.clone())));
+    assert_eq!(viewer.state.panel.error, None);
+    assert_eq!(viewer.state.settings.current, blue);
+    let material = |viewer: &Viewer| viewer.state.scene.scene.meshes[0].primitives[0].material;
+    assert_eq!(material(&viewer), Some(viewer.state.scene.scene.materials.len()));
+    let mut red = blue.clone();
+    red.scene.variant = Some("Red".into());
+    viewer.apply(Action::SetSettings(Box::new(red)));
+    assert_eq!(viewer.state.settings.current, blue, "not kept");
+    let error = viewer.state.panel.error.clone().unwrap_or_default();
+    assert!(error.contains("scene.variant: no material variant 'Red'; the scene has: Blue"), "{error}");
+    let mut plain = blue;
+    plain.scene.variant = None;
+    viewer.apply(Action::SetSettings(Box::new(plain)));
+    assert_eq!(material(&viewer), default_material);
+}
+
 #[test]
 fn a_new_view_size_in_the_settings_resizes_the_view() {
     let mut viewer = demo_viewer();

@@ -62,6 +62,10 @@ pub fn run(args: ViewArgs) -> Result<()> {
     settings.render.width = args.width.unwrap_or(settings.render.width);
     settings.render.height = args.height.unwrap_or(settings.render.height);
     settings.validate().map_err(|e| anyhow!("--width/--height: {e}"))?;
+    // The panel shows the variant --variant picked.
+    if let Some(variant) = &args.input.variant {
+        settings.scene.variant = Some(variant.clone());
+    }
     let (width, height) = (settings.render.width, settings.render.height);
     let scene = args.input.scene(&settings)?;
     let start_view = args.input.view(&scene, &settings, width, height)?;

@@ -76,8 +76,10 @@ for row in range(SIDE):
     for column in range(SIDE):
         k = row * SIDE + column
         size = SPACING / 1.25
+        # Every box floats at least 2% of its size above the floor: a bottom edge lying in
+        # the floor's plane makes depths tie exactly, and ties have no right winner.
         nodes.append({"name": f"box {k}", "mesh": 0,
-                      "translation": [(column - (SIDE - 1) / 2) * SPACING, size * (0.5 + 0.0625 * (k % 3)),
+                      "translation": [(column - (SIDE - 1) / 2) * SPACING, size * (0.52 + 0.0625 * (k % 3)),
                                       (row - (SIDE - 1) / 2) * SPACING],
                       "rotation": quat_y(0.3 * k), "scale": [size * (0.75 + 0.0625 * (k % 4)), size, size * 0.75]})
 nodes.append({"name": "sun", "rotation": [-0.3535534, 0.3535534, 0.1464466, 0.8535534],

@@ -85,7 +85,7 @@ doc = {
     "extensionsUsed": ["KHR_lights_punctual"],
     "scene": 0,
     "scenes": [{"nodes": [0, 1, 2, 3]}],
-    "nodes": [{"name": "floor", "mesh": 0}, {"name": "box", "mesh": 1, "translation": [0.5, 0.5, 0.0]},
+    "nodes": [{"name": "floor", "mesh": 0}, {"name": "box", "mesh": 1, "translation": [0.5, 0.52, 0.0]},
               {"name": "sun", "rotation": [-0.3535534, 0.3535534, 0.1464466, 0.8535534],
                "extensions": {"KHR_lights_punctual": {"light": 0}}},
               {"name": "camera", "translation": [0.0, 4.0, 6.0], "rotation": [-0.2588190, 0.0, 0.0, 0.9659258],

@@ -102,8 +102,11 @@ pub fn side_panel(ui: &mut egui::Ui, state: &ViewerState) -> Vec<Action> {
     if let Some(e) = &state.panel.error {
         ui.colored_label(egui::Color32::LIGHT_RED, e);
     }
-    let own_environment = state.scene.scene.environment.as_ref().map(|own| own.label.as_str());
-    actions.extend(settings::settings_panel(ui, &state.settings.current, own_environment));
+    let choices = settings::SceneChoices {
+        own_environment: state.scene.scene.environment.as_ref().map(|own| own.label.as_str()),
+        variants: &state.scene.scene.variants.names,
+    };
+    actions.extend(settings::settings_panel(ui, &state.settings.current, choices));
     ui.separator();
     ui.heading("Lights");
     actions.extend(lights::lights_panel(ui, &scene.lights, &state.panel.lights));

@@ -13,9 +13,18 @@ const ATLAS_SIZES: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
 /// Default far ends of the cascades, x max_distance (docs/settings.md).
 const DEFAULT_RATIOS: [f32; 3] = [0.1, 0.25, 0.5];
 
-/// Draws the settings; asks for the edited settings when they changed. `own_environment`
-/// names the open file's EXT_lights_image_based light, if it has one.
-pub fn settings_panel(ui: &mut Ui, settings: &Settings, own_environment: Option<&str>) -> Option<Action> {
+/// What the open file offers the settings to choose from.
+#[derive(Clone, Copy, Default)]
+pub struct SceneChoices<'a> {
+    /// The file's EXT_lights_image_based light, if it has one.
+    pub own_environment: Option<&'a str>,
+    /// Its KHR_materials_variants variants.
+    pub variants: &'a [String],
+}
+
+/// Draws the settings; asks for the edited settings when they changed.
+pub fn settings_panel(ui: &mut Ui, settings: &Settings, choices: SceneChoices<'_>) -> Option<Action> {
+    let own_environment = choices.own_environment;
     let mut edited = settings.clone();
     // Narrow sliders leave room for the keys' long names.
     ui.spacing_mut().slider_width = 100.0;
@@ -24,6 +33,7 @@ pub fn settings_panel(ui: &mut Ui, settings: &Settings, own_environment: Option<
     shadows_section(ui, &mut edited);
     environment_section(ui, &mut edited, own_environment);
     lighting_and_bake_section(ui, &mut edited);
+    scene_section(ui, &mut edited, choices.variants);
     // Cascade ratios must match the count; unset, the defaults for it apply.
     if edited.shadows.directional.cascade_count != settings.shadows.directional.cascade_count {
         edited.shadows.directional.cascade_ratios = None;
@@ -185,6 +195,18 @@ fn cascade_ratios(ui: &mut Ui, count: u32, ratios: &mut Option<Vec<f32>>) {
     if ratios.is_some() && ui.small_button("default splits").clicked() {
         *ratios = None;
     }
+}
+
+/// `[scene]`: the material variant, from the file's list (none: its default materials).
+fn scene_section(ui: &mut Ui, s: &mut Settings, variants: &[String]) {
+    ui.heading("[scene]");
+    let shown = s.scene.variant.clone().unwrap_or_else(|| "(default materials)".into());
+    ComboBox::from_label("scene.variant").selected_text(shown).show_ui(ui, |ui| {
+        ui.selectable_value(&mut s.scene.variant, None, "(default materials)");
+        for name in variants {
+            ui.selectable_value(&mut s.scene.variant, Some(name.clone()), name.as_str());
+        }
+    });
 }
 
 /// The environment: a source (an image is dropped on the window or named in the file),

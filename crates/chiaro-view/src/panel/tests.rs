@@ -28,7 +28,7 @@ fn settings_harness<'a>(settings: Settings) -> Harness<'a, Viewer> {
     let viewer = viewer(chiaro_scene::demo::demo_scene(0), settings);
     Harness::builder().with_size(egui::vec2(360.0, 800.0)).wgpu().build_ui_state(
         |ui, viewer: &mut Viewer| {
-            let actions = settings_panel(ui, &viewer.state.settings.current, None);
+            let actions = settings_panel(ui, &viewer.state.settings.current, Default::default());
             viewer.apply_all(actions);
         },
         viewer,
