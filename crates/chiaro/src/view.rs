@@ -71,11 +71,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let start_view = args.input.view(&scene, &settings, width, height)?;
     let shots: Vec<PathBuf> = args.screenshot.iter().chain(&args.screenshot_window).cloned().collect();
     check_outputs(&shots, &args.input.inputs(&scene))?;
-    let (demo, bake, variant) = (args.input.demo.clone(), args.input.bake.clone(), args.input.variant.clone());
+    let (demo, bake) = (args.input.demo.clone(), args.input.bake.clone());
     let load_scene = Arc::new(move |path: &std::path::Path, settings: &chiaro_scene::Settings| {
         let mut scene = load_scene(Some(path), &demo)?;
-        // A reloaded file keeps the variant it was opened in.
-        if let Some(name) = variant.as_deref().or(settings.scene.variant.as_deref()) {
+        // A reloaded file keeps the variant the settings hold: --variant's, or the panel's.
+        if let Some(name) = settings.scene.variant.as_deref() {
             scene.select_variant(Some(name)).map_err(|e| anyhow!("{}: {e}", path.display()))?;
         }
         bake.apply(&mut scene, Some(path), settings)?;
