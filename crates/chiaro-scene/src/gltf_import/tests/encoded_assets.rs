@@ -121,13 +121,8 @@ fn ktx2_textures_load_as_their_png_within_the_codecs_error_with_the_files_mips()
 /// repeated: every mutant loads or is refused, none panics or aborts.
 #[test]
 fn mutated_draco_streams_are_refused_or_decoded_never_a_panic() {
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state as usize
-    };
+    let mut random = super::xorshift(0x9e37_79b9_7f4a_7c15);
+    let mut next = move || random() as usize;
     let (mut loaded, mut refused) = (0, 0);
     for file in ["shadows-spot-draco-edgebreaker.glb", "shadows-spot-draco-sequential.glb"] {
         let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets/ShadowsSpot/encoded")).join(file);

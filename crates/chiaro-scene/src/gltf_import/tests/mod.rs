@@ -24,6 +24,18 @@ use serde_json::{Value, json};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+/// A seeded xorshift generator, for the tests that mutate encoded files: the same seed
+/// gives the same mutants.
+pub(crate) fn xorshift(seed: u64) -> impl FnMut() -> u64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    }
+}
+
 /// A scratch folder under the system temp dir, removed when dropped.
 struct TempDir(PathBuf);
 
