@@ -213,7 +213,7 @@ mod tests {
             );
         }
         // A sphere: many small charts.
-        scene.meshes.push(chiaro_scene::Mesh { name: "ball".into(), primitives: vec![shapes::sphere(0.5, 16, 8)] });
+        scene.meshes.push(chiaro_scene::Mesh::of_triangles("ball".into(), vec![shapes::sphere(0.5, 16, 8)]));
         let mut ball = scene.instances[1].clone();
         ball.mesh = scene.meshes.len() - 1;
         ball.world_from_local = glam::Mat4::from_translation(Vec3::new(1.0, 0.5, 1.0));

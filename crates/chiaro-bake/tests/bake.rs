@@ -21,7 +21,7 @@ fn room(size: f32, rho: f32) -> Scene {
     }
     walls.material = Some(0);
     Scene {
-        meshes: vec![Mesh { name: "room".into(), primitives: vec![walls] }],
+        meshes: vec![Mesh::of_triangles("room".into(), vec![walls])],
         instances: vec![MeshInstance {
             mesh: 0,
             node: 0,
@@ -160,7 +160,7 @@ fn a_small_glowing_square_lights_the_floor_as_the_formula_says_texel_by_texel() 
         emissive: Vec3::splat(radiance),
         ..Material::default()
     });
-    scene.meshes.push(Mesh { name: "square".into(), primitives: vec![square] });
+    scene.meshes.push(Mesh::of_triangles("square".into(), vec![square]));
     scene.instances.push(MeshInstance {
         mesh: 1,
         node: 1,

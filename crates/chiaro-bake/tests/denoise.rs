@@ -24,7 +24,7 @@ fn add_coloured_box(scene: &mut Scene, x: f32, z: f32, size: Vec3, colour: Vec3)
     });
     let mut cube = shapes::cuboid(Vec3::ONE);
     cube.material = Some(scene.materials.len() - 1);
-    scene.meshes.push(Mesh { name: format!("box {colour}"), primitives: vec![cube] });
+    scene.meshes.push(Mesh::of_triangles(format!("box {colour}"), vec![cube]));
     scene.instances.push(MeshInstance {
         mesh: scene.meshes.len() - 1,
         node: 100 + scene.instances.len(),

@@ -1,6 +1,6 @@
 //! A job's `camera`: absent (the scene's first glTF camera, else one framing the scene, as
 //! `chiaro render` chooses), a camera's name or index, or an object placing a camera by
-//! eye and target. JSON flows in; the frame's view flows out once the scene is loaded.
+//! eye and target (perspective, or orthographic with `ymag`). JSON flows in; the frame's view flows out once the scene is loaded.
 
 use crate::error_line;
 use chiaro_math::camera::LookAt;
@@ -12,7 +12,7 @@ use serde_json::{Map, Value};
 /// The near plane of a placed camera without `znear`, metres (as `chiaro.Camera.look_at`).
 pub const DEFAULT_ZNEAR_M: f32 = 0.05;
 /// The keys of the object form.
-const KEYS: [&str; 6] = ["eye", "target", "up", "yfov_deg", "znear", "zfar"];
+const KEYS: [&str; 7] = ["eye", "target", "up", "yfov_deg", "ymag", "znear", "zfar"];
 
 /// The camera a job asks for.
 #[derive(Clone, Debug, PartialEq)]
@@ -60,8 +60,7 @@ impl CameraSpec {
             CameraSpec::Index(index) => choose(Some(&index.to_string())),
             CameraSpec::Placed(placed) => {
                 let world_from_view = placed.world_from_view().map_err(|e| format!("camera: {e}"))?;
-                let yfov_rad = placed.yfov_deg.to_radians();
-                Ok(View::perspective(world_from_view, yfov_rad, placed.znear, placed.zfar, width, height))
+                Ok(View::projected(world_from_view, placed.projection(), placed.znear, placed.zfar, width, height))
             }
         }
     }
@@ -94,11 +93,16 @@ fn placed(fields: &Map<String, Value>, auto_yfov_deg: f32) -> Result<LookAt, Str
             }
         }
     };
+    let ymag = scalar("ymag")?;
+    if ymag.is_some() && fields.get("yfov_deg").is_some_and(|v| !v.is_null()) {
+        return Err("camera: 'yfov_deg' and 'ymag' both given (a camera is perspective or orthographic)".into());
+    }
     let placed = LookAt {
         eye: vector("eye", None)?,
         target: vector("target", None)?,
         up: vector("up", Some(Vec3::Y))?,
         yfov_deg: scalar("yfov_deg")?.unwrap_or(auto_yfov_deg),
+        ymag,
         znear: scalar("znear")?.unwrap_or(DEFAULT_ZNEAR_M),
         zfar: scalar("zfar")?,
     };
@@ -165,5 +169,24 @@ mod tests {
         assert_eq!(e, "camera: look_at: up is zero or parallel to the viewing direction");
         let e = parse(json!({"eye": [0, 1, 5], "target": [0, 0, 0], "yfov_deg": 0})).unwrap_err();
         assert_eq!(e, "camera: yfov_deg: 0 is not between 0 and 180 degrees");
+    }
+
+    #[test]
+    fn a_placed_camera_with_ymag_is_orthographic_and_needs_a_far_plane() {
+        let spec = parse(json!({"eye": [0, 1, 5], "target": [0, 1, 0], "ymag": 2.0, "zfar": 20})).unwrap();
+        let view = spec.view(&Scene::default(), &Settings::default(), 64, 32).unwrap();
+        assert!(view.is_orthographic());
+        // Half height 2 m, half width 4 m at a 2:1 image: x = 4 m right of the axis is the edge.
+        let edge = view.clip_from_world().project_point3(Vec3::new(4.0, 3.0, -3.0));
+        assert!((edge.x - 1.0).abs() < 1e-5 && (edge.y - 1.0).abs() < 1e-5, "{edge}");
+        let e = parse(json!({"eye": [0, 1, 5], "target": [0, 1, 0], "ymag": 2.0})).unwrap_err();
+        assert_eq!(e, "camera: zfar: an orthographic camera (ymag) needs a far plane");
+        let e = parse(json!({"eye": [0, 1, 5], "target": [0, 1, 0], "ymag": 2.0, "zfar": 9, "yfov_deg": 30}));
+        assert_eq!(
+            e.unwrap_err(),
+            "camera: 'yfov_deg' and 'ymag' both given (a camera is perspective or orthographic)"
+        );
+        let e = parse(json!({"eye": [0, 1, 5], "target": [0, 1, 0], "ymag": -1, "zfar": 9})).unwrap_err();
+        assert_eq!(e, "camera: ymag: -1 is not a positive distance");
     }
 }

@@ -23,6 +23,7 @@ fn checker_image() -> Image {
         height: 2,
         rgba8: [texel(255), texel(0), texel(0), texel(255)].concat(),
         file_mips: Vec::new(),
+        basis_source: None,
         color_space: ColorSpace::Srgb,
     }
 }
@@ -33,7 +34,7 @@ fn add_quad(scene: &mut Scene, height: f32, material: Material) {
     let mut quad = shapes::plane(2.0, 1);
     quad.material = Some(scene.materials.len());
     scene.materials.push(material);
-    scene.meshes.push(Mesh { name: "quad".into(), primitives: vec![quad] });
+    scene.meshes.push(Mesh::of_triangles("quad".into(), vec![quad]));
     scene.instances.push(MeshInstance {
         mesh: scene.meshes.len() - 1,
         node: 200,

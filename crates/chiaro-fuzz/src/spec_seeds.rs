@@ -317,6 +317,45 @@ fn unknown_light_type() -> Vec<u8> {
     w.gltf()
 }
 
+/// KHR_animation_pointer channels on the spot's colour, intensity and cone, the material's
+/// base colour and the quad's translation, and an orthographic second camera.
+fn animation_pointer() -> Vec<u8> {
+    let mut w = Writer::new();
+    w.plain_quad();
+    let times = w.view(&floats([0.0, 1.0, 2.0]), None);
+    let times = w.accessor(Some(times), 5126, false, 3, "SCALAR");
+    w.doc["accessors"][times]["min"] = json!([0.0]);
+    w.doc["accessors"][times]["max"] = json!([2.0]);
+    let scalars = w.view(&floats([20.0, 5.0, 40.0]), None);
+    let scalars = w.accessor(Some(scalars), 5126, false, 3, "SCALAR");
+    let colors = w.view(&floats([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]), None);
+    let colors = w.accessor(Some(colors), 5126, false, 3, "VEC3");
+    let fours = w.view(&floats([1.0, 1.0, 1.0, 1.0, 0.5, 0.2, 0.1, 1.0, 0.0, 0.0, 0.0, 0.5]), None);
+    let fours = w.accessor(Some(fours), 5126, false, 3, "VEC4");
+    let pointer = |sampler: usize, p: &str| {
+        json!({ "sampler": sampler, "target": { "path": "pointer", "extensions": { "KHR_animation_pointer": { "pointer": p } } } })
+    };
+    w.doc["animations"] = json!([{
+        "samplers": [
+            { "input": times, "output": colors }, { "input": times, "output": scalars, "interpolation": "STEP" },
+            { "input": times, "output": fours }, { "input": times, "output": colors, "interpolation": "LINEAR" }
+        ],
+        "channels": [
+            pointer(0, "/extensions/KHR_lights_punctual/lights/0/color"),
+            pointer(1, "/extensions/KHR_lights_punctual/lights/0/intensity"),
+            pointer(1, "/extensions/KHR_lights_punctual/lights/0/spot/outerConeAngle"),
+            pointer(2, "/materials/0/pbrMetallicRoughness/baseColorFactor"),
+            pointer(3, "/nodes/0/translation"),
+            pointer(1, "/materials/0/alphaCutoff")
+        ]
+    }]);
+    w.push("cameras", json!({ "type": "orthographic", "orthographic": { "xmag": 2, "ymag": 1.5, "znear": 0, "zfar": 20 } }));
+    let camera = w.push("nodes", json!({ "camera": 1, "translation": [0, 5, 0], "rotation": [-FRAC_1_SQRT_2, 0, 0, FRAC_1_SQRT_2] }));
+    w.doc["scenes"][0]["nodes"].as_array_mut().expect("scene nodes").push(json!(camera));
+    w.uses("KHR_animation_pointer", true);
+    w.gltf()
+}
+
 /// Every integer written as a float: JSON has one number type.
 fn integers_as_floats() -> Vec<u8> {
     fn as_floats(value: &mut Value) {
@@ -391,6 +430,7 @@ pub fn spec_seeds() -> Vec<SpecSeed> {
         seed("sparse", sparse()),
         seed("hidden nodes", hidden_nodes()),
         seed("unlit", unlit()),
+        seed("animation pointer", animation_pointer()),
         seed("unknown light type", unknown_light_type()),
         seed("integers as floats", integers_as_floats()),
         seed("optional properties absent", optional_properties_absent()),

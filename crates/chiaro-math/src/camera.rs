@@ -2,7 +2,8 @@
 //! scene's bounds.
 //!
 //! Chiaro renders with reverse-Z (near at depth 1, far at 0), which spreads float depth
-//! precision evenly; with no far plane the projection is infinite.
+//! precision evenly; with no far plane a perspective projection is infinite. Orthographic
+//! cameras (glTF's xmag, ymag) always have a far plane.
 
 use crate::bounds::Aabb;
 use glam::{Mat4, Vec3};
@@ -16,7 +17,52 @@ pub fn perspective_reverse_z(yfov_rad: f32, aspect: f32, znear: f32, zfar: Optio
     }
 }
 
-/// A perspective camera placed at `eye` looking at `target` (metres, world space), `up`
+/// Clip-from-view for an orthographic camera, reverse-Z: the view's half width `xmag` and
+/// half height `ymag` in metres (glTF's names) map to NDC ±1, the near plane to depth 1
+/// and the far plane to 0.
+pub fn orthographic_reverse_z(xmag: f32, ymag: f32, znear: f32, zfar: f32) -> Mat4 {
+    // As for perspective: swapping near and far in the [0, 1] projection gives reverse-Z.
+    Mat4::orthographic_rh(-xmag, xmag, -ymag, ymag, zfar, znear)
+}
+
+/// How a camera projects: what stays fixed when the image's aspect changes. Either way the
+/// image's width follows from its height and the output's aspect ratio.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// A pinhole with a vertical field of view, radians.
+    Perspective { yfov_rad: f32 },
+    /// Parallel rays over a view `2 * ymag` metres high (glTF's `ymag`).
+    Orthographic { ymag: f32 },
+}
+
+impl Projection {
+    /// Reverse-Z clip-from-view for an image of `aspect` (width over height). An
+    /// orthographic projection without a far plane gets one a million near planes out,
+    /// the nearest thing to infinite a linear depth keeps precision for.
+    pub fn clip_from_view(&self, aspect: f32, znear: f32, zfar: Option<f32>) -> Mat4 {
+        match *self {
+            Projection::Perspective { yfov_rad } => perspective_reverse_z(yfov_rad, aspect, znear, zfar),
+            Projection::Orthographic { ymag } => {
+                orthographic_reverse_z(ymag * aspect, ymag, znear, zfar.unwrap_or(znear * 1.0e6))
+            }
+        }
+    }
+
+    /// Whether the camera's rays are parallel.
+    pub fn is_orthographic(&self) -> bool {
+        matches!(self, Projection::Orthographic { .. })
+    }
+
+    /// The vertical field of view in radians, `None` for an orthographic camera.
+    pub fn yfov_rad(&self) -> Option<f32> {
+        match *self {
+            Projection::Perspective { yfov_rad } => Some(yfov_rad),
+            Projection::Orthographic { .. } => None,
+        }
+    }
+}
+
+/// A perspective (or, with `ymag`, orthographic) camera placed at `eye` looking at `target` (metres, world space), `up`
 /// giving the image's up direction, with a vertical field of view and clip planes. The
 /// Python package's `Camera.look_at` and the job lists of `chiaro batch` both make views
 /// this way, with the same checks and messages.
@@ -26,6 +72,9 @@ pub struct LookAt {
     pub target: Vec3,
     pub up: Vec3,
     pub yfov_deg: f32,
+    /// `Some` for an orthographic camera: half the view's height in metres (`yfov_deg`
+    /// is then unused); it needs a far plane.
+    pub ymag: Option<f32>,
     pub znear: f32,
     /// `None` for an infinite projection.
     pub zfar: Option<f32>,
@@ -46,6 +95,10 @@ pub enum LookAtError {
     BadNear(f32),
     /// The far plane is not beyond the near plane.
     BadFar { far: f32, near: f32 },
+    /// An orthographic view height that is not a positive distance.
+    BadYmag(f32),
+    /// An orthographic camera without a far plane.
+    OrthographicWithoutFar,
 }
 
 impl std::fmt::Display for LookAtError {
@@ -57,6 +110,8 @@ impl std::fmt::Display for LookAtError {
             LookAtError::BadFov(deg) => write!(f, "yfov_deg: {deg} is not between 0 and 180 degrees"),
             LookAtError::BadNear(near) => write!(f, "znear: {near} is not positive"),
             LookAtError::BadFar { far, near } => write!(f, "zfar: {far} is not beyond znear ({near})"),
+            LookAtError::BadYmag(ymag) => write!(f, "ymag: {ymag} is not a positive distance"),
+            LookAtError::OrthographicWithoutFar => write!(f, "zfar: an orthographic camera (ymag) needs a far plane"),
         }
     }
 }
@@ -79,8 +134,11 @@ impl LookAt {
         if self.up.length() < 1e-9 || forward.normalize().cross(self.up.normalize()).length() < 1e-6 {
             return Err(LookAtError::UpParallel);
         }
-        if !(self.yfov_deg > 0.0 && self.yfov_deg < 180.0) {
-            return Err(LookAtError::BadFov(self.yfov_deg));
+        match self.ymag {
+            None if !(self.yfov_deg > 0.0 && self.yfov_deg < 180.0) => return Err(LookAtError::BadFov(self.yfov_deg)),
+            Some(ymag) if !(ymag.is_finite() && ymag > 0.0) => return Err(LookAtError::BadYmag(ymag)),
+            Some(_) if self.zfar.is_none() => return Err(LookAtError::OrthographicWithoutFar),
+            _ => {}
         }
         if !(self.znear.is_finite() && self.znear > 0.0) {
             return Err(LookAtError::BadNear(self.znear));
@@ -91,6 +149,14 @@ impl LookAt {
             return Err(LookAtError::BadFar { far, near: self.znear });
         }
         Ok(Mat4::look_at_rh(self.eye, self.target, self.up).inverse())
+    }
+
+    /// The camera's projection: orthographic with `ymag`, else perspective.
+    pub fn projection(&self) -> Projection {
+        match self.ymag {
+            Some(ymag) => Projection::Orthographic { ymag },
+            None => Projection::Perspective { yfov_rad: self.yfov_deg.to_radians() },
+        }
     }
 }
 
@@ -147,12 +213,29 @@ mod tests {
     }
 
     #[test]
+    fn orthographic_reverse_z_maps_the_view_box_to_the_unit_cube_near_at_one() {
+        let p = orthographic_reverse_z(3.0, 2.0, 0.5, 50.0);
+        let corner_near = p.project_point3(Vec3::new(3.0, 2.0, -0.5));
+        let corner_far = p.project_point3(Vec3::new(-3.0, -2.0, -50.0));
+        assert!((corner_near - Vec3::new(1.0, 1.0, 1.0)).length() < 1e-5, "{corner_near}");
+        assert!((corner_far - Vec3::new(-1.0, -1.0, 0.0)).length() < 1e-5, "{corner_far}");
+        // Parallel rays: a point's NDC x and y do not depend on its depth.
+        let (a, b) = (p.project_point3(Vec3::new(1.0, 1.0, -1.0)), p.project_point3(Vec3::new(1.0, 1.0, -40.0)));
+        assert!((a.truncate() - b.truncate()).length() < 1e-6);
+        let from_projection = Projection::Orthographic { ymag: 2.0 }.clip_from_view(1.5, 0.5, Some(50.0));
+        assert!(from_projection.abs_diff_eq(p, 1e-6), "ymag fixed, the width follows the aspect");
+        let unbounded = Projection::Orthographic { ymag: 2.0 }.clip_from_view(1.5, 0.5, None);
+        assert!(unbounded.project_point3(Vec3::new(0.0, 0.0, -1.0e5)).z > 0.0, "a far plane far out");
+    }
+
+    #[test]
     fn a_look_at_camera_sees_its_target_ahead_and_refuses_what_places_none() {
         let camera = LookAt {
             eye: Vec3::new(3.0, 5.0, 6.0),
             target: Vec3::ZERO,
             up: Vec3::Y,
             yfov_deg: 50.0,
+            ymag: None,
             znear: 0.05,
             zfar: None,
         };
@@ -171,6 +254,11 @@ mod tests {
         assert_eq!(fails(&|c| c.yfov_deg = 180.0), "yfov_deg: 180 is not between 0 and 180 degrees");
         assert_eq!(fails(&|c| c.znear = 0.0), "znear: 0 is not positive");
         assert_eq!(fails(&|c| c.zfar = Some(0.01)), "zfar: 0.01 is not beyond znear (0.05)");
+        assert_eq!(fails(&|c| c.ymag = Some(0.0)), "ymag: 0 is not a positive distance");
+        assert_eq!(fails(&|c| c.ymag = Some(2.0)), "zfar: an orthographic camera (ymag) needs a far plane");
+        let orthographic = LookAt { ymag: Some(2.0), zfar: Some(30.0), yfov_deg: 500.0, ..camera };
+        assert!(orthographic.world_from_view().is_ok(), "an orthographic camera has no field of view to check");
+        assert_eq!(orthographic.projection(), Projection::Orthographic { ymag: 2.0 });
     }
 
     #[test]

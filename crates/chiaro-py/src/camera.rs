@@ -1,21 +1,22 @@
-//! `chiaro.Camera`: a perspective camera placed in the world, and how a render's `camera=`
+//! `chiaro.Camera`: a perspective or orthographic camera placed in the world, and how a render's `camera=`
 //! argument (a Camera, a glTF camera's name or index, or None) becomes the frame's view.
 
 use crate::scene::matrix_rows;
-use chiaro_math::camera::LookAt;
+use chiaro_math::camera::{LookAt, Projection};
 use chiaro_render::View;
 use chiaro_scene::{Scene, Settings};
 use glam::{Mat4, Vec3};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
-/// A perspective camera: where it is (its node looks down -Z with +Y up), its vertical
-/// field of view and its clip planes in metres. The aspect ratio is the image's.
+/// A camera: where it is (its node looks down -Z with +Y up), its vertical field of view
+/// (perspective) or half height (orthographic) and its clip planes in metres. The aspect
+/// ratio is the image's.
 #[pyclass(module = "chiaro", frozen)]
 #[derive(Clone)]
 pub struct Camera {
     pub world_from_view: Mat4,
-    pub yfov_rad: f32,
+    pub projection: Projection,
     pub znear: f32,
     pub zfar: Option<f32>,
     pub name: Option<String>,
@@ -26,7 +27,7 @@ impl Camera {
     pub fn from_scene_camera(c: &chiaro_scene::Camera) -> Camera {
         Camera {
             world_from_view: c.world_from_view,
-            yfov_rad: c.yfov_rad,
+            projection: c.projection,
             znear: c.znear,
             zfar: c.zfar,
             name: Some(c.name.clone()),
@@ -35,7 +36,7 @@ impl Camera {
 
     /// The view of this camera for a `width` x `height` image.
     pub fn view(&self, width: u32, height: u32) -> View {
-        View::perspective(self.world_from_view, self.yfov_rad, self.znear, self.zfar, width, height)
+        View::projected(self.world_from_view, self.projection, self.znear, self.zfar, width, height)
     }
 }
 
@@ -58,9 +59,48 @@ impl Camera {
         znear: f32,
         zfar: Option<f32>,
     ) -> PyResult<Camera> {
-        let placed = LookAt { eye: vec3(eye), target: vec3(target), up: vec3(up), yfov_deg, znear, zfar };
-        let world_from_view = placed.world_from_view().map_err(|e| PyValueError::new_err(e.to_string()))?;
-        Ok(Camera { world_from_view, yfov_rad: yfov_deg.to_radians(), znear, zfar, name: None })
+        let placed = LookAt { eye: vec3(eye), target: vec3(target), up: vec3(up), yfov_deg, ymag: None, znear, zfar };
+        placed_camera(&placed)
+    }
+
+    /// An orthographic camera at `eye` looking at `target`: parallel rays over a view
+    /// `2 * ymag` metres high (its width follows the image's aspect), clip planes at
+    /// `znear` and `zfar` metres.
+    #[staticmethod]
+    #[pyo3(signature = (eye, target, up = [0.0, 1.0, 0.0], ymag = 1.0, znear = 0.05, zfar = 100.0))]
+    fn orthographic(
+        eye: [f64; 3],
+        target: [f64; 3],
+        up: [f64; 3],
+        ymag: f32,
+        znear: f32,
+        zfar: f32,
+    ) -> PyResult<Camera> {
+        let placed = LookAt {
+            eye: vec3(eye),
+            target: vec3(target),
+            up: vec3(up),
+            yfov_deg: 0.0,
+            ymag: Some(ymag),
+            znear,
+            zfar: Some(zfar),
+        };
+        placed_camera(&placed)
+    }
+
+    /// Whether the camera's rays are parallel.
+    #[getter]
+    fn is_orthographic(&self) -> bool {
+        self.projection.is_orthographic()
+    }
+
+    /// An orthographic camera's half height in metres, or None for a perspective one.
+    #[getter]
+    fn ymag(&self) -> Option<f32> {
+        match self.projection {
+            Projection::Orthographic { ymag } => Some(ymag),
+            Projection::Perspective { .. } => None,
+        }
     }
 
     /// The camera's position, metres.
@@ -75,10 +115,10 @@ impl Camera {
         (-self.world_from_view.z_axis.truncate()).normalize().to_array()
     }
 
-    /// Vertical field of view, degrees.
+    /// Vertical field of view in degrees, or None for an orthographic camera.
     #[getter]
-    fn yfov_deg(&self) -> f32 {
-        self.yfov_rad.to_degrees()
+    fn yfov_deg(&self) -> Option<f32> {
+        self.projection.yfov_rad().map(f32::to_degrees)
     }
 
     /// Near clip plane, metres.
@@ -108,15 +148,24 @@ impl Camera {
 
     fn __repr__(&self) -> String {
         let e = self.eye();
+        let lens = match self.projection {
+            Projection::Perspective { yfov_rad } => format!("yfov {:.1} deg", yfov_rad.to_degrees()),
+            Projection::Orthographic { ymag } => format!("orthographic, ymag {ymag:.3} m"),
+        };
         format!(
-            "<chiaro.Camera{} at ({:.3}, {:.3}, {:.3}), yfov {:.1} deg>",
+            "<chiaro.Camera{} at ({:.3}, {:.3}, {:.3}), {lens}>",
             self.name.as_ref().map_or(String::new(), |n| format!(" {n:?}")),
             e[0],
             e[1],
             e[2],
-            self.yfov_deg()
         )
     }
+}
+
+/// A camera made by `look_at` or `orthographic`, once `placed` is checked.
+fn placed_camera(placed: &LookAt) -> PyResult<Camera> {
+    let world_from_view = placed.world_from_view().map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok(Camera { world_from_view, projection: placed.projection(), znear: placed.znear, zfar: placed.zfar, name: None })
 }
 
 /// A render's `camera=` argument.

@@ -99,9 +99,13 @@ impl GpuContext {
         // A 32-bit float depth keeps reverse-Z precise; the stencil beside it is for the
         // deferred light volumes. Where the pair is missing, 24-bit depth carries stencil.
         // 2 and 8 MSAA samples need the adapter's format features.
-        for optional in
-            [wgpu::Features::DEPTH32FLOAT_STENCIL8, wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES]
-        {
+        // BC7 textures: KTX2 (Basis Universal) images transcode to them where the adapter
+        // samples them, a quarter of RGBA8's memory.
+        for optional in [
+            wgpu::Features::DEPTH32FLOAT_STENCIL8,
+            wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES,
+            wgpu::Features::TEXTURE_COMPRESSION_BC,
+        ] {
             if adapter.features().contains(optional) {
                 required_features |= optional;
             }

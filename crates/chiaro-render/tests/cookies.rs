@@ -26,7 +26,15 @@ fn image_from(width: u32, height: u32, f: impl Fn(f32, f32) -> Vec3) -> Image {
             rgba8.push(255);
         }
     }
-    Image { name: "cookie".into(), width, height, rgba8, file_mips: Vec::new(), color_space: ColorSpace::Linear }
+    Image {
+        name: "cookie".into(),
+        width,
+        height,
+        rgba8,
+        file_mips: Vec::new(),
+        color_space: ColorSpace::Linear,
+        basis_source: None,
+    }
 }
 
 /// Periodic in u and v, at its brightest where u wraps (red) and v wraps (green).

@@ -197,6 +197,50 @@ fn cameras_inside_light_volumes_and_volumes_past_the_far_plane_agree() {
 }
 
 #[test]
+fn an_orthographic_camera_agrees_on_both_paths() {
+    // Positions rebuilt from the G-buffer's depth follow parallel rays; lights of every
+    // kind, their volumes (one reaching the near plane) and the glass box alike.
+    let settings = Settings::default();
+    let point = point_light(Vec3::new(0.3, 2.0, 0.5), 15.0, Some(6.0));
+    let cone = spot(Vec3::new(-2.0, 3.5, 2.0), Vec3::new(0.5, -1.0, -0.5), 40.0);
+    let near_light = point_light(Vec3::new(2.4, 3.0, 3.4), 10.0, Some(3.0));
+    let mut scene = boxes(Vec3::new(3.0, 6.0, 8.0), vec![sun(), point, cone, near_light]);
+    make_orthographic(&mut scene, 4.0, 30.0);
+    let view = camera_view(&scene, 192);
+    assert!(view.is_orthographic());
+    let plan = render_path(&scene, &view, &settings, RenderPath::Deferred).plan;
+    assert!(plan.volumes.iter().any(|v| v.camera_inside), "the near light's volume reaches the near plane");
+    assert_paths_agree("orthographic", &scene, &view, &settings);
+}
+
+#[test]
+fn an_orthographic_camera_sees_a_flat_mirror_alike_everywhere() {
+    // Parallel rays meet a flat glossy floor at one angle, so a sun's highlight covers it
+    // evenly; a perspective camera sees the angle, and the highlight, change across it.
+    let sun = Light { intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::new(0.0, -1.0, 0.6)) };
+    let mut scene = floor_scene(40.0, Vec3::new(0.0, 8.0, 3.0), vec![sun]);
+    look_from(&mut scene, Vec3::new(0.0, 8.0, 3.0), Vec3::ZERO);
+    scene.materials[0].roughness = 0.3;
+    scene.materials[0].metallic = 1.0;
+    let mut settings = Settings::default();
+    settings.shadows.directional.cascade_count = 1;
+    let spread = |scene: &Scene, path: RenderPath| {
+        let frame = render_path(scene, &camera_view(scene, 64), &settings, path);
+        let luminance: Vec<f32> = frame.hdr.iter().map(|p| p[0] + p[1] + p[2]).collect();
+        let (low, high) = luminance.iter().fold((f32::MAX, 0.0f32), |(l, h), &v| (l.min(v), h.max(v)));
+        assert!(low > BLACK, "{path:?}: the floor fills the view");
+        high / low
+    };
+    let perspective = spread(&scene, RenderPath::Forward);
+    make_orthographic(&mut scene, 2.0, 30.0);
+    for path in [RenderPath::Forward, RenderPath::Deferred] {
+        let orthographic = spread(&scene, path);
+        assert!(orthographic < 1.001, "{path:?}: the highlight varies {orthographic}x across a flat floor");
+    }
+    assert!(perspective > 1.5, "the perspective view must see the angle change ({perspective}x)");
+}
+
+#[test]
 fn cookies_agree_on_both_paths() {
     let settings = Settings::default();
     let image = Image {
@@ -205,6 +249,7 @@ fn cookies_agree_on_both_paths() {
         height: 8,
         rgba8: (0..8 * 48).flat_map(|i| [((i % 48) * 5) as u8, 255 - ((i % 48) * 5) as u8, 128, 255]).collect(),
         file_mips: Vec::new(),
+        basis_source: None,
         color_space: ColorSpace::Linear,
     };
     let with = |mut light: Light, size_m| {

@@ -67,6 +67,7 @@ fn scene(light: Light, eye: Vec3) -> Scene {
         height: 2,
         rgba8: rgba8.collect(),
         file_mips: Vec::new(),
+        basis_source: None,
         color_space: ColorSpace::Linear,
     });
     if eye.distance(TARGET) > 1e-3 {

@@ -29,6 +29,7 @@ fn rgb_image(width: u32, height: u32, rgb: impl Fn(u32, u32) -> [u8; 3]) -> Imag
         height,
         rgba8: rgba8.collect(),
         file_mips: Vec::new(),
+        basis_source: None,
         color_space: ColorSpace::Linear,
     }
 }

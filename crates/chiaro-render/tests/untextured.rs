@@ -29,6 +29,7 @@ fn with_white_textures(mut scene: Scene) -> Scene {
         height: 1,
         rgba8: vec![255; 4],
         file_mips: Vec::new(),
+        basis_source: None,
         color_space,
     };
     scene.images = vec![image(ColorSpace::Srgb), image(ColorSpace::Linear)];

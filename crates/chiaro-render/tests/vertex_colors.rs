@@ -36,7 +36,7 @@ fn scene(by_vertex: bool, plank_alpha: f32) -> Scene {
         floor.colors = vec![FLOOR_COLOR; floor.positions.len()];
         plank.colors = vec![Vec4::new(1.0, 1.0, 1.0, plank_alpha); plank.positions.len()];
     }
-    scene.meshes.push(Mesh { name: "plank".into(), primitives: vec![plank] });
+    scene.meshes.push(Mesh::of_triangles("plank".into(), vec![plank]));
     let mut instance: MeshInstance = scene.instances[0].clone();
     instance.mesh = 1;
     instance.node = 5;

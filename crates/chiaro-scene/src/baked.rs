@@ -177,7 +177,7 @@ pub fn apply(scene: &mut Scene, lighting: BakedLighting, placements: &[InstanceL
             primitives.push(per_corner(primitive, uvs));
         }
         let name = format!("{} (lightmapped {})", mesh.name, instance.name);
-        scene.meshes.push(Mesh { name, primitives });
+        scene.meshes.push(Mesh { name, primitives, points_and_lines: mesh.points_and_lines.clone() });
         let instance = &mut scene.instances[placement.instance];
         instance.mesh = scene.meshes.len() - 1;
         instance.lightmap = Some(placement.layer);
@@ -221,7 +221,7 @@ mod tests {
 
     fn scene() -> Scene {
         let mut scene = Scene {
-            meshes: vec![Mesh { name: "box".into(), primitives: vec![shapes::cuboid(Vec3::ONE)] }],
+            meshes: vec![Mesh::of_triangles("box".into(), vec![shapes::cuboid(Vec3::ONE)])],
             ..Scene::default()
         };
         for node in 0..2 {

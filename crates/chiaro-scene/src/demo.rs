@@ -80,9 +80,9 @@ fn demo_materials_and_meshes() -> Scene {
             material("chalk", Vec3::splat(0.85), 0.0, 0.9),
         ],
         meshes: vec![
-            Mesh { name: "floor".into(), primitives: vec![shapes::plane(24.0, 8)] },
-            Mesh { name: "box".into(), primitives: vec![shapes::cuboid(Vec3::ONE)] },
-            Mesh { name: "sphere".into(), primitives: vec![shapes::sphere(0.5, 48, 24)] },
+            Mesh::of_triangles("floor".into(), vec![shapes::plane(24.0, 8)]),
+            Mesh::of_triangles("box".into(), vec![shapes::cuboid(Vec3::ONE)]),
+            Mesh::of_triangles("sphere".into(), vec![shapes::sphere(0.5, 48, 24)]),
         ],
         ..Scene::default()
     };
@@ -210,7 +210,7 @@ fn demo_camera(node: usize) -> Camera {
     Camera {
         name: "demo camera".into(),
         node,
-        yfov_rad: 50f32.to_radians(),
+        projection: chiaro_math::camera::Projection::Perspective { yfov_rad: 50f32.to_radians() },
         znear: 0.1,
         zfar: None,
         aspect_ratio: None,

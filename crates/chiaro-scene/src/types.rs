@@ -42,13 +42,52 @@ impl Primitive {
     }
 }
 
+/// How a primitive's indices join its vertices.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Topology {
+    /// Three indices a triangle.
+    #[default]
+    Triangles,
+    /// Two indices a line segment, drawn one pixel wide.
+    Lines,
+    /// One index a point, drawn as one pixel.
+    Points,
+}
+
+/// A glTF POINTS, LINES, LINE_LOOP or LINE_STRIP primitive: drawn by the camera, one
+/// pixel wide, but no surface, so it casts no shadow, is not traced and is not baked.
+#[derive(Clone, Debug)]
+pub struct PointsOrLines {
+    /// `Lines` (loops and strips become segment lists) or `Points`.
+    pub topology: Topology,
+    /// Its vertices; `indices` lists segments or points. Without normals in the file it
+    /// has none here and its material is an unlit copy of the file's.
+    pub primitive: Primitive,
+}
+
 /// A glTF mesh: primitives drawn with the same transform.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
     /// The file's name, or `mesh N`.
     pub name: String,
-    /// Its drawable primitives; those Chiaro cannot draw are left out.
+    /// Its drawable triangle primitives; those Chiaro cannot draw are left out.
     pub primitives: Vec<Primitive>,
+    /// Its points and lines, drawn by the camera after the triangles.
+    pub points_and_lines: Vec<PointsOrLines>,
+}
+
+impl Mesh {
+    /// A mesh of triangle primitives only.
+    pub fn of_triangles(name: String, primitives: Vec<Primitive>) -> Mesh {
+        Mesh { name, primitives, points_and_lines: Vec::new() }
+    }
+
+    /// Every part the camera draws with its topology: the triangle primitives, then the
+    /// points and lines.
+    pub fn drawn_parts(&self) -> impl Iterator<Item = (Topology, &Primitive)> {
+        let triangles = self.primitives.iter().map(|p| (Topology::Triangles, p));
+        triangles.chain(self.points_and_lines.iter().map(|p| (p.topology, &p.primitive)))
+    }
 }
 
 /// Whether and how an object casts shadows (node `extras.castShadows`; glTF nodes
@@ -344,22 +383,28 @@ pub struct Image {
     pub file_mips: Vec<Vec<u8>>,
     /// Whether the texels are colour or data.
     pub color_space: ColorSpace,
+    /// The KTX2 file of an ETC1S or UASTC (Basis Universal) image, kept so that a device
+    /// that samples BC7 can have it transcoded to that (`Image::bc7_levels`) rather than
+    /// take `rgba8`; `None` for every other image.
+    pub basis_source: Option<std::sync::Arc<[u8]>>,
 }
 
-/// A glTF perspective camera placed in the world.
+/// A glTF camera, perspective or orthographic, placed in the world.
 #[derive(Clone, Debug)]
 pub struct Camera {
     /// The camera's name, else its node's, else `camera N`.
     pub name: String,
     /// Index of the glTF node that carries the camera.
     pub node: usize,
-    /// Vertical field of view, radians.
-    pub yfov_rad: f32,
+    /// Perspective (vertical field of view) or orthographic (half height, `ymag`); the
+    /// output's aspect ratio gives the width, for `xmag` as for a perspective's.
+    pub projection: chiaro_math::camera::Projection,
     /// Distance to the near plane, metres.
     pub znear: f32,
-    /// `None` for an infinite projection.
+    /// `None` for an infinite projection (perspective cameras only).
     pub zfar: Option<f32>,
-    /// The file's aspect ratio, if any; the output size decides the rendered aspect.
+    /// The file's aspect ratio, if any (`xmag / ymag` for an orthographic camera); the
+    /// output size decides the rendered aspect.
     pub aspect_ratio: Option<f32>,
     /// The camera's node without scale: it looks down its -Z, +Y up.
     pub world_from_view: Mat4,
@@ -409,7 +454,7 @@ impl Scene {
     /// World-space bounds of every mesh instance.
     pub fn bounds(&self) -> Aabb {
         self.instances.iter().fold(Aabb::EMPTY, |acc, inst| {
-            let local = self.meshes[inst.mesh].primitives.iter().fold(Aabb::EMPTY, |b, p| b.union(&p.bounds));
+            let local = self.meshes[inst.mesh].drawn_parts().fold(Aabb::EMPTY, |b, (_, p)| b.union(&p.bounds));
             acc.union(&local.transformed(&inst.world_from_local))
         })
     }

@@ -89,7 +89,7 @@ mod tests {
         let mut a = shapes::cuboid(glam::Vec3::ONE);
         a.material = Some(0);
         let b = a.clone();
-        scene.meshes.push(Mesh { name: "shoe".into(), primitives: vec![a, b] });
+        scene.meshes.push(Mesh::of_triangles("shoe".into(), vec![a, b]));
         scene.variants = MaterialVariants {
             names: vec!["red".into(), "blue".into()],
             mappings: vec![

@@ -20,7 +20,7 @@ pub fn floor_scene(size: f32, eye: Vec3, lights: Vec<Light>) -> Scene {
     let mut floor = shapes::plane(size, 4);
     floor.material = Some(0);
     Scene {
-        meshes: vec![Mesh { name: "floor".into(), primitives: vec![floor] }],
+        meshes: vec![Mesh::of_triangles("floor".into(), vec![floor])],
         instances: vec![MeshInstance {
             mesh: 0,
             node: 0,
@@ -44,7 +44,7 @@ pub fn floor_scene(size: f32, eye: Vec3, lights: Vec<Light>) -> Scene {
         cameras: vec![Camera {
             name: "test".into(),
             node: 1,
-            yfov_rad: 70f32.to_radians(),
+            projection: chiaro_math::camera::Projection::Perspective { yfov_rad: 70f32.to_radians() },
             znear: 0.05,
             zfar: None,
             aspect_ratio: None,
@@ -66,7 +66,7 @@ pub fn add_box(scene: &mut Scene, position: Vec3, size: Vec3, yaw_rad: f32, cast
         None => {
             let mut cube = shapes::cuboid(Vec3::ONE);
             cube.material = Some(0);
-            scene.meshes.push(Mesh { name: "unit box".into(), primitives: vec![cube] });
+            scene.meshes.push(Mesh::of_triangles("unit box".into(), vec![cube]));
             scene.meshes.len() - 1
         }
     };
@@ -158,6 +158,14 @@ pub fn look_from(scene: &mut Scene, eye: Vec3, target: Vec3) {
     scene.cameras[0].world_from_view = Mat4::look_at_rh(eye, target, Vec3::Y).inverse();
 }
 
+/// Makes the scene's first camera orthographic: a view `2 * ymag` metres high, clip planes
+/// from 0.05 m to `zfar` metres.
+pub fn make_orthographic(scene: &mut Scene, ymag: f32, zfar: f32) {
+    let camera = &mut scene.cameras[0];
+    camera.projection = chiaro_math::camera::Projection::Orthographic { ymag };
+    camera.zfar = Some(zfar);
+}
+
 /// A sphere's material in `spheres_scene`: linear base colour, metallic, roughness.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SphereMaterial {
@@ -203,12 +211,12 @@ pub fn spheres_scene(materials: &[SphereMaterial]) -> Scene {
         .map(|i| {
             let mut sphere = shapes::sphere(1.0, 96, 48);
             sphere.material = Some(i);
-            Mesh { name: format!("sphere {i}"), primitives: vec![sphere] }
+            Mesh::of_triangles(format!("sphere {i}"), vec![sphere])
         })
         .collect();
     let distance = 2.0 + 1.5 * count as f32;
     look_from(&mut scene, Vec3::new(0.0, 0.0, distance), Vec3::ZERO);
-    scene.cameras[0].yfov_rad = 50f32.to_radians();
+    scene.cameras[0].projection = chiaro_math::camera::Projection::Perspective { yfov_rad: 50f32.to_radians() };
     scene
 }
 

@@ -149,6 +149,7 @@ mod tests {
             rgba8: [[255, 255, 255, a[0]], [255, 255, 255, a[1]], [255, 255, 255, a[2]], [255, 255, 255, a[3]]]
                 .concat(),
             file_mips: Vec::new(),
+            basis_source: None,
             color_space: ColorSpace::Srgb,
         }
     }

@@ -199,7 +199,7 @@ mod tests {
     use chiaro_scene::{CastShadows, Mesh, MeshInstance, Primitive, shapes};
 
     fn mesh(primitive: Primitive) -> Mesh {
-        Mesh { name: String::new(), primitives: vec![primitive] }
+        Mesh::of_triangles(String::new(), vec![primitive])
     }
 
     fn instance(mesh: usize, world_from_local: Mat4) -> MeshInstance {

@@ -3,7 +3,7 @@
 //! `chiaro render` would use, so that an untouched viewer shows the same image.
 
 use chiaro_math::bounds::Sphere;
-use chiaro_math::camera::perspective_reverse_z;
+use chiaro_math::camera::Projection;
 use chiaro_render::View;
 use glam::{Mat4, Vec3};
 
@@ -31,6 +31,9 @@ pub struct CameraRig {
     pub yaw: f32,
     pub pitch: f32,
     pub distance: f32,
+    /// `distance` at the start: an orthographic view's height scales with
+    /// `distance / start_distance`, so that the wheel zooms it as it does a perspective one.
+    pub start_distance: f32,
     /// Changed since the start: until then the start view is used as it is.
     pub moved: bool,
 }
@@ -57,6 +60,7 @@ impl CameraRig {
             // Straight up or down, looking at the target with +Y up has no answer.
             pitch: back.y.clamp(-1.0, 1.0).asin().clamp(-MAX_PITCH, MAX_PITCH),
             distance,
+            start_distance: distance,
             moved: false,
         }
     }
@@ -109,28 +113,44 @@ impl CameraRig {
     }
 
     /// Looks at a sphere around `center` of `radius` from the current direction, close
-    /// enough for it to fill a field of view of `yfov_rad`.
-    pub fn frame(&mut self, center: Vec3, radius: f32, yfov_rad: f32) {
+    /// enough for it to fill the height of the start view's `projection`.
+    pub fn frame(&mut self, center: Vec3, radius: f32, projection: Projection) {
+        let radius = radius.max(1e-3);
         self.target = center;
-        self.distance = (radius.max(1e-3) / (0.5 * yfov_rad).sin()).max(1e-3);
+        self.distance = match projection {
+            Projection::Perspective { yfov_rad } => radius / (0.5 * yfov_rad).sin(),
+            Projection::Orthographic { ymag } => radius / ymag * self.start_distance,
+        }
+        .max(1e-3);
         self.moved = true;
     }
 
-    /// `start` seen from the rig: its field of view and size kept, its near and far planes
-    /// fitted to where the eye now is against `scene` (the scene's bounding sphere), so
-    /// that zooming, flying and framing never clip the scene. Untouched, `start` itself.
+    /// `start` seen from the rig: its field of view (or, orthographic, its height scaled
+    /// by the zoom) and size kept, its near and far planes fitted to where the eye now is
+    /// against `scene` (the scene's bounding sphere), so that zooming, flying and framing
+    /// never clip the scene. Untouched, `start` itself.
     pub fn view(&self, start: &View, scene: Sphere) -> View {
         if !self.moved {
             return *start;
         }
-        let eye = self.eye();
         let radius = scene.radius.max(1e-3);
+        let (eye, projection) = match start.projection {
+            // Parallel rays see the same picture from any distance: the eye stands back
+            // out of the scene and the zoom scales the view's height instead.
+            Projection::Orthographic { ymag } => {
+                let standoff = self.target.distance(scene.center) + radius * 1.01;
+                let zoom = self.distance / self.start_distance;
+                (self.target + self.back() * standoff, Projection::Orthographic { ymag: ymag * zoom })
+            }
+            perspective => (self.eye(), perspective),
+        };
         let to_scene = eye.distance(scene.center);
         let znear = (to_scene - radius).max(radius * 1e-4).max(1e-4);
         let zfar = start.zfar.map(|_| (to_scene + radius * 2.0).max(znear * 2.0));
         View {
             world_from_view: Mat4::look_at_rh(eye, self.target, Vec3::Y).inverse(),
-            clip_from_view: perspective_reverse_z(start.yfov_rad, start.aspect(), znear, zfar),
+            clip_from_view: projection.clip_from_view(start.aspect(), znear, zfar),
+            projection,
             znear,
             zfar,
             ..*start
@@ -233,7 +253,7 @@ mod tests {
         let (start, target) = demo_start();
         let mut rig = CameraRig::from_view(&start, target);
         let center = Vec3::new(3.0, 1.0, -2.0);
-        rig.frame(center, 2.0, 60f32.to_radians());
+        rig.frame(center, 2.0, Projection::Perspective { yfov_rad: 60f32.to_radians() });
         let view = rig.view(&start, demo_sphere());
         assert!(between_planes(&view, center), "the framed sphere is drawn");
         // The sphere's edge is seen at half the field of view from its centre.
@@ -242,5 +262,34 @@ mod tests {
         assert!((half_angle - 30f32.to_radians()).abs() < 1e-3, "{half_angle}");
         let forward = -view.world_from_view.z_axis.truncate();
         assert!(forward.dot(to_center.normalize()) > 0.9999, "looks at the centre");
+    }
+
+    #[test]
+    fn an_orthographic_view_zooms_its_height_and_stands_back_from_the_scene() {
+        let (perspective, target) = demo_start();
+        let sphere = demo_sphere();
+        let start = View::projected(
+            perspective.world_from_view,
+            Projection::Orthographic { ymag: 3.0 },
+            0.05,
+            Some(100.0),
+            64,
+            64,
+        );
+        let mut rig = CameraRig::from_view(&start, target);
+        for _ in 0..12 {
+            rig.zoom(1.0);
+        }
+        let close = rig.view(&start, sphere);
+        let Projection::Orthographic { ymag } = close.projection else { panic!("stays orthographic") };
+        assert!((ymag - 3.0 * 0.9f32.powi(12)).abs() < 1e-4, "zooming in narrows the view: {ymag}");
+        // However close the zoom, the whole scene stays in front of the near plane.
+        for probe in [sphere.center, sphere.center + forward(&close) * -sphere.radius * 0.99] {
+            assert!(between_planes(&close, probe), "{probe} clipped");
+        }
+        rig.frame(Vec3::new(1.0, 0.5, 0.0), 2.0, start.projection);
+        let framed = rig.view(&start, sphere);
+        let Projection::Orthographic { ymag } = framed.projection else { panic!("stays orthographic") };
+        assert!((ymag - 2.0).abs() < 1e-4, "framing fits the sphere's radius to the half height: {ymag}");
     }
 }

@@ -89,8 +89,8 @@ impl CameraState {
             }
             _ => (scene_sphere.center, scene_sphere.radius),
         };
-        let yfov = self.start_view.yfov_rad;
-        self.rig(scene).frame(center, radius, yfov);
+        let projection = self.start_view.projection;
+        self.rig(scene).frame(center, radius, projection);
     }
 
     /// Moves a flying camera by `input` (camera axes) for `seconds`, four times as fast

@@ -9,6 +9,7 @@
 //! renders what the window showed.
 
 use anyhow::{Context, Result, anyhow, bail};
+use chiaro_math::camera::Projection;
 use chiaro_render::View;
 use chiaro_scene::{Light, LightKind, Scene, Settings};
 use serde_json::{Value, json};
@@ -115,14 +116,24 @@ fn write_lights(root: &mut Value, lights: &[Light]) -> Result<()> {
     Ok(())
 }
 
-/// A perspective camera named VIEW_CAMERA at `view`, on a new root node of every scene.
+/// A camera named VIEW_CAMERA at `view` (perspective or orthographic as it is), on a new
+/// root node of every scene.
 fn add_camera(root: &mut Value, view: &View) -> Result<()> {
     let (_, rotation, translation) = view.world_from_view.to_scale_rotation_translation();
-    let mut perspective = json!({ "yfov": view.yfov_rad, "znear": view.znear });
-    if let Some(zfar) = view.zfar {
-        perspective["zfar"] = json!(zfar);
-    }
-    let camera = json!({ "name": VIEW_CAMERA, "type": "perspective", "perspective": perspective });
+    let camera = match view.projection {
+        Projection::Perspective { yfov_rad } => {
+            let mut perspective = json!({ "yfov": yfov_rad, "znear": view.znear });
+            if let Some(zfar) = view.zfar {
+                perspective["zfar"] = json!(zfar);
+            }
+            json!({ "name": VIEW_CAMERA, "type": "perspective", "perspective": perspective })
+        }
+        Projection::Orthographic { ymag } => {
+            let zfar = view.zfar.unwrap_or(view.znear * 1.0e6);
+            let orthographic = json!({ "xmag": ymag * view.aspect(), "ymag": ymag, "znear": view.znear, "zfar": zfar });
+            json!({ "name": VIEW_CAMERA, "type": "orthographic", "orthographic": orthographic })
+        }
+    };
     let node = json!({ "name": VIEW_CAMERA, "rotation": rotation.normalize().to_array(), "translation": translation.to_array() });
     let push = |root: &mut Value, key: &str, item: Value| -> Result<usize> {
         let list = root

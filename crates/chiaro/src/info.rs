@@ -1,7 +1,8 @@
 //! `chiaro info`: what a scene file holds, and what was ignored and why.
 
 use anyhow::Result;
-use chiaro_scene::{AlphaMode, LightKind, Scene, load_gltf};
+use chiaro_math::camera::Projection;
+use chiaro_scene::{AlphaMode, LightKind, Scene, Topology, load_gltf};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -23,17 +24,26 @@ pub fn run(args: InfoArgs) -> Result<()> {
     );
     for (i, m) in scene.meshes.iter().enumerate() {
         let tris: usize = m.primitives.iter().map(|p| p.triangle_count()).sum();
-        println!("  mesh {i} '{}': {} primitives, {tris} triangles", m.name, m.primitives.len());
+        let lines = m.points_and_lines.iter().filter(|p| p.topology == Topology::Lines).count();
+        let points = m.points_and_lines.len() - lines;
+        let wires = match (lines, points) {
+            (0, 0) => String::new(),
+            _ => format!(", {lines} line and {points} point primitives (drawn one pixel wide, casting no shadow)"),
+        };
+        println!("  mesh {i} '{}': {} primitives, {tris} triangles{wires}", m.name, m.primitives.len());
     }
     print_materials(&scene);
     print_lights(&scene);
     println!("cameras: {}", scene.cameras.len());
     for (i, c) in scene.cameras.iter().enumerate() {
+        let lens = match c.projection {
+            Projection::Perspective { yfov_rad } => format!("yfov {:.1} deg", yfov_rad.to_degrees()),
+            Projection::Orthographic { ymag } => format!("orthographic, ymag {ymag} m"),
+        };
         println!(
-            "  camera {i} '{}' (node {}): yfov {:.1} deg, near {}, far {}",
+            "  camera {i} '{}' (node {}): {lens}, near {}, far {}",
             c.name,
             c.node,
-            c.yfov_rad.to_degrees(),
             c.znear,
             c.zfar.map(|f| f.to_string()).unwrap_or_else(|| "infinite".into())
         );

@@ -226,6 +226,73 @@ fn a_render_at_a_time_equals_the_scene_with_its_sampled_transforms_written_stati
 }
 
 #[test]
+fn animation_pointers_render_as_their_sampled_values_written_static() {
+    // KHR_animation_pointer: the spot's colour, intensity and outer cone and the floor's
+    // base colour and roughness, sampled at t = 1 (a quarter of the way) and written into
+    // a static copy, render the same.
+    let dir = tempfile::tempdir().unwrap();
+    let pointer = |sampler: usize, p: &str| {
+        json!({ "sampler": sampler, "target": { "path": "pointer",
+                "extensions": { "KHR_animation_pointer": { "pointer": p } } } })
+    };
+    let scene = |animated: bool| {
+        let mut doc = Doc::new();
+        doc.stage();
+        let (color, intensity, cone, base, roughness) = if animated {
+            ([1.0, 0.25, 0.0], 100.0, 0.5, [1.0, 1.0, 1.0, 1.0], 1.0)
+        } else {
+            // Dyadic keys, so that a quarter of the way is exact in f32.
+            ([0.75, 0.25, 0.25], 200.0, 0.59375, [0.8125, 0.90625, 0.75, 1.0], 0.875)
+        };
+        let light = &mut doc.json["extensions"]["KHR_lights_punctual"]["lights"][0];
+        light["color"] = json!(color);
+        light["intensity"] = json!(intensity);
+        light["spot"]["outerConeAngle"] = json!(cone);
+        doc.json["materials"] = json!([{ "pbrMetallicRoughness": {
+            "baseColorFactor": base, "metallicFactor": 0.0, "roughnessFactor": roughness } }]);
+        doc.json["meshes"][0]["primitives"][0]["material"] = json!(0);
+        let down = Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2);
+        doc.node(
+            json!({ "name": "lamp", "translation": [0.5, 3.0, 0.0], "rotation": down.to_array(),
+                    "extensions": { "KHR_lights_punctual": { "light": 0 } } }),
+            true,
+        );
+        if animated {
+            let times = doc.floats(&[0.0, 4.0], "SCALAR");
+            let colors = doc.floats(&[1.0, 0.25, 0.0, 0.0, 0.25, 1.0], "VEC3");
+            let intensities = doc.floats(&[100.0, 500.0], "SCALAR");
+            let cones = doc.floats(&[0.5, 0.875], "SCALAR");
+            let bases = doc.floats(&[1.0, 1.0, 1.0, 1.0, 0.25, 0.625, 0.0, 1.0], "VEC4");
+            let rough = doc.floats(&[1.0, 0.5], "SCALAR");
+            doc.json["extensionsUsed"] = json!(["KHR_lights_punctual", "KHR_animation_pointer"]);
+            doc.json["animations"] = json!([{
+                "channels": [
+                    pointer(0, "/extensions/KHR_lights_punctual/lights/0/color"),
+                    pointer(1, "/extensions/KHR_lights_punctual/lights/0/intensity"),
+                    pointer(2, "/extensions/KHR_lights_punctual/lights/0/spot/outerConeAngle"),
+                    pointer(3, "/materials/0/pbrMetallicRoughness/baseColorFactor"),
+                    pointer(4, "/materials/0/pbrMetallicRoughness/roughnessFactor"),
+                ],
+                "samplers": [
+                    { "input": times, "output": colors }, { "input": times, "output": intensities },
+                    { "input": times, "output": cones }, { "input": times, "output": bases },
+                    { "input": times, "output": rough }
+                ]
+            }]);
+        }
+        doc
+    };
+    scene(true).write(&dir.path().join("animated.gltf"));
+    scene(false).write(&dir.path().join("static.gltf"));
+    let posed = render_exr(dir.path(), "animated.gltf", Some("1"), "posed.exr");
+    let written = render_exr(dir.path(), "static.gltf", None, "written.exr");
+    assert_same_image(&posed, &written, "--time 1 against the sampled light and material");
+    let rest = render_exr(dir.path(), "animated.gltf", None, "rest.exr");
+    let differing = rest[0].1.iter().zip(&posed[0].1).filter(|(a, b)| (*a - *b).abs() > 1e-3).count();
+    assert!(differing > 50, "only {differing} pixels changed between the rest values and t = 1");
+}
+
+#[test]
 fn a_skinned_strip_at_a_time_renders_as_its_hand_posed_copy() {
     let dir = tempfile::tempdir().unwrap();
     let angle = 0.8f32;

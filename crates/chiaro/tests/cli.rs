@@ -437,3 +437,53 @@ fn msaa_and_culling_flags_are_checked() {
         }
     }
 }
+
+/// Share of vertical pixel triples (all three surfaces) whose view depth is affine: the
+/// middle one halfway between its neighbours within `tolerance` metres.
+fn affine_depth_share(depth: &[f32], width: usize, tolerance: f32) -> f64 {
+    let (mut triples, mut affine) = (0usize, 0usize);
+    for y in 1..depth.len() / width - 1 {
+        for x in 0..width {
+            let [a, b, c] = [y - 1, y, y + 1].map(|row| depth[row * width + x]);
+            if a.is_finite() && b.is_finite() && c.is_finite() {
+                triples += 1;
+                affine += ((a + c - 2.0 * b).abs() <= tolerance) as usize;
+            }
+        }
+    }
+    affine as f64 / triples.max(1) as f64
+}
+
+#[test]
+fn orthographic_cameras_render_compare_and_bench() {
+    let assets = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets"));
+    let file = assets.join("ShadowsDirectional/orthographic/shadows-directional-orthographic.gltf");
+    let file = file.to_string_lossy();
+    let dir = tempfile::tempdir().unwrap();
+    let info = chiaro(&["info", &file], &[], dir.path());
+    assert!(
+        info.stdout.contains("camera 0 'Plan' (node 3): orthographic, ymag 5.625 m, near 0.1, far 100"),
+        "{}",
+        info.stdout
+    );
+    let mut shares = Vec::new();
+    for camera in ["Plan", "Perspective"] {
+        let out = format!("{camera}.png");
+        let args =
+            ["render", &file, "--camera", camera, "--width", "160", "--height", "90", "-o", &out, "--aov", "depth"];
+        let run = chiaro(&args, &[], dir.path());
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        let depth = &read_exr_channels(&dir.path().join(format!("{camera}.depth.exr")))[0].1;
+        shares.push(affine_depth_share(depth, 160, 1e-3));
+    }
+    println!("affine depth triples: orthographic {:.3}, perspective {:.3}", shares[0], shares[1]);
+    // Parallel rays see a plane's depth change evenly down the image; a pinhole does not.
+    // Measured: 0.82 orthographic (the sphere, the cone and the edges make the rest), 0.06
+    // perspective.
+    assert!(shares[0] > 0.7 && shares[1] < 0.3, "{shares:?}");
+    let compare = chiaro(&["compare", &file, "--width", "128", "--height", "72"], &[], dir.path());
+    assert_eq!(compare.code, 0, "{}", compare.stderr);
+    assert!(compare.stdout.contains("Sun.001") && compare.stdout.contains("directional"), "{}", compare.stdout);
+    let bench = chiaro(&["bench", &file, "--width", "64", "--height", "36", "--frames", "2"], &[], dir.path());
+    assert_eq!(bench.code, 0, "{}", bench.stderr);
+}

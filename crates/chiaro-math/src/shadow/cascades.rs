@@ -28,6 +28,17 @@ pub fn slice_culling_sphere(near: f32, far: f32, tan_half_fov_y: f32, aspect: f3
     Sphere { center: Vec3::new(0.0, 0.0, -z), radius }
 }
 
+/// The smallest sphere around the box an orthographic view's slice from `near` to `far`
+/// spans (view space, the view `2 * xmag` by `2 * ymag` metres): centred on the axis
+/// halfway between, reaching the corners.
+pub fn orthographic_slice_culling_sphere(near: f32, far: f32, xmag: f32, ymag: f32) -> Sphere {
+    let half_depth = 0.5 * (far - near);
+    Sphere {
+        center: Vec3::new(0.0, 0.0, -0.5 * (near + far)),
+        radius: (xmag * xmag + ymag * ymag + half_depth * half_depth).sqrt(),
+    }
+}
+
 /// Everything the GPU needs about one cascade of one light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CascadeFit {
@@ -94,6 +105,19 @@ mod tests {
             for c in slice_corners(near, far, t, aspect) {
                 prop_assert!(c.distance(s.center) <= s.radius * (1.0 + 1e-4) + 1e-4);
             }
+        }
+
+        #[test]
+        fn orthographic_culling_spheres_hold_their_slice_boxes_tightly(near in 0.05f32..50.0, depth in 0.1f32..100.0, ymag in 0.1f32..50.0, aspect in 0.3f32..3.0) {
+            let (far, xmag) = (near + depth, ymag * aspect);
+            let s = orthographic_slice_culling_sphere(near, far, xmag, ymag);
+            let mut farthest = 0.0f32;
+            for d in [near, far] {
+                for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+                    farthest = farthest.max(Vec3::new(sx * xmag, sy * ymag, -d).distance(s.center));
+                }
+            }
+            prop_assert!(farthest <= s.radius * (1.0 + 1e-5) && farthest >= s.radius * (1.0 - 1e-5));
         }
 
         #[test]

@@ -57,8 +57,13 @@ impl TileRect {
 }
 
 /// How much of the screen (0 to 1) a world-space sphere covers, from the area of its
-/// projected disc; 1 when the eye is inside it.
+/// projected disc; 1 when the eye is inside it. An orthographic projection (no division
+/// by depth) draws the sphere the same size at every distance.
 pub fn screen_coverage(view_from_world: &Mat4, clip_from_view: &Mat4, center: Vec3, radius: f32) -> f32 {
+    let (sx, sy) = (clip_from_view.x_axis.x.abs(), clip_from_view.y_axis.y.abs());
+    if clip_from_view.z_axis.w == 0.0 {
+        return (std::f32::consts::PI * radius * radius * sx * sy / 4.0).min(1.0);
+    }
     let distance = view_from_world.transform_point3(center).length();
     if distance <= radius {
         return 1.0;
@@ -67,7 +72,6 @@ pub fn screen_coverage(view_from_world: &Mat4, clip_from_view: &Mat4, center: Ve
     let tan_squared = sin * sin / (1.0 - sin * sin);
     // The projection's x and y scales are 1 / tan of the half fields of view; the screen
     // spans 2 x 2 in clip units.
-    let (sx, sy) = (clip_from_view.x_axis.x.abs(), clip_from_view.y_axis.y.abs());
     (std::f32::consts::PI * tan_squared * sx * sy / 4.0).min(1.0)
 }
 
@@ -241,5 +245,15 @@ mod tests {
         // A disc of half the screen's height at 60 degrees: pi/4 * ~0.25 of the square screen.
         assert!((far - std::f32::consts::PI * (1.0f32 / 50.0 / 30f32.to_radians().tan()).powi(2) / 4.0).abs() < 1e-4);
         assert_eq!(screen_coverage(&view, &proj, Vec3::new(0.0, 0.0, -1.0), 2.0), 1.0);
+    }
+
+    #[test]
+    fn an_orthographic_view_covers_the_same_share_at_every_distance() {
+        let view = Mat4::look_at_rh(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
+        let proj = crate::camera::orthographic_reverse_z(4.0, 4.0, 0.1, 100.0);
+        let far = screen_coverage(&view, &proj, Vec3::new(0.0, 0.0, -50.0), 1.0);
+        let near = screen_coverage(&view, &proj, Vec3::new(0.0, 0.0, -5.0), 1.0);
+        // A disc of radius 1 in an 8 x 8 m view: pi / 64 of it.
+        assert!((far - std::f32::consts::PI / 64.0).abs() < 1e-6 && far == near, "{far} {near}");
     }
 }

@@ -50,6 +50,11 @@ pub struct GpuFrame {
     pub cluster_tiles_x: u32,
     /// See `cluster_tiles_x`.
     pub cluster_tiles_y: u32,
+    /// 1 for an orthographic camera (parallel rays: the view direction is the camera's
+    /// backward axis everywhere), 0 for a perspective one.
+    pub orthographic: u32,
+    /// Pads the struct to 16 bytes.
+    pub _pad: [u32; 3],
 }
 
 /// One object (a mesh instance) as `shaders/common/frame.wesl` reads it: its transforms

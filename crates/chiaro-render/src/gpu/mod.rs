@@ -47,7 +47,7 @@ layouts! {
         clip_from_world, view_from_world, world_from_view, view_from_clip, camera_position_ws, exposure_scale,
         ambient, debug_view, directional_light_count, shadowed_local_light_count, local_light_count, width, height,
         mixed_mode, cluster_tile_width, cluster_tile_height, cluster_slice_scale, cluster_slice_bias, cluster_tiles_x,
-        cluster_tiles_y,
+        cluster_tiles_y, orthographic,
     }
     GpuObject { world_from_local, normal_from_local, flags, lightmap_layer, node, label }
     GpuProbeGridHeader { origin, lightmap_scale, spacing, counts }

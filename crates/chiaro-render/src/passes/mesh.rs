@@ -1,5 +1,6 @@
 //! What every pass that draws the scene's meshes from the camera shares: the pipelines
-//! (one per cull mode, winding and blending, since those are pipeline state in wgpu) and
+//! (one per cull mode, winding, blending and topology, since those are pipeline state in
+//! wgpu) and
 //! the loop that binds materials and issues the draws in the plan's order.
 
 use super::targets::DEPTH;
@@ -9,7 +10,7 @@ use crate::overrides::Override;
 use crate::plan::FramePlan;
 use crate::plan::draws::{Draw, instanced_runs};
 use crate::scene::GpuScene;
-use chiaro_scene::AlphaMode;
+use chiaro_scene::{AlphaMode, Topology};
 use std::collections::HashMap;
 
 /// The forward path's multisampled depth (`FramePlan::msaa` samples).
@@ -40,6 +41,7 @@ pub struct MeshPipelineKey {
     /// `textured_override`.
     textured: bool,
     samples: u32,
+    topology: Topology,
 }
 
 /// How a pass tests depth.
@@ -153,6 +155,7 @@ impl MeshPipelines {
             alpha_tested: self.alpha_test_override.is_some() && d.alpha_mode == AlphaMode::Mask,
             textured: self.textured_override.is_none() || d.textured,
             samples: self.samples,
+            topology: d.topology,
         }
     }
 
@@ -203,7 +206,11 @@ impl MeshPipelines {
                 buffers: &[Some(GpuVertex::layout())],
             },
             primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
+                topology: match key.topology {
+                    Topology::Triangles => wgpu::PrimitiveTopology::TriangleList,
+                    Topology::Lines => wgpu::PrimitiveTopology::LineList,
+                    Topology::Points => wgpu::PrimitiveTopology::PointList,
+                },
                 front_face: if key.front_cw { wgpu::FrontFace::Cw } else { wgpu::FrontFace::Ccw },
                 cull_mode: key.cull_back.then_some(wgpu::Face::Back),
                 ..Default::default()

@@ -259,7 +259,7 @@ impl ClusterGrid {
     }
 
     /// Appends the tiles light `light`'s view-space sphere covers in each slice it spans
-    /// (every tile where the projection is not a plain perspective).
+    /// (every tile where the projection is neither a plain perspective nor orthographic).
     fn cover(
         &self,
         perspective: Option<Perspective>,
@@ -288,8 +288,8 @@ impl ClusterGrid {
             let gap = (z0 - depth).max(depth - z1).max(0.0);
             let r = (radius * radius - gap * gap).max(0.0).sqrt();
             let (tiles_x, tiles_y) = match perspective {
-                Some(p) if d0 > 1e-4 => {
-                    let inverse_depths = (1.0 / d0, 1.0 / d1);
+                Some(p) if d0 > 1e-4 || !p.divides_by_depth => {
+                    let inverse_depths = if p.divides_by_depth { (1.0 / d0, 1.0 / d1) } else { (1.0, 1.0) };
                     let (x0, x1) = p.ndc_range(p.scale_x, p.offset_x, center.x - r, center.x + r, inverse_depths);
                     let (y0, y1) = p.ndc_range(p.scale_y, p.offset_y, center.y - r, center.y + r, inverse_depths);
                     if x0 > 1.0 || x1 < -1.0 || y0 > 1.0 || y1 < -1.0 {
@@ -315,15 +315,16 @@ impl ClusterGrid {
     }
 }
 
-/// A perspective projection without skew: `ndc = scale * v / depth - offset` along x and
-/// y, for view depth `depth = -z` (what `perspective_reverse_z` and off-centre frusta
-/// give).
+/// A projection without skew: `ndc = scale * v / depth - offset` along x and y for a
+/// perspective, for view depth `depth = -z` (what `perspective_reverse_z` and off-centre
+/// frusta give), or `ndc = scale * v - offset` for an orthographic one.
 #[derive(Clone, Copy, Debug)]
 struct Perspective {
     scale_x: f32,
     scale_y: f32,
     offset_x: f32,
     offset_y: f32,
+    divides_by_depth: bool,
 }
 
 impl Perspective {
@@ -331,11 +332,14 @@ impl Perspective {
     fn of(m: &Mat4) -> Option<Perspective> {
         let skewless = m.x_axis.y == 0.0 && m.y_axis.x == 0.0 && m.x_axis.w == 0.0 && m.y_axis.w == 0.0;
         let divides_by_depth = m.z_axis.w == -1.0 && m.w_axis.w == 0.0 && m.w_axis.x == 0.0 && m.w_axis.y == 0.0;
-        (skewless && divides_by_depth && m.x_axis.x > 0.0 && m.y_axis.y > 0.0).then_some(Perspective {
+        let parallel = m.z_axis.w == 0.0 && m.w_axis.w == 1.0 && m.z_axis.x == 0.0 && m.z_axis.y == 0.0;
+        let (offset_x, offset_y) = if divides_by_depth { (m.z_axis.x, m.z_axis.y) } else { (-m.w_axis.x, -m.w_axis.y) };
+        (skewless && (divides_by_depth || parallel) && m.x_axis.x > 0.0 && m.y_axis.y > 0.0).then_some(Perspective {
             scale_x: m.x_axis.x,
             scale_y: m.y_axis.y,
-            offset_x: m.z_axis.x,
-            offset_y: m.z_axis.y,
+            offset_x,
+            offset_y,
+            divides_by_depth,
         })
     }
 

@@ -107,6 +107,44 @@ fn every_pixel_a_light_reaches_lists_it() {
 }
 
 #[test]
+fn an_orthographic_view_lists_every_light_where_it_reaches_and_only_near_there() {
+    let proj = chiaro_math::camera::orthographic_reverse_z(8.0, 4.5, 0.1, 40.0);
+    let grid = ClusterGrid::new(320, 180, 0.1, 40.0);
+    let lights = vec![
+        light(Vec3::new(0.0, 0.0, -5.0), 1.0, false),
+        light(Vec3::new(3.0, -1.0, -12.0), 2.0, true),
+        light(Vec3::new(-6.0, 3.0, -30.0), 1.5, false),
+    ];
+    let lists = grid.assign(&proj, &lights);
+    let (mut inside, mut outside_listed, mut outside) = (0, 0, 0);
+    for y in (0..180).step_by(5) {
+        for x in (0..320).step_by(5) {
+            for k in 0..60 {
+                let depth = 0.1 * 1.12f32.powi(k);
+                let ndc = Vec3::new((x as f32 + 0.5) / 160.0 - 1.0, 1.0 - (y as f32 + 0.5) / 90.0, 0.5);
+                // Parallel rays: a pixel's x and y are the same at every depth.
+                let p = proj.inverse().project_point3(ndc).truncate().extend(-depth);
+                let listed = lists.list(grid.cluster_at(x as f32 + 0.5, y as f32 + 0.5, depth));
+                for (i, l) in lights.iter().enumerate() {
+                    let distance = p.distance(l.sphere.center);
+                    if distance < l.sphere.radius {
+                        assert!(listed.contains(&(i as u32)), "light {i} missing at ({x}, {y}, {depth})");
+                        inside += 1;
+                    } else if distance > 3.0 * l.sphere.radius + 2.0 {
+                        outside += 1;
+                        outside_listed += listed.contains(&(i as u32)) as usize;
+                    }
+                }
+            }
+        }
+    }
+    assert!(inside > 500, "the lights must cover many samples ({inside})");
+    // Far from a light its clusters do not list it: the projection is culled by, not
+    // every tile.
+    assert_eq!(outside_listed, 0, "of {outside} samples far from the lights");
+}
+
+#[test]
 fn lights_small_for_their_depth_are_listed_wherever_they_reach() {
     let proj = projection();
     let fine = ClusterGrid::new(320, 180, 0.5, 60.0);

@@ -4,7 +4,7 @@
 //! draws by their index in `scene_draws`.
 
 use chiaro_math::Aabb;
-use chiaro_scene::{AlphaMode, CastShadows, Primitive, Scene, ShadowCasting};
+use chiaro_scene::{AlphaMode, CastShadows, Primitive, Scene, ShadowCasting, Topology};
 use glam::Vec3;
 use std::hash::{Hash, Hasher};
 
@@ -22,7 +22,7 @@ pub struct PrimitiveRange {
 /// Every mesh primitive once, in scene order; instances refer to them.
 #[derive(Clone, Debug, Default)]
 pub struct GeometryLayout {
-    /// Per mesh, per primitive.
+    /// Per mesh, per part it draws (`Mesh::drawn_parts`: triangles, then points and lines).
     pub ranges: Vec<Vec<PrimitiveRange>>,
     /// Vertices of all primitives together.
     pub vertex_count: usize,
@@ -31,12 +31,12 @@ pub struct GeometryLayout {
 }
 
 impl GeometryLayout {
-    /// Lays out every primitive of `scene`'s meshes one after the other.
+    /// Lays out every drawn part of `scene`'s meshes one after the other.
     pub fn of(scene: &Scene) -> GeometryLayout {
         let mut layout = GeometryLayout::default();
         for mesh in &scene.meshes {
-            let mut ranges = Vec::with_capacity(mesh.primitives.len());
-            for p in &mesh.primitives {
+            let mut ranges = Vec::with_capacity(mesh.primitives.len() + mesh.points_and_lines.len());
+            for (_, p) in mesh.drawn_parts() {
                 ranges.push(PrimitiveRange {
                     first_index: layout.index_count as u32,
                     index_count: p.indices.len() as u32,
@@ -65,6 +65,8 @@ pub struct Draw {
     pub object: u32,
     /// Index of the material; `Scene::materials.len()` is the glTF default material.
     pub material: usize,
+    /// Triangles, or points and lines (which no shadow map draws).
+    pub topology: Topology,
     /// The material's alpha mode: opaque, masked or blended.
     pub alpha_mode: AlphaMode,
     /// Whether the material has any texture (else its shading samples none).
@@ -122,7 +124,7 @@ fn geometry_hash(p: &Primitive) -> u64 {
 pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
     let default_material = scene.materials.len();
     let geometry: Vec<Vec<u64>> =
-        scene.meshes.iter().map(|m| m.primitives.iter().map(geometry_hash).collect()).collect();
+        scene.meshes.iter().map(|m| m.drawn_parts().map(|(_, p)| geometry_hash(p)).collect()).collect();
     // Images alpha-tested casters read, hashed once each.
     let mut image_hashes: Vec<Option<u64>> = vec![None; scene.images.len()];
     let mut image_hash = |index: usize| -> Option<u64> {
@@ -135,7 +137,9 @@ pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
     };
     let mut draws = Vec::new();
     for (object, inst) in scene.instances.iter().enumerate() {
-        for (k, (p, range)) in scene.meshes[inst.mesh].primitives.iter().zip(&layout.ranges[inst.mesh]).enumerate() {
+        for (k, ((topology, p), range)) in
+            scene.meshes[inst.mesh].drawn_parts().zip(&layout.ranges[inst.mesh]).enumerate()
+        {
             if range.index_count == 0 {
                 continue;
             }
@@ -156,14 +160,21 @@ pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
                 base_vertex: range.base_vertex,
                 object: object as u32,
                 material,
+                topology,
                 alpha_mode: m.alpha_mode,
                 textured: m.has_texture(),
                 double_sided: m.double_sided,
                 mirrored: inst.world_from_local.determinant() < 0.0,
                 center_ws: inst.world_from_local.transform_point3(p.bounds.center()),
                 bounds_ws: p.bounds.transformed(&inst.world_from_local),
-                cast_shadows: inst.cast_shadows,
-                shadow_casting: m.shadow_casting,
+                // Points and lines have no surface to cast with; a shadows-only instance's
+                // draw nothing at all.
+                cast_shadows: match (topology, inst.cast_shadows) {
+                    (Topology::Triangles, cast) => cast,
+                    (_, CastShadows::ShadowsOnly) => CastShadows::ShadowsOnly,
+                    _ => CastShadows::Off,
+                },
+                shadow_casting: if topology == Topology::Triangles { m.shadow_casting } else { ShadowCasting::Off },
                 caster_key: h.finish(),
             });
         }
@@ -193,8 +204,8 @@ pub fn instanced_runs<'a>(draws: &'a [Draw], order: &'a [u32]) -> impl Iterator<
 /// Whether two draws draw the same primitive with the same material in the same state,
 /// so that one instanced draw can issue both.
 fn draws_alike(a: &Draw, b: &Draw) -> bool {
-    (a.first_index, a.index_count, a.base_vertex, a.material)
-        == (b.first_index, b.index_count, b.base_vertex, b.material)
+    (a.first_index, a.index_count, a.base_vertex, a.material, a.topology)
+        == (b.first_index, b.index_count, b.base_vertex, b.material, b.topology)
         && (a.alpha_mode, a.textured, a.double_sided, a.mirrored)
             == (b.alpha_mode, b.textured, b.double_sided, b.mirrored)
         && (a.cast_shadows, a.shadow_casting) == (b.cast_shadows, b.shadow_casting)
@@ -203,8 +214,9 @@ fn draws_alike(a: &Draw, b: &Draw) -> bool {
 /// The camera's draw order, as indices into `draws`: opaque and masked draws first,
 /// grouped by pipeline state, material and primitive (which keeps the copies of an
 /// instanced mesh together, in object order, for `instanced_runs`); then transparent
-/// draws from far to near, so that blending composes correctly.
-pub fn camera_draw_order(draws: &[Draw], eye: Vec3) -> Vec<u32> {
+/// draws from far to near, so that blending composes correctly. `far_key` says how far a
+/// world point is: its distance from a perspective eye, its depth for parallel rays.
+pub fn camera_draw_order(draws: &[Draw], far_key: impl Fn(Vec3) -> f32) -> Vec<u32> {
     let (mut blended, mut solid): (Vec<u32>, Vec<u32>) = (0..draws.len() as u32)
         .filter(|&i| draws[i as usize].visible())
         .partition(|&i| draws[i as usize].alpha_mode == AlphaMode::Blend);
@@ -212,7 +224,7 @@ pub fn camera_draw_order(draws: &[Draw], eye: Vec3) -> Vec<u32> {
         let d = &draws[i as usize];
         (d.double_sided, d.mirrored, d.material, d.first_index)
     });
-    let distance = |i: u32| draws[i as usize].center_ws.distance_squared(eye);
+    let distance = |i: u32| far_key(draws[i as usize].center_ws);
     blended.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
     solid.extend(blended);
     solid
@@ -230,7 +242,7 @@ mod tests {
         cube.material = Some(0);
         let mut glass = shapes::cuboid(Vec3::ONE);
         glass.material = Some(1);
-        scene.meshes.push(Mesh { name: "cube".into(), primitives: vec![cube, glass] });
+        scene.meshes.push(Mesh::of_triangles("cube".into(), vec![cube, glass]));
         scene.materials.push(Material::default());
         scene.materials.push(Material { alpha_mode: AlphaMode::Blend, ..Material::default() });
         for (i, (x, cast)) in
@@ -290,7 +302,10 @@ mod tests {
         let scene = scene();
         let draws = scene_draws(&scene, &GeometryLayout::of(&scene));
         // Glass draws are 1 (x = 0), 3 (shadows only) and 5 (x = -8); the eye is at x = 10.
-        let order = camera_draw_order(&draws, Vec3::new(10.0, 0.0, 0.0));
+        let order = camera_draw_order(&draws, |p| p.distance(Vec3::new(10.0, 0.0, 0.0)));
         assert_eq!(order, vec![0, 4, 5, 1]);
+        // Parallel rays along +X from x = -30: depth alone orders them.
+        let (eye, forward) = (Vec3::new(-30.0, 0.0, 5.0), Vec3::X);
+        assert_eq!(camera_draw_order(&draws, |p| (p - eye).dot(forward)), vec![0, 4, 1, 5]);
     }
 }

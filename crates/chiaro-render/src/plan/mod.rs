@@ -238,7 +238,12 @@ impl FramePlan {
         for (k, light) in lights.iter().enumerate() {
             frame_index[light.id.index()] = Some(k as u32);
         }
-        let camera_draws = camera_draw_order(draws, view.eye());
+        let (eye, forward) = (view.eye(), view.forward());
+        let camera_draws = if view.is_orthographic() {
+            camera_draw_order(draws, |p| (p - eye).dot(forward))
+        } else {
+            camera_draw_order(draws, |p| p.distance_squared(eye))
+        };
         let transparent_from =
             camera_draws.iter().take_while(|&&d| draws[d as usize].alpha_mode != AlphaMode::Blend).count();
         let volumes = match path {
@@ -409,6 +414,8 @@ impl FramePlan {
             cluster_slice_bias: self.culled.grid.map_or(0.0, |g| g.slice_params().1),
             cluster_tiles_x: self.culled.grid.map_or(1, |g| g.tiles_x),
             cluster_tiles_y: self.culled.grid.map_or(1, |g| g.tiles_y),
+            orthographic: view.is_orthographic() as u32,
+            _pad: [0; 3],
         }
     }
 }

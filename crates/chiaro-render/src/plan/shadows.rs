@@ -12,7 +12,9 @@ use crate::shader_constants::{
     CASCADE_BLEND_DITHER, CASCADE_BLEND_HARD, CASCADE_BLEND_SOFT, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES,
 };
 use crate::view::View;
+use chiaro_math::camera::Projection;
 use chiaro_math::shadow::bias::{cascade_texel_size_ws, normal_bias_ws};
+use chiaro_math::shadow::cascades::orthographic_slice_culling_sphere;
 use chiaro_math::shadow::culling::{caster_in_range, caster_in_tile};
 use chiaro_math::shadow::fade::distance_fade_params;
 use chiaro_math::shadow::local::{
@@ -289,11 +291,18 @@ fn plan_cascade_spheres(
     tile_size: u32,
     filter: ShadowFilter,
 ) -> Vec<f32> {
-    let tan_half_fov = (view.yfov_rad * 0.5).tan();
     let mut texel_sizes = Vec::with_capacity(splits.len());
     for (i, &far) in splits.iter().enumerate() {
         let near = if i == 0 { view.znear } else { splits[i - 1] };
-        let sphere_vs = slice_culling_sphere(near, far.max(near + 1e-3), tan_half_fov, view.aspect());
+        let far = far.max(near + 1e-3);
+        let sphere_vs = match view.projection {
+            Projection::Perspective { yfov_rad } => {
+                slice_culling_sphere(near, far, (yfov_rad * 0.5).tan(), view.aspect())
+            }
+            Projection::Orthographic { ymag } => {
+                orthographic_slice_culling_sphere(near, far, ymag * view.aspect(), ymag)
+            }
+        };
         let sphere =
             Sphere { center: view.world_from_view.transform_point3(sphere_vs.center), radius: sphere_vs.radius };
         let texel = cascade_texel_size_ws(sphere.radius, tile_size);

@@ -160,9 +160,15 @@ pub fn light_volume(light: &Light, range: f32, view: &View, index: u32) -> Volum
             (VolumeShape::Sphere, world_from_volume, range * unit_sphere().circumradius)
         }
     };
-    // The near plane clips volumes the camera stands in or close to.
+    // The near plane clips volumes the camera stands in or close to; an orthographic
+    // camera's near plane is as wide as its view, so any volume reaching it counts.
     let margin = 2.0 * view.znear;
-    let camera_inside = shape != VolumeShape::Screen && view.eye().distance(position) <= reach + margin;
+    let near_plane_gap = if view.is_orthographic() {
+        (position - view.eye()).dot(view.forward()) - view.znear
+    } else {
+        view.eye().distance(position)
+    };
+    let camera_inside = shape != VolumeShape::Screen && near_plane_gap <= reach + margin;
     VolumeDraw { light: index, shape, world_from_volume, camera_inside }
 }
 
@@ -201,7 +207,7 @@ mod tests {
             height: 8,
             world_from_view: Mat4::from_translation(Vec3::new(0.0, 1.0, 30.0)),
             clip_from_view: Mat4::IDENTITY,
-            yfov_rad: 1.0,
+            projection: chiaro_math::camera::Projection::Perspective { yfov_rad: 1.0 },
             znear: 0.1,
             zfar: None,
         };

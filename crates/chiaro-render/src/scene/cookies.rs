@@ -182,6 +182,7 @@ mod tests {
             height: 2,
             rgba8,
             file_mips: Vec::new(),
+            basis_source: None,
             color_space: ColorSpace::Linear,
         };
         let cookie = Some(Cookie { image: 0, size_m: Vec2::ONE });

@@ -16,7 +16,7 @@ use bytemuck::Zeroable;
 use chiaro_scene::{AlphaMode, Material, Scene, TextureRef};
 use cookies::CookieTextures;
 use glam::{Vec2, Vec3, Vec4};
-use textures::{SamplerCache, solid, upload_image};
+use textures::{SamplerCache, solid, upload_scene_image};
 use wgpu::util::DeviceExt;
 
 /// A scene on the GPU: geometry, objects, materials, draws, cookies and bakes.
@@ -35,6 +35,9 @@ pub struct GpuScene {
     pub cookies: CookieTextures,
     /// Lightmaps and light probes, bound in group 0.
     pub baked: BakedTextures,
+    /// How many of the scene's images went to the GPU as BC7 (KTX2 images transcoded to
+    /// it on a device with BC textures); the rest are RGBA8.
+    pub bc7_images: usize,
 }
 
 /// Group 1 of the mesh passes: one material's uniform, its textures and their samplers.
@@ -143,10 +146,10 @@ impl GpuScene {
             usage: wgpu::BufferUsages::STORAGE,
         });
 
-        let materials = material_bind_groups(device, queue, layout, scene);
+        let (materials, bc7_images) = material_bind_groups(device, queue, layout, scene);
         let cookies = CookieTextures::upload(device, queue, scene);
         let baked = BakedTextures::upload(device, queue, scene.baked.as_ref());
-        GpuScene { vertices, indices, objects, materials, draws, cookies, baked }
+        GpuScene { vertices, indices, objects, materials, draws, cookies, baked, bc7_images }
     }
 }
 
@@ -154,7 +157,7 @@ impl GpuScene {
 fn vertices_and_indices(scene: &Scene, geometry: &GeometryLayout) -> (Vec<GpuVertex>, Vec<u32>) {
     let mut vertices: Vec<GpuVertex> = Vec::with_capacity(geometry.vertex_count);
     let mut indices: Vec<u32> = Vec::with_capacity(geometry.index_count);
-    for p in scene.meshes.iter().flat_map(|m| &m.primitives) {
+    for (_, p) in scene.meshes.iter().flat_map(|m| m.drawn_parts()) {
         for i in 0..p.positions.len() {
             vertices.push(GpuVertex {
                 position: p.positions[i].to_array(),
@@ -208,13 +211,16 @@ fn material_bind_groups(
     queue: &wgpu::Queue,
     layout: &wgpu::BindGroupLayout,
     scene: &Scene,
-) -> Vec<wgpu::BindGroup> {
-    let images: Vec<wgpu::TextureView> = scene.images.iter().map(|i| upload_image(device, queue, i)).collect();
+) -> (Vec<wgpu::BindGroup>, usize) {
+    let uploaded: Vec<(wgpu::TextureView, bool)> =
+        scene.images.iter().map(|i| upload_scene_image(device, queue, i)).collect();
+    let bc7_images = uploaded.iter().filter(|(_, bc7)| *bc7).count();
+    let images: Vec<wgpu::TextureView> = uploaded.into_iter().map(|(view, _)| view).collect();
     let white = solid(device, queue, "white", [255, 255, 255, 255]);
     let flat_normal = solid(device, queue, "flat normal", [128, 128, 255, 255]);
     let mut samplers = SamplerCache::default();
     let default = Material::default();
-    scene
+    let groups = scene
         .materials
         .iter()
         .chain(std::iter::once(&default))
@@ -251,5 +257,6 @@ fn material_bind_groups(
             }
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&m.name), layout, entries: &entries })
         })
-        .collect()
+        .collect();
+    (groups, bc7_images)
 }

@@ -56,6 +56,57 @@ pub(super) fn downsample(rgba: &[u8], width: u32, height: u32) -> (Vec<u8>, u32,
     (out, w, h)
 }
 
+/// A scene image as a texture: BC7 where it is a Basis Universal KTX2 image, the device
+/// samples BC and its size is whole 4x4 blocks (as BC textures must be), else RGBA8.
+/// Returns the view and whether it is BC7.
+pub fn upload_scene_image(device: &wgpu::Device, queue: &wgpu::Queue, image: &Image) -> (wgpu::TextureView, bool) {
+    let blocks_whole = image.width.is_multiple_of(4) && image.height.is_multiple_of(4);
+    if device.features().contains(wgpu::Features::TEXTURE_COMPRESSION_BC) && blocks_whole {
+        match image.bc7_levels() {
+            Some(Ok(levels)) => return (upload_bc7(device, queue, image, &levels), true),
+            // It transcoded to RGBA8 when the file loaded; that serves.
+            Some(Err(e)) => tracing::warn!("{}: BC7: {e}; uploaded as RGBA8", image.name),
+            None => {}
+        }
+    }
+    (upload_image(device, queue, image), false)
+}
+
+/// A texture of the file's BC7 levels (`Image::bc7_levels`), as many mips as it stores.
+fn upload_bc7(device: &wgpu::Device, queue: &wgpu::Queue, image: &Image, levels: &[Vec<u8>]) -> wgpu::TextureView {
+    let format = match image.color_space {
+        ColorSpace::Srgb => wgpu::TextureFormat::Bc7RgbaUnormSrgb,
+        ColorSpace::Linear => wgpu::TextureFormat::Bc7RgbaUnorm,
+    };
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(&image.name),
+        size: wgpu::Extent3d { width: image.width, height: image.height, depth_or_array_layers: 1 },
+        mip_level_count: levels.len() as u32,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for (level, blocks) in levels.iter().enumerate() {
+        // A level smaller than a block still fills one: copies cover whole blocks.
+        let (w, h) = ((image.width >> level).max(1), (image.height >> level).max(1));
+        let (across, down) = (w.div_ceil(4), h.div_ceil(4));
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: level as u32,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            blocks,
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(across * 16), rows_per_image: Some(down) },
+            wgpu::Extent3d { width: across * 4, height: down * 4, depth_or_array_layers: 1 },
+        );
+    }
+    texture.create_view(&wgpu::TextureViewDescriptor::default())
+}
+
 pub fn upload_image(device: &wgpu::Device, queue: &wgpu::Queue, image: &Image) -> wgpu::TextureView {
     let format = match image.color_space {
         ColorSpace::Srgb => wgpu::TextureFormat::Rgba8UnormSrgb,
@@ -110,6 +161,7 @@ pub fn solid(device: &wgpu::Device, queue: &wgpu::Queue, name: &str, rgba: [u8; 
             height: 1,
             rgba8: rgba.to_vec(),
             file_mips: Vec::new(),
+            basis_source: None,
             color_space: ColorSpace::Linear,
         },
     )

@@ -6,11 +6,13 @@
 //! passes, the ray-traced reference) sees the posed scene as if it were static.
 
 pub mod deform;
+pub mod properties;
 pub mod sample;
 
 use crate::types::Scene;
 use deform::Deformation;
 use glam::{Mat4, Quat, Vec3};
+use properties::PropertyChannel;
 use sample::Keyframes;
 
 /// Why a scene could not be posed.
@@ -105,12 +107,23 @@ pub struct SceneAnimation {
     pub rest_weights: Vec<Vec<f32>>,
     /// Instances with skinned or morphed meshes.
     pub posed: Vec<PosedInstance>,
+    /// KHR_animation_pointer channels of light and material properties, with their rest
+    /// values.
+    pub properties: Vec<PropertyChannel>,
+    /// Per scene light, the KHR_lights_punctual light it places (what `properties` name).
+    pub light_sources: Vec<Option<usize>>,
 }
 
 impl SceneAnimation {
     /// The latest key of any channel: the animations' length in seconds.
     pub fn duration(&self) -> f32 {
-        self.channels.iter().map(|c| c.keys.end()).fold(0.0, f32::max)
+        let ends = self.channels.iter().map(|c| c.keys.end()).chain(self.properties.iter().map(|p| p.keys.end()));
+        ends.fold(0.0, f32::max)
+    }
+
+    /// Whether anything changes with time.
+    pub fn has_channels(&self) -> bool {
+        !self.channels.is_empty() || !self.properties.is_empty()
     }
 
     /// World transforms of the walked nodes (`None` for nodes outside the drawn scene) and
@@ -164,10 +177,17 @@ impl Scene {
 
     /// The animations' length in seconds; `None` when the scene has no animation.
     pub fn animation_duration(&self) -> Option<f32> {
-        self.animation.as_ref().filter(|a| !a.channels.is_empty()).map(|a| a.duration())
+        self.animation.as_ref().filter(|a| a.has_channels()).map(|a| a.duration())
     }
 
     fn apply_pose(&mut self, animation: &SceneAnimation, time: Option<f32>) {
+        for channel in &animation.properties {
+            let value = match time {
+                Some(t) => channel.keys.sample(t),
+                None => channel.rest.clone(),
+            };
+            properties::write(self, &animation.light_sources, channel.target, &value);
+        }
         let (world, weights) = animation.sample(time);
         for (node, entry) in self.nodes.iter_mut().enumerate() {
             if let Some(m) = world.get(node).copied().flatten() {

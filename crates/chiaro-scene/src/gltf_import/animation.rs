@@ -15,6 +15,14 @@ use glam::{Mat4, Quat, Vec3};
 use gltf::json;
 use json::validation::Checked;
 
+/// Floats per key value: fixed (a vector, a factor), or a morph target's weight per target
+/// (the output's length over the keys).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum KeyWidth {
+    Fixed(usize),
+    PerTarget,
+}
+
 impl Loader<'_> {
     /// Everything posing needs, or `None` for a file without animations, skins or morph
     /// targets. Instances of deformed meshes are pointed at their own posed copies.
@@ -24,7 +32,9 @@ impl Loader<'_> {
         instances: &mut [MeshInstance],
         meshes: &mut Vec<Mesh>,
     ) -> Result<Option<SceneAnimation>, SceneError> {
-        let channels = self.channels()?;
+        let mut channels = self.channels()?;
+        let (pointer_nodes, properties) = self.pointer_channels()?;
+        channels.extend(pointer_nodes);
         let skins = self.skins()?;
         let nodes = &self.root.nodes;
         let mut posed = Vec::new();
@@ -63,7 +73,7 @@ impl Loader<'_> {
             posed.push(PosedInstance { instance: i, mesh: instance.mesh, skin: skin.filter(|_| skinned), primitives });
         }
         self.mesh_copies = copies;
-        if channels.is_empty() && posed.is_empty() {
+        if channels.is_empty() && posed.is_empty() && properties.is_empty() {
             return Ok(None);
         }
         let mut walked = vec![false; nodes.len()];
@@ -85,7 +95,8 @@ impl Loader<'_> {
                     .unwrap_or_default()
             })
             .collect();
-        Ok(Some(SceneAnimation { rest, order, channels, skins, rest_weights, posed }))
+        let light_sources = Vec::new();
+        Ok(Some(SceneAnimation { rest, order, channels, skins, rest_weights, posed, properties, light_sources }))
     }
 
     /// Per node, the node whose children list holds it.
@@ -126,17 +137,22 @@ impl Loader<'_> {
                 let sampler = animation.samplers.get(channel.sampler.value()).ok_or_else(|| {
                     self.invalid(format!("{label}: sampler {} does not exist", channel.sampler.value()))
                 })?;
-                let keys = self.keyframes(sampler, property, &label)?;
+                let width = match property {
+                    Property::Translation | Property::Scale => KeyWidth::Fixed(3),
+                    Property::Rotation => KeyWidth::Fixed(4),
+                    Property::Weights => KeyWidth::PerTarget,
+                };
+                let keys = self.keyframes(sampler, width, &label)?;
                 channels.push(Channel { node, property, keys });
             }
         }
         Ok(channels)
     }
 
-    fn keyframes(
+    pub(super) fn keyframes(
         &self,
         sampler: &json::animation::Sampler,
-        property: Property,
+        width: KeyWidth,
         label: &str,
     ) -> Result<Keyframes, SceneError> {
         let interpolation = match sampler.interpolation {
@@ -166,16 +182,15 @@ impl Loader<'_> {
         }
         let output = sampler.output.value();
         let what = format!("output of {label}");
-        let values: Vec<f32> = match property {
-            Property::Translation | Property::Scale => self.read_floats::<3>(output, &what)?.concat(),
-            Property::Rotation => self.read_floats::<4>(output, &what)?.concat(),
-            Property::Weights => self.read_floats::<1>(output, &what)?.concat(),
+        let values: Vec<f32> = match width {
+            KeyWidth::Fixed(3) => self.read_floats::<3>(output, &what)?.concat(),
+            KeyWidth::Fixed(4) => self.read_floats::<4>(output, &what)?.concat(),
+            KeyWidth::Fixed(_) | KeyWidth::PerTarget => self.read_floats::<1>(output, &what)?.concat(),
         };
         let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
-        let width = match property {
-            Property::Translation | Property::Scale => 3,
-            Property::Rotation => 4,
-            Property::Weights => values.len() / (times.len() * per_key),
+        let width = match width {
+            KeyWidth::Fixed(width) => width,
+            KeyWidth::PerTarget => values.len() / (times.len() * per_key),
         };
         if width == 0 || values.len() != times.len() * per_key * width {
             return Err(self.invalid(format!(

@@ -23,6 +23,8 @@ pub(super) struct Document<'a> {
     pub(super) bin: Option<&'a [u8]>,
     /// Per KHR_lights_punctual light, whether its type is unknown and the light skipped.
     pub(super) skipped_lights: Vec<bool>,
+    /// KHR_animation_pointer channels, set aside from the typed model.
+    pub(super) pointer_channels: Vec<super::normalize::PointerChannel>,
     /// What the rewrites set aside, for `Scene::ignored`.
     pub(super) notes: Vec<String>,
 }
@@ -46,6 +48,13 @@ impl<'a> Document<'a> {
         }
         validate(path, &raw, &root)?;
         check_spec(&raw, &root).map_err(|message| SceneError::Invalid { path: path.to_path_buf(), message })?;
-        Ok(Document { raw, root, bin, skipped_lights: normalized.skipped_lights, notes: normalized.notes })
+        Ok(Document {
+            raw,
+            root,
+            bin,
+            skipped_lights: normalized.skipped_lights,
+            notes: normalized.notes,
+            pointer_channels: normalized.pointer_channels,
+        })
     }
 }

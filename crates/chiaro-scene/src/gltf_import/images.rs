@@ -146,6 +146,7 @@ impl Loader<'_> {
                 rgba8: base,
                 file_mips: rgba8.collect(),
                 color_space,
+                basis_source: levels.basis.then(|| std::sync::Arc::from(&bytes[..])),
             });
         }
         let rgba = self.pixels(&bytes, mime.as_deref(), &label, None)?.into_rgba8();
@@ -156,6 +157,7 @@ impl Loader<'_> {
             rgba8: rgba.into_raw(),
             file_mips: Vec::new(),
             color_space,
+            basis_source: None,
         })
     }
 

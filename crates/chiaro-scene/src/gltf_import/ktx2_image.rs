@@ -32,6 +32,8 @@ pub(super) struct Levels {
     pub(super) width: u32,
     pub(super) height: u32,
     pub(super) rgba8: Vec<Vec<u8>>,
+    /// ETC1S or UASTC: a device with BC textures may transcode it to BC7 instead.
+    pub(super) basis: bool,
 }
 
 /// Decodes a KTX2 file; the message says what is wrong with it.
@@ -66,10 +68,10 @@ pub(super) fn decode(bytes: &[u8]) -> Result<Levels, String> {
         }
     }
     let rgba8 = match header.format {
-        None => basis_levels(bytes)?,
+        None => basis_levels(bytes, TargetFormat::Rgba32, 4)?,
         Some(format) => plain_levels(&reader, format, header.supercompression_scheme)?,
     };
-    Ok(Levels { width, height, rgba8 })
+    Ok(Levels { width, height, rgba8, basis: header.format.is_none() })
 }
 
 /// The size of mip level `level` of a `width` x `height` image.
@@ -78,22 +80,37 @@ fn level_size(width: u32, height: u32, level: usize) -> (u32, u32) {
     ((width >> shift).max(1), (height >> shift).max(1))
 }
 
-/// ETC1S or UASTC (vkFormat UNDEFINED), transcoded to RGBA8 level by level.
-fn basis_levels(bytes: &[u8]) -> Result<Vec<Vec<u8>>, String> {
+/// ETC1S or UASTC (vkFormat UNDEFINED), transcoded level by level to `target`: RGBA8
+/// (`Rgba32`, 4 bytes a texel) or a block format (`Bc7Rgba`, 16 bytes a 4x4 block, passed
+/// as 16 bytes a "texel" of a level counted in blocks).
+fn basis_levels(bytes: &[u8], target: TargetFormat, bytes_per_unit: usize) -> Result<Vec<Vec<u8>>, String> {
     let transcoder = Transcoder::new(bytes).map_err(|e| format!("not a Basis Universal texture: {e:?}"))?;
+    let blocks = target != TargetFormat::Rgba32;
     (0..transcoder.level_count())
         .map(|level| {
             let info = transcoder.image_level_info(level).map_err(|e| format!("level {level}: {e:?}"))?;
             let texels = transcoder
-                .transcode(level, TargetFormat::Rgba32, DecodeFlags::NONE)
+                .transcode(level, target, DecodeFlags::NONE)
                 .map_err(|e| format!("level {level} does not transcode: {e:?}"))?;
-            let expected = info.width as usize * info.height as usize * 4;
+            let (w, h) = (info.width as usize, info.height as usize);
+            let units = if blocks { w.div_ceil(4) * h.div_ceil(4) } else { w * h };
+            let expected = units * bytes_per_unit;
             if texels.len() != expected {
                 return Err(format!("level {level} transcodes to {} bytes, not {expected}", texels.len()));
             }
             Ok(texels)
         })
         .collect()
+}
+
+impl crate::types::Image {
+    /// The image as BC7 blocks, each level of the file (the largest first, rows of 4x4
+    /// blocks of 16 bytes), for a device that samples BC7; `None` for an image that is not
+    /// ETC1S or UASTC. The message says why a level does not transcode.
+    pub fn bc7_levels(&self) -> Option<Result<Vec<Vec<u8>>, String>> {
+        let source = self.basis_source.as_ref()?;
+        Some(basis_levels(source, TargetFormat::Bc7Rgba, 16))
+    }
 }
 
 /// 8-bit RGBA or RGB (UNORM or SRGB), stored plain or Zstandard-supercompressed.

@@ -1,12 +1,13 @@
-//! A node's [`Placement`] in, the KHR_lights_punctual [`Light`] and perspective [`Camera`]
-//! it carries out, in world space. Colours, intensities, ranges, cone angles and
-//! projection parameters are checked; orthographic cameras are noted as ignored.
+//! A node's [`Placement`] in, the KHR_lights_punctual [`Light`] and perspective or
+//! orthographic [`Camera`] it carries out, in world space. Colours, intensities, ranges,
+//! cone angles and projection parameters are checked.
 
 use super::Loader;
 use super::nodes::Placement;
 use super::object_label;
 use crate::error::SceneError;
 use crate::types::{Camera, Cookie, Light, LightKind};
+use chiaro_math::camera::Projection;
 use chiaro_math::light::MAX_LIGHT_INTENSITY;
 use chiaro_math::rigid::{looking_along, rigid_part};
 use glam::{Vec2, Vec3};
@@ -153,19 +154,41 @@ impl Loader<'_> {
         };
         let camera = &self.root.cameras[camera_index];
         let label = object_label("camera", camera_index, None, camera.name.as_deref());
-        let perspective = match (camera.type_, &camera.perspective) {
-            (Checked::Valid(json::camera::Type::Perspective), Some(p)) => p,
-            (Checked::Valid(json::camera::Type::Perspective), None) => {
+        let lens = match (camera.type_, &camera.perspective, &camera.orthographic) {
+            (Checked::Valid(json::camera::Type::Perspective), Some(p), _) => self.perspective_lens(&label, p)?,
+            (Checked::Valid(json::camera::Type::Orthographic), _, Some(o)) => self.orthographic_lens(&label, o)?,
+            (Checked::Valid(json::camera::Type::Perspective), None, _) => {
                 return Err(self.invalid(format!("{label}: type is perspective but it has no perspective parameters")));
             }
-            _ => {
+            (Checked::Valid(json::camera::Type::Orthographic), _, None) => {
+                return Err(
+                    self.invalid(format!("{label}: type is orthographic but it has no orthographic parameters"))
+                );
+            }
+            (Checked::Invalid, ..) => {
                 self.ignored.push(format!(
-                    "{label} on node {}: orthographic cameras are not supported, ignored",
+                    "{label} on node {}: its type is neither perspective nor orthographic, ignored",
                     placement.node
                 ));
                 return Ok(None);
             }
         };
+        let world_from_view = rigid_part(placement.world_from_local).ok_or_else(|| {
+            self.invalid(format!("{label} on node {}: the node's transform is degenerate", placement.node))
+        })?;
+        Ok(Some(Camera {
+            name: camera.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("camera {camera_index}")),
+            node: placement.node,
+            projection: lens.projection,
+            znear: lens.znear,
+            zfar: lens.zfar,
+            aspect_ratio: lens.aspect_ratio,
+            world_from_view,
+        }))
+    }
+
+    /// A perspective camera's checked values; the message names the camera and the value.
+    fn perspective_lens(&self, label: &str, perspective: &json::camera::Perspective) -> Result<Lens, SceneError> {
         let yfov = perspective.yfov;
         let znear = perspective.znear;
         if !(yfov > 0.0 && yfov < std::f32::consts::PI) {
@@ -184,19 +207,49 @@ impl Loader<'_> {
         {
             return Err(self.invalid(format!("{label}: aspect ratio {aspect} is not positive")));
         }
-        let world_from_view = rigid_part(placement.world_from_local).ok_or_else(|| {
-            self.invalid(format!("{label} on node {}: the node's transform is degenerate", placement.node))
-        })?;
-        Ok(Some(Camera {
-            name: camera.name.clone().or_else(|| node.name.clone()).unwrap_or_else(|| format!("camera {camera_index}")),
-            node: placement.node,
-            yfov_rad: yfov,
+        Ok(Lens {
+            projection: Projection::Perspective { yfov_rad: yfov },
             znear,
             zfar: perspective.zfar,
             aspect_ratio: perspective.aspect_ratio,
-            world_from_view,
-        }))
+        })
     }
+
+    /// An orthographic camera's checked values. The spec allows `znear` 0, which a
+    /// parallel projection can draw, but the light clusters slice depth logarithmically,
+    /// so a zero near plane is moved out by a millionth of the far distance. Negative
+    /// magnifications (which the spec advises against) count by their size.
+    fn orthographic_lens(&mut self, label: &str, o: &json::camera::Orthographic) -> Result<Lens, SceneError> {
+        let (xmag, ymag, znear, zfar) = (o.xmag, o.ymag, o.znear, o.zfar);
+        for (key, mag) in [("xmag", xmag), ("ymag", ymag)] {
+            if !(mag.is_finite() && mag != 0.0) {
+                return Err(self.invalid(format!("{label}: {key} {mag} is not a non-zero distance")));
+            }
+            if mag < 0.0 {
+                self.ignored.push(format!("{label}: {key} {mag} is negative; its size is used"));
+            }
+        }
+        if !(znear >= 0.0 && znear.is_finite()) {
+            return Err(self.invalid(format!("{label}: znear {znear} is negative")));
+        }
+        if !(zfar > znear && zfar.is_finite()) {
+            return Err(self.invalid(format!("{label}: zfar {zfar} is not beyond znear {znear}")));
+        }
+        Ok(Lens {
+            projection: Projection::Orthographic { ymag: ymag.abs() },
+            znear: znear.max(zfar * 1.0e-6),
+            zfar: Some(zfar),
+            aspect_ratio: Some(xmag.abs() / ymag.abs()),
+        })
+    }
+}
+
+/// A camera's projection and clip planes, checked.
+struct Lens {
+    projection: Projection,
+    znear: f32,
+    zfar: Option<f32>,
+    aspect_ratio: Option<f32>,
 }
 
 /// A light's frame on a node placed at `world`: its rigid part. A zero scale collapses the

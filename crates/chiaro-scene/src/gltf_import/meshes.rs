@@ -1,10 +1,11 @@
 //! A glTF mesh index in, a [`Mesh`] out: each triangle primitive's attributes read through
 //! the accessor reader, strips and fans turned into lists, missing normals generated flat
 //! (unwelding the vertices) and missing tangents generated with MikkTSpace when the
-//! primitive's material has a normal map. Primitives Chiaro cannot draw are skipped and
-//! counted in the loader's tally.
+//! primitive's material has a normal map. Points and lines go to `points_lines`;
+//! primitives without positions are skipped and counted in the loader's tally.
 
 use super::Loader;
+use super::points_lines::points_or_lines_topology;
 use crate::animation::deform::Deformation;
 use crate::error::SceneError;
 use crate::types::{Material, Mesh, Primitive};
@@ -19,9 +20,14 @@ impl Loader<'_> {
         let mesh = &self.root.meshes[index];
         let name = mesh.name.as_deref().map(|n| format!(" ({n})")).unwrap_or_default();
         let mut primitives = Vec::new();
+        let mut points_and_lines = Vec::new();
         let mut deformations = Vec::new();
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let label = format!("meshes[{index}].primitives[{p}]{name}");
+            if let Some(topology) = points_or_lines_topology(primitive.mode) {
+                points_and_lines.extend(self.points_or_lines(primitive, topology, &label)?);
+                continue;
+            }
             self.decode_draco(index, p, &label)?;
             if let Some((primitive, deformation)) = self.primitive(primitive, &label, materials)? {
                 if let Some(mapping) = self.variant_mapping((index, p), primitives.len(), &label)? {
@@ -34,7 +40,7 @@ impl Loader<'_> {
         if deformations.iter().any(Option::is_some) {
             self.deformations.insert(index, deformations);
         }
-        Ok(Mesh { name: self.mesh_name(index), primitives })
+        Ok(Mesh { name: self.mesh_name(index), primitives, points_and_lines })
     }
 
     pub(super) fn mesh_name(&self, index: usize) -> String {
@@ -56,10 +62,9 @@ impl Loader<'_> {
         };
         let mode = match primitive.mode {
             Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => mode,
-            _ => {
-                self.check_undrawn_primitive(primitive, position_accessor, label)?;
-                return Ok(None);
-            }
+            // Points and lines are read by `points_or_lines`; an invalid mode fails the
+            // document's validation before this.
+            _ => return Ok(None),
         };
         self.count_ignored_attributes(primitive);
         self.check_unread_accessors(primitive, label, false)?;
@@ -73,20 +78,13 @@ impl Loader<'_> {
         if indices.is_empty() {
             return Ok(None);
         }
-        let read_uv = |set: u32| -> Result<Vec<Vec2>, SceneError> {
-            let Some(accessor) = attribute(Semantic::TexCoords(set)) else {
-                return Ok(vec![Vec2::ZERO; vertex_count]);
-            };
-            let uvs = self.vertex_attribute::<2>(accessor, &format!("TEXCOORD_{set}"), label, vertex_count)?;
-            Ok(uvs.into_iter().map(Vec2::from_array).map(|uv| if uv.is_finite() { uv } else { Vec2::ZERO }).collect())
-        };
         let mut skin = self.skin_weights(primitive, label, vertex_count)?;
         let mut targets = self.morph_targets(primitive, label, vertex_count)?;
         // The sets the material reads, in the vertex's two UV slots.
         let material = primitive.material.map(|m| m.value());
         let [set0, set1] = material.and_then(|m| self.material_uv_sets.get(m)).copied().unwrap_or([0, 1]);
-        let mut uv0 = read_uv(set0)?;
-        let mut uv1 = read_uv(set1)?;
+        let mut uv0 = self.uv_set(primitive, set0, label, vertex_count)?;
+        let mut uv1 = self.uv_set(primitive, set1, label, vertex_count)?;
         let mut colors = self.vertex_colors(primitive, label, vertex_count)?;
         let (mut normals, mut tangents) = self.file_normals_and_tangents(primitive, label, vertex_count)?;
 
@@ -143,22 +141,7 @@ impl Loader<'_> {
         Ok(Some((primitive, deformation)))
     }
 
-    /// A primitive Chiaro does not draw (yet) but that is placed in the scene: its data is
-    /// checked all the same, and it is counted.
-    fn check_undrawn_primitive(
-        &mut self,
-        primitive: &json::mesh::Primitive,
-        position_accessor: usize,
-        label: &str,
-    ) -> Result<(), SceneError> {
-        self.check_unread_accessors(primitive, label, true)?;
-        let vertex_count = self.read_floats::<3>(position_accessor, &format!("POSITION of {label}"))?.len();
-        self.checked_indices(primitive, vertex_count, label)?;
-        self.tally.points_or_lines += 1;
-        Ok(())
-    }
-
-    fn finite_positions(&self, accessor: usize, label: &str) -> Result<Vec<Vec3>, SceneError> {
+    pub(super) fn finite_positions(&self, accessor: usize, label: &str) -> Result<Vec<Vec3>, SceneError> {
         let positions: Vec<Vec3> = self
             .read_floats::<3>(accessor, &format!("POSITION of {label}"))?
             .into_iter()
@@ -195,7 +178,7 @@ impl Loader<'_> {
     /// normalised unsigned byte or short; VEC3 or VEC4); floats outside 0..1 are clamped
     /// into it (non-finite ones read as white), so that no colour brightens a material or
     /// makes a NaN.
-    fn vertex_colors(
+    pub(super) fn vertex_colors(
         &self,
         primitive: &json::mesh::Primitive,
         label: &str,
@@ -223,7 +206,7 @@ impl Loader<'_> {
     /// The file's own normals (normalised) and tangents (repaired), where it has them.
     /// Tangents are only trusted alongside the file's own normals (glTF 2.0 §3.7.2.1).
     #[allow(clippy::type_complexity)]
-    fn file_normals_and_tangents(
+    pub(super) fn file_normals_and_tangents(
         &self,
         primitive: &json::mesh::Primitive,
         label: &str,
@@ -256,7 +239,7 @@ impl Loader<'_> {
 impl Loader<'_> {
     /// Counts the attributes Chiaro reads past: colour sets past the first, UV sets past
     /// the second that the primitive's material does not read.
-    fn count_ignored_attributes(&mut self, primitive: &json::mesh::Primitive) {
+    pub(super) fn count_ignored_attributes(&mut self, primitive: &json::mesh::Primitive) {
         use json::mesh::Semantic;
         let read_sets =
             primitive.material.and_then(|m| self.material_uv_sets.get(m.value())).copied().unwrap_or([0, 1]);
@@ -311,7 +294,7 @@ impl Loader<'_> {
     /// `vertex_count` vertices and not to be the primitive restart value (glTF 2.0
     /// §3.7.2.1; the validator's ACCESSOR_INDEX_OOB and ACCESSOR_INDEX_PRIMITIVE_RESTART):
     /// either would draw what the file does not hold.
-    fn checked_indices(
+    pub(super) fn checked_indices(
         &self,
         primitive: &json::mesh::Primitive,
         vertex_count: usize,
@@ -340,7 +323,7 @@ impl Loader<'_> {
     /// colours, UV sets past the second, JOINTS without WEIGHTS, custom attributes; with
     /// `all`, every one) as those it reads are checked: inside their buffer views, inside
     /// their buffers.
-    fn check_unread_accessors(
+    pub(super) fn check_unread_accessors(
         &self,
         primitive: &json::mesh::Primitive,
         label: &str,

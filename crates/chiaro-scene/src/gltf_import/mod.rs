@@ -20,6 +20,7 @@
 
 mod accessor;
 mod animation;
+mod animation_pointer;
 mod document;
 mod draco;
 mod extras;
@@ -34,6 +35,7 @@ mod meshes;
 mod meshopt;
 mod nodes;
 mod normalize;
+mod points_lines;
 mod spec;
 mod uri;
 mod validate;
@@ -58,7 +60,7 @@ use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 13] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 14] = [
     "KHR_lights_punctual",
     image_based_light::EXTENSION,
     "KHR_materials_emissive_strength",
@@ -72,6 +74,7 @@ pub const SUPPORTED_EXTENSIONS: [&str; 13] = [
     variants::EXTENSION,
     "EXT_texture_webp",
     ktx2_image::EXTENSION,
+    animation_pointer::EXTENSION,
 ];
 
 /// Loads a `.gltf` or `.glb` file and everything it references.
@@ -101,6 +104,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
         mesh_copies: Vec::new(),
         material_uv_sets: Vec::new(),
         skipped_lights: &document.skipped_lights,
+        pointer_channels: &document.pointer_channels,
         ignored: document.notes.clone(),
         tally: Tally::default(),
         inputs: RefCell::new(vec![path.to_path_buf()]),
@@ -125,7 +129,6 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
 /// Counts of what the file has and Chiaro ignores, reported once per kind.
 #[derive(Default)]
 struct Tally {
-    points_or_lines: usize,
     without_positions: usize,
     vertex_colors: usize,
     extra_uv_sets: usize,
@@ -156,6 +159,8 @@ struct Loader<'a> {
     mesh_copies: Vec<(usize, usize)>,
     /// Per KHR_lights_punctual light, whether its type is unknown and it is skipped.
     skipped_lights: &'a [bool],
+    /// KHR_animation_pointer channels, read by `animation_pointer`.
+    pointer_channels: &'a [normalize::PointerChannel],
     ignored: Vec<String>,
     tally: Tally,
     /// Files read: the document and its external buffers and images.
@@ -179,6 +184,7 @@ impl<'a> Loader<'a> {
         self.material_uv_sets =
             materials.iter_mut().enumerate().map(|(index, m)| self.assign_uv_slots(index, m)).collect();
         let mut meshes = self.drawn_meshes(&placements, &materials)?;
+        points_lines::unlit_materials_for_bare_points_and_lines(&mut meshes, &mut materials);
 
         let gpu_instances = self.gpu_instances(&placements)?;
         let mut instances = Vec::new();
@@ -202,7 +208,10 @@ impl<'a> Loader<'a> {
             }
         }
 
-        let animation = self.animation(&placements, &mut instances, &mut meshes)?;
+        let mut animation = self.animation(&placements, &mut instances, &mut meshes)?;
+        if let Some(animation) = animation.as_mut() {
+            animation.light_sources = self.light_sources(&lights);
+        }
         let variants = self.material_variants();
         let image_uses = images::image_uses(&materials, &meshes, variants.variant_materials());
         let images = self.decode_images(&image_uses, &mut materials, &mut lights)?;
@@ -226,6 +235,7 @@ impl<'a> Loader<'a> {
             environment,
             variants,
         };
+        animation_pointer::fill_property_rests(&mut scene);
         // Skinned and morphed meshes at rest: joints at their rest transforms, the rest
         // weights applied. The rest time is always a valid pose.
         scene.pose(None).expect("the rest pose needs no time");
@@ -249,7 +259,7 @@ impl<'a> Loader<'a> {
         (0..self.root.meshes.len())
             .map(|index| match drawn[index] {
                 true => self.mesh(index, materials),
-                false => Ok(Mesh { name: self.mesh_name(index), primitives: Vec::new() }),
+                false => Ok(Mesh::of_triangles(self.mesh_name(index), Vec::new())),
             })
             .collect()
     }
@@ -387,7 +397,6 @@ impl<'a> Loader<'a> {
         let t = &self.tally;
         let notes = [
             (t.vertex_colors, "primitive with COLOR_1 or above", "only COLOR_0 is read"),
-            (t.points_or_lines, "primitive of points or lines", "not supported, ignored"),
             (t.without_positions, "primitive without POSITION", "nothing to draw, ignored"),
             (t.extra_uv_sets, "primitive with TEXCOORD_2 or above that its material does not read", "not read"),
         ];

@@ -111,6 +111,12 @@ impl Loader<'_> {
             .iter()
             .flat_map(|a| &a.channels)
             .map(|c| c.target.node.value())
+            .chain(self.pointer_channels.iter().filter_map(|p| {
+                match super::animation_pointer::parse_pointer(&p.pointer) {
+                    Some(super::animation_pointer::PointerTarget::Node(n, _)) => Some(n),
+                    _ => None,
+                }
+            }))
             .filter(|&n| n < nodes.len())
             .collect();
         // The hierarchy was checked to be a forest in `walk_scene`; `moving` also guards

@@ -4,7 +4,8 @@
 //! - JSON has one number type, so an integer property written `1.0` is an integer (§3.6);
 //! - `scenes[i].nodes` is optional, and a scene without it is empty;
 //! - `animations[i].channels[j].target.node` is optional (an extension targets something
-//!   else), so such channels are set aside;
+//!   else), so such channels are set aside: KHR_animation_pointer's are kept for the
+//!   loader, with their pointer, the rest noted;
 //! - a KHR_lights_punctual light of a type the extension does not define is skipped;
 //! - a texture with EXT_texture_webp or KHR_texture_basisu takes its image from the
 //!   extension.
@@ -18,6 +19,18 @@ pub(super) struct Normalized {
     pub(super) skipped_lights: Vec<bool>,
     /// What was set aside, in words for `Scene::ignored`.
     pub(super) notes: Vec<String>,
+    /// KHR_animation_pointer channels, taken out of their animations.
+    pub(super) pointer_channels: Vec<PointerChannel>,
+}
+
+/// A KHR_animation_pointer channel: where it was, the sampler it names (checked by the
+/// loader) and the JSON pointer it animates.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct PointerChannel {
+    pub(super) animation: usize,
+    pub(super) channel: usize,
+    pub(super) sampler: Option<usize>,
+    pub(super) pointer: String,
 }
 
 /// The light types KHR_lights_punctual defines.
@@ -27,10 +40,10 @@ pub(super) fn normalize(mut json: Value) -> Normalized {
     integral_floats_to_integers(&mut json);
     let mut notes = Vec::new();
     default_scene_nodes(&mut json);
-    drop_channels_without_node(&mut json, &mut notes);
+    let pointer_channels = set_aside_channels_without_node(&mut json, &mut notes);
     let skipped_lights = skip_unknown_light_types(&mut json, &mut notes);
     take_extension_sources(&mut json);
-    Normalized { json, skipped_lights, notes }
+    Normalized { json, skipped_lights, notes, pointer_channels }
 }
 
 /// Floats holding an integer value become integers, so that `"count": 3.0` reads as 3.
@@ -62,17 +75,33 @@ fn default_scene_nodes(json: &mut Value) {
     }
 }
 
-fn drop_channels_without_node(json: &mut Value, notes: &mut Vec<String>) {
+/// The KHR_animation_pointer pointer a channel's target names, if it is one.
+fn animation_pointer(channel: &Value) -> Option<String> {
+    let target = channel.get("target")?;
+    let pointer = target.pointer("/extensions/KHR_animation_pointer/pointer")?.as_str()?;
+    (target.get("path").and_then(Value::as_str) == Some("pointer")).then(|| pointer.to_owned())
+}
+
+fn set_aside_channels_without_node(json: &mut Value, notes: &mut Vec<String>) -> Vec<PointerChannel> {
+    let mut pointer_channels = Vec::new();
     for (a, animation) in array_mut(json, "animations").enumerate() {
         let Some(channels) = animation.get_mut("channels").and_then(Value::as_array_mut) else { continue };
+        let without_node = |c: &Value| c.get("target").is_some_and(|t| t.is_object() && t.get("node").is_none());
+        for (c, channel) in channels.iter().enumerate().filter(|(_, c)| without_node(c)) {
+            if let Some(pointer) = animation_pointer(channel) {
+                let sampler = channel.get("sampler").and_then(Value::as_u64).map(|s| s as usize);
+                pointer_channels.push(PointerChannel { animation: a, channel: c, sampler, pointer });
+            }
+        }
         let before = channels.len();
-        channels.retain(|c| c.get("target").is_none_or(|t| !t.is_object() || t.get("node").is_some()));
-        let dropped = before - channels.len();
+        channels.retain(|c| !without_node(c));
+        let dropped = before - channels.len() - pointer_channels.iter().filter(|p| p.animation == a).count();
         if dropped > 0 {
             let what = if dropped == 1 { "channel targets" } else { "channels target" };
             notes.push(format!("animations[{a}]: {dropped} {what} no node (an extension's target), ignored"));
         }
     }
+    pointer_channels
 }
 
 /// Lights of an unknown type are marked skipped and given the point type, so that the
@@ -127,6 +156,27 @@ mod tests {
         let mut value = json!({ "count": 3.0, "offset": -2.0, "scale": 0.5, "list": [1.0, 2.5], "big": 1e300 });
         integral_floats_to_integers(&mut value);
         assert_eq!(value, json!({ "count": 3, "offset": -2, "scale": 0.5, "list": [1, 2.5], "big": 1e300 }));
+    }
+
+    #[test]
+    fn pointer_channels_are_kept_aside_and_other_nodeless_channels_noted() {
+        let pointer =
+            |p: &str| json!({ "path": "pointer", "extensions": { "KHR_animation_pointer": { "pointer": p } } });
+        let doc = json!({ "animations": [{ "channels": [
+            { "sampler": 0, "target": { "node": 0, "path": "rotation" } },
+            { "sampler": 1, "target": pointer("/materials/0/emissiveFactor") },
+            { "sampler": 0, "target": { "path": "weights" } },
+        ], "samplers": [] }] });
+        let normalized = normalize(doc);
+        let channel = PointerChannel {
+            animation: 0,
+            channel: 1,
+            sampler: Some(1),
+            pointer: "/materials/0/emissiveFactor".into(),
+        };
+        assert_eq!(normalized.pointer_channels, vec![channel]);
+        assert_eq!(normalized.json.pointer("/animations/0/channels").unwrap().as_array().unwrap().len(), 1);
+        assert_eq!(normalized.notes, vec!["animations[0]: 1 channel targets no node (an extension's target), ignored"]);
     }
 
     #[test]

@@ -10,7 +10,7 @@ fn plane_scene(material: Material, images: Vec<Image>) -> Scene {
     let mut plane = shapes::plane(2.0, 1);
     plane.material = Some(0);
     Scene {
-        meshes: vec![Mesh { name: "plane".into(), primitives: vec![plane] }],
+        meshes: vec![Mesh::of_triangles("plane".into(), vec![plane])],
         materials: vec![material],
         images,
         instances: vec![MeshInstance {
@@ -38,6 +38,7 @@ fn checker_material(alpha_mode: AlphaMode, casting: ShadowCasting) -> (Material,
         height: 2,
         rgba8: [texel(255), texel(0), texel(0), texel(255)].concat(),
         file_mips: Vec::new(),
+        basis_source: None,
         color_space: ColorSpace::Srgb,
     };
     let material = Material {

@@ -23,7 +23,7 @@ fn instance(mesh: usize, world_from_local: Mat4, cast_shadows: CastShadows) -> M
 }
 
 fn mesh(primitive: Primitive) -> Mesh {
-    Mesh { name: String::new(), primitives: vec![primitive] }
+    Mesh::of_triangles(String::new(), vec![primitive])
 }
 
 /// A floor, two turned boxes and a squashed sphere, apart from one another, with every

@@ -319,3 +319,100 @@ fn broken_samplers_are_refused_naming_the_channel() {
     let message = invalid_message(load_doc(&dir, &bytes_doc(broken, &doc)));
     assert!(message.contains("which is not 3 keys of 3 value(s) each"), "{message}");
 }
+
+fn pointer_channel(sampler: usize, pointer: &str) -> Value {
+    json!({ "sampler": sampler, "target": { "path": "pointer", "extensions": { "KHR_animation_pointer": { "pointer": pointer } } } })
+}
+
+#[test]
+fn animation_pointers_move_light_and_material_properties_and_nodes() {
+    let dir = TempDir::new("anim-pointer");
+    let lamp = |n: usize| json!({ "name": format!("lamp {n}"), "translation": [n as f32, 2.0, 0.0], "extensions": { "KHR_lights_punctual": { "light": 0 } } });
+    let mut doc = Doc::new(json!([{ "mesh": 0, "name": "tri" }, lamp(1), lamp(2)]), json!([0, 1, 2]));
+    let mesh = triangle(&mut doc);
+    doc.json["meshes"][mesh]["primitives"][0]["material"] = json!(0);
+    doc.json["materials"] = json!([{
+        "pbrMetallicRoughness": { "baseColorFactor": [1.0, 1.0, 1.0, 1.0], "roughnessFactor": 0.8 },
+        "emissiveFactor": [1.0, 0.5, 0.0],
+        "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": 2.0 } }
+    }]);
+    doc.json["extensionsUsed"] =
+        json!(["KHR_lights_punctual", "KHR_animation_pointer", "KHR_materials_emissive_strength"]);
+    doc.json["extensionsRequired"] = json!(["KHR_animation_pointer"]);
+    doc.json["extensions"] = json!({ "KHR_lights_punctual": { "lights": [{
+        "type": "spot", "color": [1.0, 1.0, 1.0], "intensity": 10.0, "range": 8.0,
+        "spot": { "innerConeAngle": 0.2, "outerConeAngle": 0.6 }
+    }] } });
+    let times = doc.floats(&[0.0, 2.0], "SCALAR");
+    let colors = doc.floats(&[1.0, 0.0, 0.0, 0.0, 0.0, 1.0], "VEC3");
+    let intensities = doc.floats(&[0.0, 40.0], "SCALAR");
+    let cones = doc.floats(&[0.3, 0.9], "SCALAR");
+    let base = doc.floats(&[0.2, 0.4, 0.6, 1.0, 0.6, 0.4, 0.2, 0.5], "VEC4");
+    let roughness = doc.floats(&[0.1, 0.5], "SCALAR");
+    let strength = doc.floats(&[0.0, 4.0], "SCALAR");
+    let moves = doc.floats(&[0.0, 0.0, 0.0, 0.0, 6.0, 0.0], "VEC3");
+    doc.json["animations"] = json!([{
+        "name": "pulse",
+        "channels": [
+            pointer_channel(0, "/extensions/KHR_lights_punctual/lights/0/color"),
+            pointer_channel(1, "/extensions/KHR_lights_punctual/lights/0/intensity"),
+            pointer_channel(2, "/extensions/KHR_lights_punctual/lights/0/spot/outerConeAngle"),
+            pointer_channel(3, "/materials/0/pbrMetallicRoughness/baseColorFactor"),
+            pointer_channel(4, "/materials/0/pbrMetallicRoughness/roughnessFactor"),
+            pointer_channel(5, "/materials/0/extensions/KHR_materials_emissive_strength/emissiveStrength"),
+            pointer_channel(6, "/nodes/0/translation"),
+            pointer_channel(4, "/cameras/0/perspective/yfov"),
+            pointer_channel(4, "/materials/9/alphaCutoff"),
+        ],
+        "samplers": [
+            sampler(times, colors, "LINEAR"), sampler(times, intensities, "LINEAR"), sampler(times, cones, "STEP"),
+            sampler(times, base, "LINEAR"), sampler(times, roughness, "LINEAR"), sampler(times, strength, "LINEAR"),
+            sampler(times, moves, "LINEAR")
+        ]
+    }]);
+    let mut scene = load_doc(&dir, &doc.finish()).unwrap();
+    assert_eq!(scene.lights.len(), 2, "two nodes place the light");
+    assert_eq!(scene.animation_duration(), Some(2.0));
+    let ignored =
+        |what: &str| scene.ignored.iter().any(|s| s.contains("animations[0] (pulse).channels[") && s.contains(what));
+    assert!(ignored("\"/cameras/0/perspective/yfov\" is not a property Chiaro animates"), "{:?}", scene.ignored);
+    assert!(ignored("\"/materials/9/alphaCutoff\" names something the file does not have"), "{:?}", scene.ignored);
+
+    scene.pose(Some(0.5)).unwrap();
+    for light in &scene.lights {
+        assert!(light.color.abs_diff_eq(Vec3::new(0.75, 0.0, 0.25), 1e-6), "{}", light.color);
+        assert!((light.intensity - 10.0).abs() < 1e-5);
+        let crate::types::LightKind::Spot { inner_cone_rad, outer_cone_rad } = light.kind else { panic!("spot") };
+        assert_eq!((inner_cone_rad, outer_cone_rad), (0.2, 0.3), "STEP holds the first key");
+    }
+    let m = &scene.materials[0];
+    assert!(m.base_color.abs_diff_eq(glam::Vec4::new(0.3, 0.4, 0.5, 0.875), 1e-6), "{}", m.base_color);
+    assert!((m.roughness - 0.2).abs() < 1e-6);
+    // Emissive strength 1 (a quarter of the way to 4) times the file's factor.
+    assert!(m.emissive.abs_diff_eq(Vec3::new(1.0, 0.5, 0.0), 1e-6), "{}", m.emissive);
+    assert!(scene.instances[0].world_from_local.w_axis.truncate().abs_diff_eq(Vec3::new(0.0, 1.5, 0.0), 1e-6));
+
+    // The cone past the inner one pulls it in; no time is the file's values again.
+    scene.pose(Some(2.0)).unwrap();
+    let crate::types::LightKind::Spot { outer_cone_rad, .. } = scene.lights[1].kind else { panic!("spot") };
+    assert_eq!(outer_cone_rad, 0.9);
+    scene.pose(None).unwrap();
+    let light = &scene.lights[0];
+    assert_eq!((light.color, light.intensity, light.range), (Vec3::ONE, 10.0, Some(8.0)));
+    let crate::types::LightKind::Spot { inner_cone_rad, outer_cone_rad } = light.kind else { panic!("spot") };
+    assert_eq!((inner_cone_rad, outer_cone_rad), (0.2, 0.6));
+    let m = &scene.materials[0];
+    assert_eq!((m.base_color, m.roughness), (glam::Vec4::ONE, 0.8));
+    assert!(m.emissive.abs_diff_eq(Vec3::new(2.0, 1.0, 0.0), 1e-6), "{}", m.emissive);
+}
+
+#[test]
+fn a_pointer_channel_without_its_sampler_is_refused_naming_it() {
+    let dir = TempDir::new("anim-pointer-bad");
+    let mut doc = Doc::new(json!([{ "mesh": 0 }]), json!([0]));
+    triangle(&mut doc);
+    doc.json["materials"] = json!([{}]);
+    doc.json["animations"] = json!([{ "channels": [pointer_channel(3, "/materials/0/alphaCutoff")], "samplers": [] }]);
+    let message = invalid_message(load_doc(&dir, &doc.finish()));
+    assert!(message.contains("animations[0].channels[0]: its sampler does not exist"), "{message}");
+}

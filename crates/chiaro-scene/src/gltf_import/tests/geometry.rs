@@ -5,6 +5,7 @@
 use super::{TRIANGLE, TempDir, data_uri, f32_bytes, invalid_message, load_doc, triangle_doc};
 use crate::error::SceneError;
 use crate::gltf_import::load_gltf;
+use crate::types::Topology;
 use glam::{Vec2, Vec3, Vec4};
 use serde_json::json;
 
@@ -175,13 +176,78 @@ fn ignored_features_are_counted_once_per_kind() {
     ]);
     let scene = load_doc(&dir, &doc).unwrap();
     assert_eq!(scene.meshes[0].primitives.len(), 2);
+    assert_eq!(scene.meshes[0].points_and_lines.len(), 2);
     assert_eq!(
         scene.ignored,
         vec![
             "1 primitive with COLOR_1 or above: only COLOR_0 is read".to_owned(),
-            "2 primitives of points or lines: not supported, ignored".to_owned(),
             "1 primitive without POSITION: nothing to draw, ignored".to_owned(),
         ]
+    );
+}
+
+#[test]
+fn points_and_lines_of_every_mode_load_as_lists_unlit_without_normals() {
+    let dir = TempDir::new("points-lines");
+    let mut doc = triangle_doc();
+    let prim = doc["meshes"][0]["primitives"][0].clone();
+    let with_mode = |mode: u32| {
+        let mut p = prim.clone();
+        p["mode"] = json!(mode);
+        p
+    };
+    // The triangle's three vertices as LINES (one segment, one vertex left), LINE_LOOP,
+    // LINE_STRIP and POINTS; then lines with normals on a material of the file's.
+    let mut lit = with_mode(1);
+    lit["attributes"]["NORMAL"] = json!(1);
+    lit["material"] = json!(0);
+    doc["accessors"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3" }));
+    doc["bufferViews"].as_array_mut().unwrap().push(json!({ "buffer": 1, "byteLength": 36 }));
+    doc["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "byteLength": 36, "uri": data_uri(&f32_bytes(&[0.0, 1.0, 0.0].repeat(3))) }));
+    doc["materials"] = json!([{ "name": "ink", "pbrMetallicRoughness": { "baseColorFactor": [0.2, 0.3, 0.4, 1.0] } }]);
+    doc["meshes"][0]["primitives"] = json!([prim, with_mode(1), with_mode(2), with_mode(3), with_mode(0), lit]);
+    let scene = load_doc(&dir, &doc).unwrap();
+    let mesh = &scene.meshes[0];
+    assert_eq!(mesh.primitives.len(), 1, "the triangle");
+    let parts: Vec<(Topology, Vec<u32>)> =
+        mesh.points_and_lines.iter().map(|p| (p.topology, p.primitive.indices.clone())).collect();
+    assert_eq!(
+        parts,
+        vec![
+            (Topology::Lines, vec![0, 1]),
+            (Topology::Lines, vec![0, 1, 1, 2, 2, 0]),
+            (Topology::Lines, vec![0, 1, 1, 2]),
+            (Topology::Points, vec![0, 1, 2]),
+            (Topology::Lines, vec![0, 1]),
+        ]
+    );
+    // Without normals: the default material's unlit copy, made once for all four.
+    let unlit = mesh.points_and_lines[0].primitive.material.unwrap();
+    assert!(
+        mesh.points_and_lines[..4]
+            .iter()
+            .all(|p| p.primitive.material == Some(unlit) && p.primitive.normals.is_empty())
+    );
+    assert_eq!(scene.materials.len(), 2);
+    assert!(scene.materials[unlit].unlit && scene.materials[unlit].name.contains("unlit: points or lines"));
+    // With normals: lit, on the file's material.
+    let lit = &mesh.points_and_lines[4].primitive;
+    assert_eq!((lit.material, lit.normals.len()), (Some(0), 3));
+    assert!(!scene.materials[0].unlit);
+    assert_eq!(scene.triangle_count(), 1, "points and lines are not triangles");
+    assert!(
+        scene
+            .ignored
+            .iter()
+            .any(|s| s.contains("primitives[1]") && s.contains("1 of its 3 indices make no whole LINES segment")),
+        "{:?}",
+        scene.ignored
     );
 }
 

@@ -5,6 +5,7 @@
 use super::{TempDir, data_uri, invalid_message, load_doc, png_bytes, triangle_doc};
 use crate::error::SceneError;
 use crate::types::{ColorSpace, LightKind, LightMode};
+use chiaro_math::camera::Projection;
 use glam::{Mat4, Vec2, Vec3};
 use serde_json::{Value, json};
 
@@ -123,7 +124,7 @@ fn bad_lights_are_invalid() {
 }
 
 #[test]
-fn perspective_camera_drops_node_scale() {
+fn cameras_of_both_kinds_drop_node_scale() {
     let dir = TempDir::new("camera");
     let mut doc = triangle_doc();
     doc["cameras"] = json!([
@@ -137,21 +138,50 @@ fn perspective_camera_drops_node_scale() {
         { "name": "eye", "camera": 0, "translation": [0.0, 1.0, 4.0], "scale": [3.0, 3.0, 3.0] },
         { "camera": 1 }
     ]);
+    doc["cameras"][1]["orthographic"]["xmag"] = json!(2.0);
+    doc["nodes"][2]["scale"] = json!([2.0, 2.0, 2.0]);
     let scene = load_doc(&dir, &doc).unwrap();
-    assert_eq!(scene.cameras.len(), 1);
+    assert_eq!(scene.cameras.len(), 2);
     let camera = &scene.cameras[0];
     assert_eq!(camera.name, "eye");
     assert_eq!(camera.node, 1);
-    assert_eq!(camera.yfov_rad, 0.8);
+    assert_eq!(camera.projection, Projection::Perspective { yfov_rad: 0.8 });
     assert_eq!(camera.zfar, None);
     assert_eq!(camera.aspect_ratio, Some(1.5));
     let expected = Mat4::from_translation(Vec3::new(0.0, 1.0, 4.0));
     assert!(camera.world_from_view.abs_diff_eq(expected, 1e-6));
+    let ortho = &scene.cameras[1];
+    assert_eq!((ortho.name.as_str(), ortho.node), ("ortho", 2));
+    assert_eq!(ortho.projection, Projection::Orthographic { ymag: 1.0 });
+    assert_eq!((ortho.znear, ortho.zfar, ortho.aspect_ratio), (0.1, Some(10.0), Some(2.0)));
+    assert!(ortho.world_from_view.abs_diff_eq(Mat4::IDENTITY, 1e-6), "the node's scale is not the view's");
+    assert!(scene.ignored.is_empty(), "{:?}", scene.ignored);
+}
+
+#[test]
+fn orthographic_cameras_refuse_what_projects_nothing() {
+    let dir = TempDir::new("ortho-camera");
+    let load = |orthographic: Value| {
+        let mut doc = triangle_doc();
+        doc["cameras"] = json!([{ "type": "orthographic", "name": "plan", "orthographic": orthographic }]);
+        doc["nodes"].as_array_mut().unwrap().push(json!({ "camera": 0 }));
+        doc["scenes"][0]["nodes"] = json!([0, 1]);
+        load_doc(&dir, &doc)
+    };
+    let message = |o: Value| load(o).unwrap_err().to_string();
     assert!(
-        scene.ignored.iter().any(|s| s.contains("camera 1 (ortho)") && s.contains("orthographic")),
-        "{:?}",
-        scene.ignored
+        message(json!({ "xmag": 0.0, "ymag": 1.0, "znear": 0.1, "zfar": 10.0 }))
+            .contains("camera 0 (plan): xmag 0 is not a non-zero distance")
     );
+    assert!(
+        message(json!({ "xmag": 1.0, "ymag": 1.0, "znear": 0.1, "zfar": 0.1 }))
+            .contains("camera 0 (plan): zfar 0.1 is not beyond znear 0.1")
+    );
+    assert!(message(json!({ "xmag": 1.0, "ymag": 1.0, "znear": -1.0, "zfar": 5.0 })).contains("znear -1 is negative"));
+    // znear 0 is allowed: it moves out by a millionth of the far plane.
+    let scene = load(json!({ "xmag": -2.0, "ymag": 1.0, "znear": 0.0, "zfar": 10.0 })).unwrap();
+    assert_eq!((scene.cameras[0].znear, scene.cameras[0].aspect_ratio), (1.0e-5, Some(2.0)));
+    assert!(scene.ignored.iter().any(|s| s.contains("xmag -2 is negative")), "{:?}", scene.ignored);
 }
 
 /// The triangle lit by one light of `light` (JSON) on a second node, with `images`.
