@@ -165,6 +165,29 @@ def write_scene(path, box_label=BOX_LABEL, sun_lux=5.0, environment=None):
     return path
 
 
+def add_animation(doc, name, times, values, value_type, target):
+    """Appends to the glTF `doc` an animation of one LINEAR channel aimed at `target` (a
+    channel target object), its key `times` (seconds) and flat `values` (floats,
+    `value_type` each) in a data-URI buffer of their own."""
+    keys = struct.pack(f"<{len(times)}f", *times) + struct.pack(f"<{len(values)}f", *values)
+    doc["buffers"].append({"byteLength": len(keys),
+                           "uri": "data:application/octet-stream;base64," + base64.b64encode(keys).decode()})
+    buffer = len(doc["buffers"]) - 1
+    doc["bufferViews"] += [{"buffer": buffer, "byteOffset": 0, "byteLength": 4 * len(times)},
+                           {"buffer": buffer, "byteOffset": 4 * len(times), "byteLength": 4 * len(values)}]
+    views = len(doc["bufferViews"])
+    doc["accessors"] += [
+        {"bufferView": views - 2, "componentType": 5126, "count": len(times), "type": "SCALAR",
+         "min": [min(times)], "max": [max(times)]},
+        {"bufferView": views - 1, "componentType": 5126, "count": len(times), "type": value_type},
+    ]
+    accessors = len(doc["accessors"])
+    doc.setdefault("animations", []).append({
+        "name": name,
+        "samplers": [{"input": accessors - 2, "output": accessors - 1}],
+        "channels": [{"sampler": 0, "target": target}]})
+
+
 def view_rays(width, height, eye, target, yfov_deg, up=(0.0, 1.0, 0.0)):
     """Per pixel centre, the world-space ray direction whose view-space z is -1 (so the
     distance along the view axis to a point is its ray parameter), rows from the top."""

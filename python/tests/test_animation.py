@@ -1,15 +1,13 @@
 """time=: scenes posed at a time of their glTF animations, from Python."""
 
-import base64
 import json
 import math
-import struct
 
 import numpy as np
 import pytest
 
 import chiaro
-from scenes import BOX_NODE, write_scene
+from scenes import BOX_NODE, add_animation, write_scene
 
 
 def write_sliding_box(path):
@@ -17,21 +15,7 @@ def write_sliding_box(path):
     2 s (a second, data-URI buffer holds the keys)."""
     write_scene(path)
     doc = json.loads(path.read_text())
-    keys = struct.pack("<2f", 0.0, 2.0) + struct.pack("<6f", 0, 0, 0, 2, 0, 0)
-    doc["buffers"].append({"byteLength": len(keys),
-                           "uri": "data:application/octet-stream;base64," + base64.b64encode(keys).decode()})
-    buffer = len(doc["buffers"]) - 1
-    doc["bufferViews"] += [{"buffer": buffer, "byteOffset": 0, "byteLength": 8},
-                           {"buffer": buffer, "byteOffset": 8, "byteLength": 24}]
-    views = len(doc["bufferViews"])
-    doc["accessors"] += [
-        {"bufferView": views - 2, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [2]},
-        {"bufferView": views - 1, "componentType": 5126, "count": 2, "type": "VEC3"},
-    ]
-    accessors = len(doc["accessors"])
-    doc["animations"] = [{"name": "slide",
-                          "samplers": [{"input": accessors - 2, "output": accessors - 1}],
-                          "channels": [{"sampler": 0, "target": {"node": BOX_NODE, "path": "translation"}}]}]
+    add_animation(doc, "slide", [0.0, 2.0], [0, 0, 0, 2, 0, 0], "VEC3", {"node": BOX_NODE, "path": "translation"})
     path.write_text(json.dumps(doc))
     return path
 
