@@ -332,9 +332,7 @@ fn animation_pointer() -> Vec<u8> {
     let colors = w.accessor(Some(colors), 5126, false, 3, "VEC3");
     let fours = w.view(&floats([1.0, 1.0, 1.0, 1.0, 0.5, 0.2, 0.1, 1.0, 0.0, 0.0, 0.0, 0.5]), None);
     let fours = w.accessor(Some(fours), 5126, false, 3, "VEC4");
-    let pointer = |sampler: usize, p: &str| {
-        json!({ "sampler": sampler, "target": { "path": "pointer", "extensions": { "KHR_animation_pointer": { "pointer": p } } } })
-    };
+    let pointer = |sampler: usize, p: &str| json!({ "sampler": sampler, "target": { "path": "pointer", "extensions": { "KHR_animation_pointer": { "pointer": p } } } });
     w.doc["animations"] = json!([{
         "samplers": [
             { "input": times, "output": colors }, { "input": times, "output": scalars, "interpolation": "STEP" },
@@ -349,8 +347,14 @@ fn animation_pointer() -> Vec<u8> {
             pointer(1, "/materials/0/alphaCutoff")
         ]
     }]);
-    w.push("cameras", json!({ "type": "orthographic", "orthographic": { "xmag": 2, "ymag": 1.5, "znear": 0, "zfar": 20 } }));
-    let camera = w.push("nodes", json!({ "camera": 1, "translation": [0, 5, 0], "rotation": [-FRAC_1_SQRT_2, 0, 0, FRAC_1_SQRT_2] }));
+    w.push(
+        "cameras",
+        json!({ "type": "orthographic", "orthographic": { "xmag": 2, "ymag": 1.5, "znear": 0, "zfar": 20 } }),
+    );
+    let camera = w.push(
+        "nodes",
+        json!({ "camera": 1, "translation": [0, 5, 0], "rotation": [-FRAC_1_SQRT_2, 0, 0, FRAC_1_SQRT_2] }),
+    );
     w.doc["scenes"][0]["nodes"].as_array_mut().expect("scene nodes").push(json!(camera));
     w.uses("KHR_animation_pointer", true);
     w.gltf()

@@ -386,7 +386,23 @@ pub struct Image {
     /// The KTX2 file of an ETC1S or UASTC (Basis Universal) image, kept so that a device
     /// that samples BC7 can have it transcoded to that (`Image::bc7_levels`) rather than
     /// take `rgba8`; `None` for every other image.
-    pub basis_source: Option<std::sync::Arc<[u8]>>,
+    pub basis_source: Option<std::sync::Arc<BasisSource>>,
+}
+
+/// A Basis Universal KTX2 file and, once a device has asked for it, its BC7 transcode
+/// (kept: a scene is prepared again at every pose of an animation).
+#[derive(Debug)]
+pub struct BasisSource {
+    /// The KTX2 file's bytes.
+    pub ktx2: Vec<u8>,
+    pub(crate) bc7: std::sync::OnceLock<Result<Vec<Vec<u8>>, String>>,
+}
+
+impl BasisSource {
+    /// The file, not transcoded yet.
+    pub fn new(ktx2: Vec<u8>) -> BasisSource {
+        BasisSource { ktx2, bc7: std::sync::OnceLock::new() }
+    }
 }
 
 /// A glTF camera, perspective or orthographic, placed in the world.

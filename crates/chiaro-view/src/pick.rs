@@ -8,15 +8,19 @@ use chiaro_scene::Scene;
 use chiaro_trace::{Hit, SceneBvh};
 use glam::{Vec3, Vec4};
 
-/// The world-space ray from the eye through the centre of pixel `(x, y)` (pixels from
-/// the top-left corner): origin and unit direction.
+/// The world-space ray through the centre of pixel `(x, y)` (pixels from the top-left
+/// corner): origin and unit direction. A perspective ray starts at the eye; an
+/// orthographic one on the near plane, along the view axis.
 pub fn pixel_ray(view: &View, x: f32, y: f32) -> (Vec3, Vec3) {
     let ndc_x = (x + 0.5) / view.width as f32 * 2.0 - 1.0;
     let ndc_y = 1.0 - (y + 0.5) / view.height as f32 * 2.0;
     // Reverse-Z: clip depth 1 is the near plane, which every projection here keeps finite.
     let on_near = view.clip_from_view.inverse() * Vec4::new(ndc_x, ndc_y, 1.0, 1.0);
-    let toward = (on_near.truncate() / on_near.w).normalize();
-    (view.eye(), view.world_from_view.transform_vector3(toward).normalize())
+    let on_near = on_near.truncate() / on_near.w;
+    if view.is_orthographic() {
+        return (view.world_from_view.transform_point3(on_near), view.forward());
+    }
+    (view.eye(), view.world_from_view.transform_vector3(on_near.normalize()).normalize())
 }
 
 /// World-space bounds of instance `i`.
@@ -56,7 +60,16 @@ mod tests {
     #[test]
     fn a_pixel_picks_the_instance_drawn_there() {
         let scene = chiaro_scene::demo::demo_scene(0);
-        let view = View::from_camera(&scene, 0, 96, 64);
+        let perspective = View::from_camera(&scene, 0, 96, 64);
+        let projection = chiaro_math::camera::Projection::Orthographic { ymag: 8.0 };
+        let orthographic = View::projected(perspective.world_from_view, projection, 0.05, Some(200.0), 96, 64);
+        for view in [perspective, orthographic] {
+            assert_picks_what_it_draws(&scene, &view);
+        }
+    }
+
+    fn assert_picks_what_it_draws(scene: &Scene, view: &View) {
+        let (scene, view) = (scene.clone(), *view);
         // Project each instance's centre and pick at that pixel: the ray must hit the
         // instance itself or one in front of it (never one behind).
         let mut picker = Picker::default();
@@ -79,7 +92,7 @@ mod tests {
         }
         assert!(hits_itself >= 3, "most visible objects pick themselves: {hits_itself}");
         // A ray through the top-left corner of the demo's view looks at the sky.
-        assert_eq!(picker.pick(&scene, &view, 0.0, 0.0), None);
+        assert_eq!(picker.pick(&scene, &view, 0.0, 0.0), None, "{:?}", view.projection);
     }
 
     #[test]

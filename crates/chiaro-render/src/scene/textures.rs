@@ -57,19 +57,27 @@ pub(super) fn downsample(rgba: &[u8], width: u32, height: u32) -> (Vec<u8>, u32,
 }
 
 /// A scene image as a texture: BC7 where it is a Basis Universal KTX2 image, the device
-/// samples BC and its size is whole 4x4 blocks (as BC textures must be), else RGBA8.
-/// Returns the view and whether it is BC7.
+/// samples BC, its size is whole 4x4 blocks (as BC textures must be) and the file holds
+/// the whole mip chain (a BC7 texture cannot have the renderer make the rest); else
+/// RGBA8. Returns the view and whether it is BC7.
 pub fn upload_scene_image(device: &wgpu::Device, queue: &wgpu::Queue, image: &Image) -> (wgpu::TextureView, bool) {
     let blocks_whole = image.width.is_multiple_of(4) && image.height.is_multiple_of(4);
     if device.features().contains(wgpu::Features::TEXTURE_COMPRESSION_BC) && blocks_whole {
         match image.bc7_levels() {
-            Some(Ok(levels)) => return (upload_bc7(device, queue, image, &levels), true),
+            Some(Ok(levels)) if levels.len() == full_mip_chain(image.width, image.height) as usize => {
+                return (upload_bc7(device, queue, image, levels), true);
+            }
             // It transcoded to RGBA8 when the file loaded; that serves.
             Some(Err(e)) => tracing::warn!("{}: BC7: {e}; uploaded as RGBA8", image.name),
-            None => {}
+            _ => {}
         }
     }
     (upload_image(device, queue, image), false)
+}
+
+/// Mip levels from `width` x `height` down to 1 x 1.
+fn full_mip_chain(width: u32, height: u32) -> u32 {
+    32 - width.max(height).max(1).leading_zeros()
 }
 
 /// A texture of the file's BC7 levels (`Image::bc7_levels`), as many mips as it stores.
@@ -112,7 +120,7 @@ pub fn upload_image(device: &wgpu::Device, queue: &wgpu::Queue, image: &Image) -
         ColorSpace::Srgb => wgpu::TextureFormat::Rgba8UnormSrgb,
         ColorSpace::Linear => wgpu::TextureFormat::Rgba8Unorm,
     };
-    let mip_level_count = 32 - image.width.max(image.height).max(1).leading_zeros();
+    let mip_level_count = full_mip_chain(image.width, image.height);
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(&image.name),
         size: wgpu::Extent3d { width: image.width, height: image.height, depth_or_array_layers: 1 },

@@ -112,6 +112,9 @@ pub struct SceneAnimation {
     pub properties: Vec<PropertyChannel>,
     /// Per scene light, the KHR_lights_punctual light it places (what `properties` name).
     pub light_sources: Vec<Option<usize>>,
+    /// The file's (inner, outer) cone of each KHR_lights_punctual spot a channel animates a
+    /// cone of: every pose starts from them, since ordering one cone moves the other.
+    pub rest_cones: Vec<(usize, f32, f32)>,
 }
 
 impl SceneAnimation {
@@ -181,6 +184,9 @@ impl Scene {
     }
 
     fn apply_pose(&mut self, animation: &SceneAnimation, time: Option<f32>) {
+        for &(source, inner, outer) in &animation.rest_cones {
+            properties::reset_cones(self, &animation.light_sources, source, inner, outer);
+        }
         for channel in &animation.properties {
             let value = match time {
                 Some(t) => channel.keys.sample(t),

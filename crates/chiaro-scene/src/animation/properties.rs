@@ -112,6 +112,16 @@ pub fn read(scene: &Scene, light_sources: &[Option<usize>], target: AnimatedProp
     }
 }
 
+/// Gives every scene light placing KHR_lights_punctual spot `source` the cones
+/// `(inner, outer)`.
+pub fn reset_cones(scene: &mut Scene, light_sources: &[Option<usize>], source: usize, inner: f32, outer: f32) {
+    for (light, _) in scene.lights.iter_mut().zip(light_sources).filter(|(_, s)| **s == Some(source)) {
+        if let LightKind::Spot { inner_cone_rad, outer_cone_rad } = &mut light.kind {
+            (*inner_cone_rad, *outer_cone_rad) = (inner, outer);
+        }
+    }
+}
+
 /// Writes `value` (`target.width()` floats) into every light placing the animated light,
 /// or into the material, held to the property's range.
 pub fn write(scene: &mut Scene, light_sources: &[Option<usize>], target: AnimatedProperty, value: &[f32]) {
@@ -136,7 +146,9 @@ pub fn write(scene: &mut Scene, light_sources: &[Option<usize>], target: Animate
                             } else {
                                 *inner_cone_rad = v.max(0.0);
                             }
-                            // Ordered as the importer orders a file's cones.
+                            // Ordered as the importer orders a file's cones; the pose
+                            // started from the file's cones (`reset_cones`), so this
+                            // narrowing lasts one pose.
                             *inner_cone_rad = inner_cone_rad.min(*outer_cone_rad - 1.0e-4);
                         }
                     }

@@ -95,8 +95,18 @@ impl Loader<'_> {
                     .unwrap_or_default()
             })
             .collect();
-        let light_sources = Vec::new();
-        Ok(Some(SceneAnimation { rest, order, channels, skins, rest_weights, posed, properties, light_sources }))
+        let (light_sources, rest_cones) = (Vec::new(), Vec::new());
+        Ok(Some(SceneAnimation {
+            rest,
+            order,
+            channels,
+            skins,
+            rest_weights,
+            posed,
+            properties,
+            light_sources,
+            rest_cones,
+        }))
     }
 
     /// Per node, the node whose children list holds it.

@@ -208,6 +208,20 @@ pub(super) fn fill_property_rests(scene: &mut crate::types::Scene) {
         }
     });
     scene.ignored.extend(notes);
+    let mut rest_cones = Vec::new();
+    for channel in &animation.properties {
+        let (AnimatedProperty::SpotInnerCone(source) | AnimatedProperty::SpotOuterCone(source)) = channel.target else {
+            continue;
+        };
+        let read = |target| crate::animation::properties::read(scene, &sources, target).map(|v| v[0]);
+        let cones = (read(AnimatedProperty::SpotInnerCone(source)), read(AnimatedProperty::SpotOuterCone(source)));
+        if let (Some(inner), Some(outer)) = cones
+            && !rest_cones.iter().any(|&(s, _, _)| s == source)
+        {
+            rest_cones.push((source, inner, outer));
+        }
+    }
+    animation.rest_cones = rest_cones;
     scene.animation = Some(animation);
 }
 

@@ -21,7 +21,8 @@ pub(super) fn image_uses(
     variant_materials: impl Iterator<Item = usize>,
 ) -> Vec<Option<ColorSpace>> {
     let mut drawn = vec![false; materials.len()];
-    let primitive_materials = meshes.iter().flat_map(|m| &m.primitives).filter_map(|p| p.material);
+    // Points and lines read their material's textures too.
+    let primitive_materials = meshes.iter().flat_map(|m| m.drawn_parts()).filter_map(|(_, p)| p.material);
     for material in primitive_materials.chain(variant_materials) {
         if let Some(drawn) = drawn.get_mut(material) {
             *drawn = true;
@@ -146,7 +147,7 @@ impl Loader<'_> {
                 rgba8: base,
                 file_mips: rgba8.collect(),
                 color_space,
-                basis_source: levels.basis.then(|| std::sync::Arc::from(&bytes[..])),
+                basis_source: levels.basis.then(|| std::sync::Arc::new(crate::types::BasisSource::new(bytes.to_vec()))),
             });
         }
         let rgba = self.pixels(&bytes, mime.as_deref(), &label, None)?.into_rgba8();

@@ -106,10 +106,24 @@ fn basis_levels(bytes: &[u8], target: TargetFormat, bytes_per_unit: usize) -> Re
 impl crate::types::Image {
     /// The image as BC7 blocks, each level of the file (the largest first, rows of 4x4
     /// blocks of 16 bytes), for a device that samples BC7; `None` for an image that is not
-    /// ETC1S or UASTC. The message says why a level does not transcode.
-    pub fn bc7_levels(&self) -> Option<Result<Vec<Vec<u8>>, String>> {
+    /// ETC1S or UASTC. Transcoded on the first call, kept for the next. The message says
+    /// why a level does not transcode or is not the size of its place in the chain.
+    pub fn bc7_levels(&self) -> Option<&Result<Vec<Vec<u8>>, String>> {
         let source = self.basis_source.as_ref()?;
-        Some(basis_levels(source, TargetFormat::Bc7Rgba, 16))
+        Some(source.bc7.get_or_init(|| {
+            let levels = basis_levels(&source.ktx2, TargetFormat::Bc7Rgba, 16)?;
+            for (level, blocks) in levels.iter().enumerate() {
+                let (w, h) = level_size(self.width, self.height, level);
+                let expected = w.div_ceil(4) as usize * h.div_ceil(4) as usize * 16;
+                if blocks.len() != expected {
+                    return Err(format!(
+                        "level {level} is {} bytes of BC7, not the {expected} of {w} x {h}",
+                        blocks.len()
+                    ));
+                }
+            }
+            Ok(levels)
+        }))
     }
 }
 

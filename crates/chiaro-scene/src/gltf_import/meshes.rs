@@ -24,11 +24,13 @@ impl Loader<'_> {
         let mut deformations = Vec::new();
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let label = format!("meshes[{index}].primitives[{p}]{name}");
+            // Draco streams hold triangles: a compressed point or line primitive is refused
+            // here, naming it, rather than read from accessors without data.
+            self.decode_draco(index, p, &label)?;
             if let Some(topology) = points_or_lines_topology(primitive.mode) {
                 points_and_lines.extend(self.points_or_lines(primitive, topology, &label)?);
                 continue;
             }
-            self.decode_draco(index, p, &label)?;
             if let Some((primitive, deformation)) = self.primitive(primitive, &label, materials)? {
                 if let Some(mapping) = self.variant_mapping((index, p), primitives.len(), &label)? {
                     self.variant_mappings.push(mapping);

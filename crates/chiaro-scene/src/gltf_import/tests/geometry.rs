@@ -352,3 +352,31 @@ fn vertex_colours_load_from_every_allowed_layout() {
     // Without COLOR_0 the primitive stays white.
     assert!(load_doc(&dir, &triangle_doc()).unwrap().meshes[0].primitives[0].colors.is_empty());
 }
+
+#[test]
+fn a_texture_only_lines_read_is_decoded_and_kept() {
+    let dir = TempDir::new("textured-lines");
+    let mut doc = triangle_doc();
+    doc["meshes"][0]["primitives"][0]["mode"] = json!(3);
+    doc["meshes"][0]["primitives"][0]["material"] = json!(0);
+    doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(1);
+    doc["accessors"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2" }));
+    doc["bufferViews"].as_array_mut().unwrap().push(json!({ "buffer": 1, "byteLength": 24 }));
+    doc["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "byteLength": 24, "uri": data_uri(&f32_bytes(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0])) }));
+    let image = image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 100, 50, 255]));
+    doc["images"] = json!([{ "uri": data_uri(&super::png_bytes(image.into())), "mimeType": "image/png" }]);
+    doc["textures"] = json!([{ "source": 0 }]);
+    doc["materials"] = json!([{ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } }]);
+    let scene = load_doc(&dir, &doc).unwrap();
+    let line = &scene.meshes[0].points_and_lines[0].primitive;
+    let material = &scene.materials[line.material.unwrap()];
+    assert!(material.unlit, "no normals: the unlit copy");
+    let texture = material.base_color_texture.expect("the copy keeps the texture");
+    assert_eq!((scene.images.len(), scene.images[texture.image].width), (1, 2));
+}
