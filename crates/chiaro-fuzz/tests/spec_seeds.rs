@@ -33,7 +33,7 @@ fn noted(scene: &Scene, words: &str) -> bool {
 #[test]
 fn every_spec_seed_loads() {
     let seeds = spec_seeds();
-    assert_eq!(seeds.len(), 11);
+    assert_eq!(seeds.len(), 12);
     for seed in &seeds {
         chiaro_scene::load_gltf_bytes(Path::new("seed.gltf"), &seed.bytes)
             .unwrap_or_else(|e| panic!("{}: {e}", seed.name));
@@ -149,4 +149,14 @@ fn the_no_scene_seed_draws_nothing_and_says_so() {
     let scene = load("no scene");
     assert!(scene.instances.is_empty() && scene.lights.is_empty());
     assert!(noted(&scene, "no scene"), "{:?}", scene.ignored);
+}
+
+#[test]
+fn the_animation_pointer_seed_animates_a_light_and_a_material_and_has_an_orthographic_camera() {
+    let mut scene = load("animation pointer");
+    assert!(scene.cameras.iter().any(|c| c.projection.is_orthographic()));
+    assert_eq!(scene.animation_duration(), Some(2.0));
+    let rest = (scene.lights[0].color, scene.materials[0].base_color);
+    scene.pose(Some(1.0)).unwrap();
+    assert_ne!((scene.lights[0].color, scene.materials[0].base_color), rest, "the pointers move what they name");
 }
