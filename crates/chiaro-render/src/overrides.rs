@@ -68,6 +68,8 @@ overrides! {
     ENVIRONMENT_ENABLED = 16;
     /// The forward pass's loops over shadowed point and spot lights are compiled in.
     LOCAL_SHADOWS = 17;
+    /// Tone mapping: the display curve (`TONE_MAPPING_*`).
+    TONE_MAPPING = 18;
 }
 
 #[cfg(test)]

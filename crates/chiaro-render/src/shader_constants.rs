@@ -105,6 +105,14 @@ pub const LIGHT_CULLING_NONE: u32 = 0;
 pub const LIGHT_CULLING_CLUSTERED: u32 = 1;
 /// `light_culling`: each draw reads its object's list.
 pub const LIGHT_CULLING_PER_OBJECT: u32 = 2;
+/// The tone mapping pass's `tone_mapping` override: `[render] tone_mapping`.
+pub const TONE_MAPPING_PBR_NEUTRAL: u32 = 0;
+/// `tone_mapping`: the fitted ACES filmic curve.
+pub const TONE_MAPPING_ACES: u32 = 1;
+/// `tone_mapping`: Blender's AgX base.
+pub const TONE_MAPPING_AGX: u32 = 2;
+/// `tone_mapping`: clamped.
+pub const TONE_MAPPING_LINEAR: u32 = 3;
 /// Depth slices of the cluster grid (`plan::clusters`; its tiles across and down follow
 /// the image size and come in the frame uniform), spread exponentially over the depths
 /// where surfaces are. More slices list fewer lights per cluster but cost the CPU more to
@@ -165,6 +173,10 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("LIGHT_CULLING_CLUSTERED", LIGHT_CULLING_CLUSTERED),
     ("LIGHT_CULLING_PER_OBJECT", LIGHT_CULLING_PER_OBJECT),
     ("CLUSTER_SLICES", CLUSTER_SLICES),
+    ("TONE_MAPPING_PBR_NEUTRAL", TONE_MAPPING_PBR_NEUTRAL),
+    ("TONE_MAPPING_ACES", TONE_MAPPING_ACES),
+    ("TONE_MAPPING_AGX", TONE_MAPPING_AGX),
+    ("TONE_MAPPING_LINEAR", TONE_MAPPING_LINEAR),
     ("TEXEL_TABLE_WIDTH", TEXEL_TABLE_WIDTH),
     ("SHADOWED_ENTRY", SHADOWED_ENTRY),
     ("LIGHT_RECORDS", LIGHT_RECORDS),

@@ -4,11 +4,11 @@
 
 mod common;
 
-use chiaro_math::tonemap::{exposure_scale, pbr_neutral};
+use chiaro_math::tonemap::{aces_fitted, agx, exposure_scale, linear_clamp, pbr_neutral};
 use chiaro_render::readback::{copy_texture, finish_copies};
 use chiaro_render::{FrameOptions, View};
-use chiaro_scene::Settings;
 use chiaro_scene::demo::demo_scene;
+use chiaro_scene::{Settings, ToneMapping};
 use common::{renderer, srgb_encode};
 use glam::Vec3;
 
@@ -86,32 +86,48 @@ fn frames_nobody_waits_for_report_their_gpu_times_later() {
 }
 
 #[test]
-fn tone_mapping_matches_the_cpu_twin() {
+fn every_tone_mapping_matches_its_cpu_twin() {
     let mut renderer = renderer();
     let scene = demo_scene(8);
     let prepared = renderer.prepare(&scene).unwrap();
     let view = View::from_camera(&scene, 0, SIZE, SIZE);
-    // Two stops brighter than the default, so highlights reach the compressed range.
-    let mut settings = Settings::default();
-    settings.render.exposure_ev100 = -2.0;
-    let frame = renderer
-        .render(&scene, &prepared, &view, &settings, FrameOptions { readback: true, ..Default::default() })
-        .unwrap();
     let exposure = exposure_scale(-2.0);
-    let (mut compressed, mut worst) = (0, 0.0f32);
-    for (hdr, ldr) in frame.hdr.iter().zip(frame.ldr.chunks_exact(4)) {
-        let exposed = Vec3::new(hdr[0], hdr[1], hdr[2]) * exposure;
-        if exposed.max_element() > 0.8 {
-            compressed += 1;
+    let mut images = Vec::new();
+    for (curve, twin) in [
+        (ToneMapping::PbrNeutral, pbr_neutral as fn(Vec3) -> Vec3),
+        (ToneMapping::Aces, aces_fitted),
+        (ToneMapping::Agx, agx),
+        (ToneMapping::Linear, linear_clamp),
+    ] {
+        // Two stops brighter than the default, so highlights reach the compressed range.
+        let mut settings = Settings::default();
+        settings.render.exposure_ev100 = -2.0;
+        settings.render.tone_mapping = curve;
+        let options = FrameOptions { readback: true, ..Default::default() };
+        let frame = renderer.render(&scene, &prepared, &view, &settings, options).unwrap();
+        let (mut compressed, mut worst) = (0, 0.0f32);
+        for (hdr, ldr) in frame.hdr.iter().zip(frame.ldr.chunks_exact(4)) {
+            let exposed = Vec3::new(hdr[0], hdr[1], hdr[2]) * exposure;
+            if exposed.max_element() > 0.8 {
+                compressed += 1;
+            }
+            let display = twin(exposed.max(Vec3::ZERO));
+            for c in 0..3 {
+                let expected = srgb_encode(display[c]) * 255.0;
+                worst = worst.max((ldr[c] as f32 - expected).abs());
+            }
         }
-        let display = pbr_neutral(exposed.max(Vec3::ZERO));
-        for c in 0..3 {
-            let expected = srgb_encode(display[c]) * 255.0;
-            worst = worst.max((ldr[c] as f32 - expected).abs());
+        assert!(compressed > 100, "{curve:?}: only {compressed} pixels in the highlight roll-off");
+        assert!(worst <= 1.0, "{curve:?}: tone mapped pixels differ from chiaro_math::tonemap by up to {worst}/255");
+        images.push(frame.ldr);
+    }
+    // Each curve draws its own picture.
+    for (i, a) in images.iter().enumerate() {
+        for b in &images[i + 1..] {
+            let differing = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
+            assert!(differing > 1000, "two curves agree on all but {differing} pixels");
         }
     }
-    assert!(compressed > 100, "only {compressed} pixels in the highlight roll-off");
-    assert!(worst <= 1.0, "tone mapped pixels differ from chiaro_math::tonemap by up to {worst}/255");
 }
 
 #[test]

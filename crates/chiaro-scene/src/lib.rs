@@ -25,6 +25,8 @@ pub use animation::{AnimationError, SceneAnimation};
 pub use error::SceneError;
 pub use gltf_import::{load_gltf, load_gltf_bytes};
 pub use nodes::{NodeError, NodeMove, SceneNode};
-pub use settings::{CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
+pub use settings::{
+    CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings, ToneMapping,
+};
 pub use types::*;
 pub use variants::{MaterialVariants, VariantError, VariantMapping};

@@ -1,9 +1,10 @@
 //! How a frame is shaded, shared by render, bench and compare: `--path forward |
-//! deferred`, `--msaa N` and `--culling clustered | per-object | none`.
+//! deferred`, `--msaa N`, `--culling clustered | per-object | none` and `--tone-mapping
+//! pbr-neutral | aces | agx | linear`.
 
 use anyhow::{Result, anyhow};
 use chiaro_render::GpuContext;
-use chiaro_scene::{LightCulling, RenderPath, Settings};
+use chiaro_scene::{LightCulling, RenderPath, Settings, ToneMapping};
 use clap::{Args, ValueEnum};
 use std::path::Path;
 
@@ -25,6 +26,18 @@ pub enum CullingChoice {
     None,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ToneChoice {
+    /// Khronos PBR Neutral: base colours kept up to 0.8, highlights rolled off.
+    PbrNeutral,
+    /// The fitted ACES filmic curve of three.js and the Khronos render-fidelity renderers.
+    Aces,
+    /// Blender's AgX base.
+    Agx,
+    /// Exposed radiance clamped to [0, 1].
+    Linear,
+}
+
 #[derive(Args, Clone, Debug, Default)]
 pub struct PathArgs {
     /// Render path (overrides render.path).
@@ -36,6 +49,9 @@ pub struct PathArgs {
     /// How the forward pass finds its point and spot lights (overrides lights.culling).
     #[arg(long, value_enum)]
     pub culling: Option<CullingChoice>,
+    /// The display curve (overrides render.tone_mapping).
+    #[arg(long, value_enum)]
+    pub tone_mapping: Option<ToneChoice>,
 }
 
 impl PathArgs {
@@ -61,6 +77,15 @@ impl PathArgs {
                 CullingChoice::None => LightCulling::None,
             };
             flags.push("--culling");
+        }
+        if let Some(curve) = self.tone_mapping {
+            settings.render.tone_mapping = match curve {
+                ToneChoice::PbrNeutral => ToneMapping::PbrNeutral,
+                ToneChoice::Aces => ToneMapping::Aces,
+                ToneChoice::Agx => ToneMapping::Agx,
+                ToneChoice::Linear => ToneMapping::Linear,
+            };
+            flags.push("--tone-mapping");
         }
         if !flags.is_empty() {
             settings.validate().map_err(|e| anyhow!("{}: {e}", flags.join(", ")))?;

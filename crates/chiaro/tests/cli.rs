@@ -487,3 +487,32 @@ fn orthographic_cameras_render_compare_and_bench() {
     let bench = chiaro(&["bench", &file, "--width", "64", "--height", "36", "--frames", "2"], &[], dir.path());
     assert_eq!(bench.code, 0, "{}", bench.stderr);
 }
+
+#[test]
+fn tone_mapping_flag_and_setting_pick_the_display_curve() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |extra: &[&str], out: &str| {
+        let mut args = vec!["render", "--width", "48", "--height", "32", "--exposure", "-2", "-o", out];
+        args.extend_from_slice(extra);
+        let run = chiaro(&args, &[], dir.path());
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        image::open(dir.path().join(out)).unwrap().to_rgb8().into_raw()
+    };
+    let neutral = render(&[], "neutral.png");
+    let aces = render(&["--tone-mapping", "aces"], "aces.png");
+    std::fs::write(dir.path().join("agx.toml"), "[render]\ntone_mapping = \"agx\"\n").unwrap();
+    let agx = render(&["--settings", "agx.toml"], "agx.png");
+    let linear = render(&["--settings", "agx.toml", "--tone-mapping", "linear"], "linear.png");
+    let differ = |a: &[u8], b: &[u8]| a.iter().zip(b).filter(|(x, y)| x.abs_diff(**y) > 2).count();
+    for (name, image) in [("aces", &aces), ("agx", &agx), ("linear", &linear)] {
+        assert!(differ(&neutral, image) > 300, "{name} looks like pbr-neutral");
+    }
+    assert!(differ(&agx, &linear) > 300, "the flag overrides the settings file");
+    expect_usage_error(&["render", "--tone-mapping", "filmic"], &["--tone-mapping", "filmic"]);
+    let run = chiaro(&["render", "--tone-mapping", "filmic"], &[], dir.path());
+    assert!(run.stderr.contains("[possible values: pbr-neutral, aces, agx, linear]"), "{}", run.stderr);
+    std::fs::write(dir.path().join("bad.toml"), "[render]\ntone_mapping = \"filmic\"\n").unwrap();
+    let run = chiaro(&["render", "--settings", "bad.toml", "-o", "bad.png"], &[], dir.path());
+    assert_ne!(run.code, 0);
+    assert!(run.stderr.contains("tone_mapping") && run.stderr.contains("filmic"), "{}", run.stderr);
+}

@@ -1,12 +1,14 @@
 //! Tone mapping: the pre-exposed HDR target to the display-referred output, an sRGB
-//! texture of the renderer's or a surface the caller lends (pipelines per output format;
-//! a linear format gets the sRGB encoding in the shader).
+//! texture of the renderer's or a surface the caller lends (pipelines per output format
+//! and display curve; a linear format gets the sRGB encoding in the shader).
 
 use super::targets::HDR;
 use crate::graph::{FramePass, OUTPUT, PassContext, PassInit, PassSetup, PassType, PrepareContext};
 use crate::overrides;
 use crate::plan::FramePlan;
+use crate::shader_constants::{TONE_MAPPING_ACES, TONE_MAPPING_AGX, TONE_MAPPING_LINEAR, TONE_MAPPING_PBR_NEUTRAL};
 use crate::shaders;
+use chiaro_scene::ToneMapping;
 use std::collections::HashMap;
 
 /// Tone maps the HDR target into the output, with a pipeline per output format.
@@ -14,8 +16,8 @@ pub struct TonemapPass {
     module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
-    format: Option<wgpu::TextureFormat>,
+    pipelines: HashMap<(wgpu::TextureFormat, ToneMapping), wgpu::RenderPipeline>,
+    key: Option<(wgpu::TextureFormat, ToneMapping)>,
 }
 
 impl PassType for TonemapPass {
@@ -51,16 +53,23 @@ impl PassType for TonemapPass {
             layout,
             pipeline_layout,
             pipelines: HashMap::new(),
-            format: None,
+            key: None,
         }
     }
 }
 
 impl TonemapPass {
-    fn create(&self, device: &wgpu::Device, format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
-        let constants = [overrides::ENCODE_SRGB.flag(!format.is_srgb())];
+    fn create(&self, device: &wgpu::Device, format: wgpu::TextureFormat, curve: ToneMapping) -> wgpu::RenderPipeline {
+        let curve_id = match curve {
+            ToneMapping::PbrNeutral => TONE_MAPPING_PBR_NEUTRAL,
+            ToneMapping::Aces => TONE_MAPPING_ACES,
+            ToneMapping::Agx => TONE_MAPPING_AGX,
+            ToneMapping::Linear => TONE_MAPPING_LINEAR,
+        };
+        let constants =
+            [overrides::ENCODE_SRGB.flag(!format.is_srgb()), overrides::TONE_MAPPING.value(f64::from(curve_id))];
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(&format!("tonemap {format:?}")),
+            label: Some(&format!("tonemap {format:?} {curve:?}")),
             layout: Some(&self.pipeline_layout),
             vertex: wgpu::VertexState {
                 module: &self.module,
@@ -85,11 +94,12 @@ impl TonemapPass {
 
 impl FramePass for TonemapPass {
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
-        if !self.pipelines.contains_key(&cx.output_format) {
-            let pipeline = self.create(cx.device, cx.output_format);
-            self.pipelines.insert(cx.output_format, pipeline);
+        let key = (cx.output_format, cx.plan.tone_mapping);
+        if !self.pipelines.contains_key(&key) {
+            let pipeline = self.create(cx.device, key.0, key.1);
+            self.pipelines.insert(key, pipeline);
         }
-        self.format = Some(cx.output_format);
+        self.key = Some(key);
     }
 
     fn record(&self, cx: &mut PassContext<'_>) {
@@ -101,7 +111,7 @@ impl FramePass for TonemapPass {
                 resource: wgpu::BindingResource::TextureView(cx.targets.view(HDR)),
             }],
         });
-        let pipeline = &self.pipelines[&self.format.expect("prepared")];
+        let pipeline = &self.pipelines[&self.key.expect("prepared")];
         let timestamp_writes = cx.timestamp_writes();
         let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("tonemap pass"),

@@ -91,6 +91,8 @@ pub struct FramePlan {
     pub path: RenderPath,
     /// How the deferred path accumulates light: HDR or the LDR exp2 buffer.
     pub light_buffer: LightBuffer,
+    /// The display curve of the tone mapping pass (`[render] tone_mapping`).
+    pub tone_mapping: chiaro_scene::ToneMapping,
     /// Every light the frame shades: the directional ones in scene order, then the point
     /// and spot lights most important first.
     pub lights: Vec<FrameLight>,
@@ -283,6 +285,7 @@ impl FramePlan {
             request,
             path,
             light_buffer,
+            tone_mapping: settings.render.tone_mapping,
             lights,
             lists,
             shadows,

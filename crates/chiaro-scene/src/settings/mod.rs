@@ -31,7 +31,7 @@ pub use camera::CameraSettings;
 pub use environment::{EnvironmentMode, EnvironmentSettings, EnvironmentSource};
 pub use lighting::{LightingSettings, MixedMode};
 pub use lights::{LightCulling, LightSettings};
-pub use render::{DeferredAntialiasing, LightBuffer, RenderPath, RenderSettings};
+pub use render::{DeferredAntialiasing, LightBuffer, RenderPath, RenderSettings, ToneMapping};
 pub use scene::SceneSettings;
 pub use shadows::{
     CascadeBlend, DEFAULT_CASCADE_RATIOS, DirectionalShadowSettings, LocalShadowSettings, ShadowSettings,

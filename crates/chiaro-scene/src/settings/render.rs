@@ -37,6 +37,26 @@ pub struct RenderSettings {
     /// one sample): "fxaa" (the default: a post-process over the lit HDR image, before
     /// tone mapping, as an MSAA resolve blends) or "none".
     pub deferred_antialiasing: DeferredAntialiasing,
+    /// The display curve after exposure: "pbr-neutral" (the default: Khronos PBR Neutral,
+    /// base colours kept up to 0.8), "aces" (the fitted ACES filmic curve of three.js and
+    /// the Khronos render-fidelity renderers), "agx" (Blender's AgX base) or "linear"
+    /// (clamped).
+    pub tone_mapping: ToneMapping,
+}
+
+/// The display curve the tone mapping pass applies (chiaro_math::tonemap).
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq, Hash)]
+#[serde(rename_all = "kebab-case")]
+pub enum ToneMapping {
+    /// Khronos PBR Neutral.
+    #[default]
+    PbrNeutral,
+    /// Stephen Hill's fit of ACES (exposure / 0.6, RRT + sRGB ODT).
+    Aces,
+    /// Blender's AgX base.
+    Agx,
+    /// Exposed radiance clamped to [0, 1].
+    Linear,
 }
 
 /// The deferred path's antialiasing.
@@ -86,6 +106,7 @@ impl Default for RenderSettings {
             light_buffer: LightBuffer::Hdr,
             msaa: 4,
             deferred_antialiasing: DeferredAntialiasing::Fxaa,
+            tone_mapping: ToneMapping::PbrNeutral,
         }
     }
 }

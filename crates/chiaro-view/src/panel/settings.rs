@@ -5,7 +5,9 @@
 
 use crate::action::Action;
 use chiaro_scene::settings::{BakeQuality, EnvironmentMode, EnvironmentSource};
-use chiaro_scene::{CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings};
+use chiaro_scene::{
+    CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings, ToneMapping,
+};
 use egui::{ComboBox, DragValue, Slider, Ui};
 
 const FILTERS: [&str; 4] = ["pcf2x2", "tent3x3", "tent5x5", "tent7x7"];
@@ -104,6 +106,17 @@ fn render_section(ui: &mut Ui, s: &mut Settings) {
         "render.deferred_antialiasing",
         &mut r.deferred_antialiasing,
         &[(DeferredAntialiasing::Fxaa, "fxaa"), (DeferredAntialiasing::None, "none")],
+    );
+    combo(
+        ui,
+        "render.tone_mapping",
+        &mut r.tone_mapping,
+        &[
+            (ToneMapping::PbrNeutral, "pbr-neutral"),
+            (ToneMapping::Aces, "aces"),
+            (ToneMapping::Agx, "agx"),
+            (ToneMapping::Linear, "linear"),
+        ],
     );
 }
 
