@@ -23,6 +23,25 @@ pub(super) enum KeyWidth {
     PerTarget,
 }
 
+impl KeyWidth {
+    /// The width of a node property's values.
+    pub(super) fn of(property: Property) -> KeyWidth {
+        match property {
+            Property::Translation | Property::Scale => KeyWidth::Fixed(3),
+            Property::Rotation => KeyWidth::Fixed(4),
+            Property::Weights => KeyWidth::PerTarget,
+        }
+    }
+}
+
+/// Channel `c` of animation `a` (named `name`) as messages name it.
+pub(super) fn channel_label(a: usize, name: Option<&str>, c: usize) -> String {
+    match name {
+        Some(name) => format!("animations[{a}] ({name}).channels[{c}]"),
+        None => format!("animations[{a}].channels[{c}]"),
+    }
+}
+
 impl Loader<'_> {
     /// Everything posing needs, or `None` for a file without animations, skins or morph
     /// targets. Instances of deformed meshes are pointed at their own posed copies.
@@ -127,10 +146,7 @@ impl Loader<'_> {
         let mut channels = Vec::new();
         for (a, animation) in self.root.animations.iter().enumerate() {
             for (c, channel) in animation.channels.iter().enumerate() {
-                let label = match &animation.name {
-                    Some(name) => format!("animations[{a}] ({name}).channels[{c}]"),
-                    None => format!("animations[{a}].channels[{c}]"),
-                };
+                let label = channel_label(a, animation.name.as_deref(), c);
                 let node = channel.target.node.value();
                 if node >= self.root.nodes.len() {
                     return Err(self.invalid(format!("{label}: node {node} does not exist")));
@@ -147,12 +163,7 @@ impl Loader<'_> {
                 let sampler = animation.samplers.get(channel.sampler.value()).ok_or_else(|| {
                     self.invalid(format!("{label}: sampler {} does not exist", channel.sampler.value()))
                 })?;
-                let width = match property {
-                    Property::Translation | Property::Scale => KeyWidth::Fixed(3),
-                    Property::Rotation => KeyWidth::Fixed(4),
-                    Property::Weights => KeyWidth::PerTarget,
-                };
-                let keys = self.keyframes(sampler, width, &label)?;
+                let keys = self.keyframes(sampler, KeyWidth::of(property), &label)?;
                 channels.push(Channel { node, property, keys });
             }
         }

@@ -6,7 +6,7 @@
 //! the extension asks of pointers a viewer cannot animate.
 
 use super::Loader;
-use super::animation::KeyWidth;
+use super::animation::{KeyWidth, channel_label};
 use crate::animation::properties::{AnimatedProperty, PropertyChannel};
 use crate::animation::{Channel, Property};
 use crate::error::SceneError;
@@ -95,11 +95,7 @@ impl Loader<'_> {
         let (mut nodes, mut properties) = (Vec::new(), Vec::new());
         for pc in self.pointer_channels {
             let animation = self.root.animations.get(pc.animation);
-            let name = animation.and_then(|a| a.name.as_deref());
-            let label = match name {
-                Some(name) => format!("animations[{}] ({name}).channels[{}]", pc.animation, pc.channel),
-                None => format!("animations[{}].channels[{}]", pc.animation, pc.channel),
-            };
+            let label = channel_label(pc.animation, animation.and_then(|a| a.name.as_deref()), pc.channel);
             let Some(sampler) = pc.sampler.and_then(|s| animation?.samplers.get(s)) else {
                 return Err(self.invalid(format!("{label}: its sampler does not exist")));
             };
@@ -119,12 +115,7 @@ impl Loader<'_> {
             }
             match target {
                 PointerTarget::Node(node, property) => {
-                    let width = match property {
-                        Property::Translation | Property::Scale => KeyWidth::Fixed(3),
-                        Property::Rotation => KeyWidth::Fixed(4),
-                        Property::Weights => KeyWidth::PerTarget,
-                    };
-                    let keys = self.keyframes(sampler, width, &label)?;
+                    let keys = self.keyframes(sampler, KeyWidth::of(property), &label)?;
                     nodes.push(Channel { node, property, keys });
                 }
                 PointerTarget::Light(key, i) => {
