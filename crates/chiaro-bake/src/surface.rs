@@ -89,7 +89,8 @@ impl<'a> Surfaces<'a> {
         let roughness = (material.roughness * metallic_roughness.y).clamp(MIN_ROUGHNESS, 1.0);
         let emissive = material.emissive * texture(&material.emissive_texture).truncate();
         SurfacePoint {
-            base_color: base.truncate().clamp(Vec3::ZERO, Vec3::ONE),
+            base_color: (base.truncate() * layered_albedo_scale(&material.layers, metallic))
+                .clamp(Vec3::ZERO, Vec3::ONE),
             metallic,
             roughness,
             emissive,
@@ -153,5 +154,35 @@ mod tests {
         let centre = surfaces.at(0, 0, 0, [1.0 / 3.0; 3]).base_color;
         let expected: Vec3 = (0..3).map(|k| p.colors[p.indices[k] as usize].truncate() * 0.5 / 3.0).sum();
         assert!(centre.distance(expected) < 1e-6, "{centre} vs {expected}");
+    }
+}
+
+/// How much of a bounce the KHR_materials_* layers leave the base's albedo, by their
+/// factors (their textures are not read here): light that transmission or diffuse
+/// transmission passes through the dielectric does not bounce back off it, and a coat
+/// takes its Fresnel share (4% head-on, the mean over angles about 10%).
+fn layered_albedo_scale(layers: &chiaro_scene::MaterialLayers, metallic: f32) -> f32 {
+    const COAT_MEAN_FRESNEL: f32 = 0.1;
+    let kept_by_dielectric = (1.0 - layers.transmission) * (1.0 - layers.diffuse_transmission);
+    let base = metallic + (1.0 - metallic) * kept_by_dielectric;
+    base * (1.0 - layers.clearcoat * COAT_MEAN_FRESNEL)
+}
+
+#[cfg(test)]
+mod layer_tests {
+    use super::layered_albedo_scale;
+    use chiaro_scene::MaterialLayers;
+
+    #[test]
+    fn transmission_and_coats_bounce_less_light() {
+        assert_eq!(layered_albedo_scale(&MaterialLayers::default(), 0.0), 1.0);
+        let glass = MaterialLayers { transmission: 1.0, ..Default::default() };
+        assert_eq!(layered_albedo_scale(&glass, 0.0), 0.0);
+        // A metal transmits nothing.
+        assert_eq!(layered_albedo_scale(&glass, 1.0), 1.0);
+        let leaf = MaterialLayers { diffuse_transmission: 0.5, ..Default::default() };
+        assert_eq!(layered_albedo_scale(&leaf, 0.0), 0.5);
+        let coated = MaterialLayers { clearcoat: 1.0, ..Default::default() };
+        assert!((layered_albedo_scale(&coated, 0.0) - 0.9).abs() < 1e-6);
     }
 }

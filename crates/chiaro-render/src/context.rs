@@ -117,6 +117,9 @@ impl GpuContext {
             max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
             // The shadow AOVs take one array layer per light.
             max_texture_array_layers: adapter_limits.max_texture_array_layers,
+            // Transmissive materials' shader binds 17 (the opaque image beside the
+            // frame's and the material's); without them it draws them unrefracted.
+            max_sampled_textures_per_shader_stage: adapter_limits.max_sampled_textures_per_shader_stage.min(24),
             ..wgpu::Limits::default()
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {

@@ -70,6 +70,8 @@ overrides! {
     LOCAL_SHADOWS = 17;
     /// Tone mapping: the display curve (`TONE_MAPPING_*`).
     TONE_MAPPING = 18;
+    /// The draw's material has KHR_materials_* extensions: the layered BRDF shades it.
+    MATERIAL_LAYERED = 19;
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ pub mod environment;
 pub mod error;
 pub mod files;
 pub mod gltf_import;
+pub mod layers;
 pub mod light;
 pub mod names;
 pub mod nodes;
@@ -24,6 +25,7 @@ pub mod vertex_gen;
 pub use animation::{AnimationError, SceneAnimation};
 pub use error::SceneError;
 pub use gltf_import::{load_gltf, load_gltf_bytes};
+pub use layers::{LayerTexture, MaterialLayers};
 pub use nodes::{NodeError, NodeMove, SceneNode};
 pub use settings::{
     CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings, ToneMapping,

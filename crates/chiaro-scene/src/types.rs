@@ -1,6 +1,7 @@
 //! The plain-data scene every later stage reads: meshes with world transforms, materials,
 //! decoded images, punctual lights and cameras, all in world space and glTF units.
 
+use crate::layers::{LayerTexture, MaterialLayers};
 use chiaro_math::Aabb;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use std::path::PathBuf;
@@ -315,6 +316,37 @@ pub struct Material {
     /// by `alpha_mode`) as emitted radiance, lit by no light, shadow, ambient or bake. It
     /// still casts shadows by `shadow_casting`.
     pub unlit: bool,
+    /// The KHR_materials_* extensions beyond metallic-roughness.
+    pub layers: MaterialLayers,
+}
+
+impl Material {
+    /// Every texture reference the material holds: the five core slots, then the
+    /// extensions' in `LayerTexture::ALL` order.
+    pub fn textures_mut(&mut self) -> Vec<&mut Option<TextureRef>> {
+        let mut textures = vec![
+            &mut self.base_color_texture,
+            &mut self.metallic_roughness_texture,
+            &mut self.normal_texture,
+            &mut self.occlusion_texture,
+            &mut self.emissive_texture,
+        ];
+        textures.extend(self.layers.textures.iter_mut());
+        textures
+    }
+
+    /// Every texture the material has, with the colour space it is sampled in.
+    pub fn textures_in_color_spaces(&self) -> Vec<(TextureRef, ColorSpace)> {
+        let core = [
+            (self.base_color_texture, ColorSpace::Srgb),
+            (self.metallic_roughness_texture, ColorSpace::Linear),
+            (self.normal_texture, ColorSpace::Linear),
+            (self.occlusion_texture, ColorSpace::Linear),
+            (self.emissive_texture, ColorSpace::Srgb),
+        ];
+        let layered = LayerTexture::ALL.iter().map(|&slot| (self.layers.textures[slot.index()], slot.color_space()));
+        core.into_iter().chain(layered).filter_map(|(t, space)| t.map(|t| (t, space))).collect()
+    }
 }
 
 impl Default for Material {
@@ -339,6 +371,7 @@ impl Default for Material {
             double_sided: false,
             shadow_casting: ShadowCasting::On,
             unlit: false,
+            layers: MaterialLayers::default(),
         }
     }
 }

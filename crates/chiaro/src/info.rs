@@ -85,14 +85,16 @@ fn print_materials(scene: &Scene) {
         ]
         .iter()
         .filter(|&&t| t)
-        .count();
+        .count()
+            + m.layers.textures.iter().flatten().count();
+        let extensions: String = m.layers.extensions().iter().map(|name| format!(", {name}")).collect();
         let alpha = match m.alpha_mode {
             AlphaMode::Opaque => "opaque".to_string(),
             AlphaMode::Mask => format!("mask {}", m.alpha_cutoff),
             AlphaMode::Blend => "blend".to_string(),
         };
         println!(
-            "  material {i} '{}': base {:.3?}, metallic {}, roughness {}, {textures} textures, {alpha}{}",
+            "  material {i} '{}': base {:.3?}, metallic {}, roughness {}, {textures} textures, {alpha}{}{extensions}",
             m.name,
             m.base_color.to_array(),
             m.metallic,

@@ -69,7 +69,7 @@ fn faces_view(texture: &wgpu::Texture, mip: u32) -> wgpu::TextureView {
     })
 }
 
-pub fn table_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
+fn table_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("environment brdf table"),
         size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
@@ -117,13 +117,59 @@ fn power_of_two_at_most(n: u32) -> u32 {
     1 << (31 - n.max(1).leading_zeros())
 }
 
+/// Makes the BRDF table (submitted at once): the split-sum terms in x and y, the Charlie
+/// sheen albedo in z. Every renderer has it, environment or not: punctual lights' energy
+/// compensation and sheen read it too.
+pub fn bake_brdf_table(device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::Texture {
+    let module = shaders::module(device, "brdf table", crate::wgsl!("environment_bake"));
+    let table_pipeline = pipeline(device, &module, "brdf_table");
+    let table = table_texture(device, TABLE_SIZE);
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("brdf table") });
+    let params = GpuEnvironmentBake { size: TABLE_SIZE, source_size: 0, roughness: 0.0, samples: TABLE_SAMPLES };
+    let view = table.create_view(&Default::default());
+    dispatch(device, &mut encoder, &table_pipeline, params, 1, &[(6, wgpu::BindingResource::TextureView(&view))]);
+    queue.submit([encoder.finish()]);
+    table
+}
+
+/// Records one dispatch of `pipeline` over `params.size`² texels x `layers`, with the
+/// parameters at binding 0 and `resources` at their bindings.
+fn dispatch(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    params: GpuEnvironmentBake,
+    layers: u32,
+    resources: &[(u32, wgpu::BindingResource<'_>)],
+) {
+    let params_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("environment bake parameters"),
+        contents: bytemuck::bytes_of(&params),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: params_buffer.as_entire_binding() }];
+    entries.extend(
+        resources
+            .iter()
+            .map(|(binding, resource)| wgpu::BindGroupEntry { binding: *binding, resource: resource.clone() }),
+    );
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("environment bake"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, &bind_group, &[]);
+    let groups = params.size.div_ceil(WORKGROUP);
+    pass.dispatch_workgroups(groups, groups, layers);
+}
+
 impl EnvironmentBaker {
-    /// Makes the pipelines and the BRDF table (submitted at once).
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> EnvironmentBaker {
+    /// Makes the pipelines; the maps it makes carry `table` (`bake_brdf_table`).
+    pub fn new(device: &wgpu::Device, table: wgpu::Texture) -> EnvironmentBaker {
         let module = shaders::module(device, "environment bake", crate::wgsl!("environment_bake"));
-        let table_pipeline = pipeline(device, &module, "brdf_table");
-        let table = table_texture(device, TABLE_SIZE);
-        let baker = EnvironmentBaker {
+        EnvironmentBaker {
             cube_from_equirect: pipeline(device, &module, "cube_from_equirect"),
             downsample: pipeline(device, &module, "downsample"),
             prefilter: pipeline(device, &module, "prefilter"),
@@ -136,54 +182,7 @@ impl EnvironmentBaker {
                 ..Default::default()
             }),
             table,
-        };
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("brdf table") });
-        let params = GpuEnvironmentBake { size: TABLE_SIZE, source_size: 0, roughness: 0.0, samples: TABLE_SAMPLES };
-        let view = baker.table.create_view(&Default::default());
-        baker.dispatch(
-            device,
-            &mut encoder,
-            &table_pipeline,
-            params,
-            1,
-            &[(6, wgpu::BindingResource::TextureView(&view))],
-        );
-        queue.submit([encoder.finish()]);
-        baker
-    }
-
-    /// Records one dispatch of `pipeline` over `params.size`² texels x `layers`, with the
-    /// parameters at binding 0 and `resources` at their bindings.
-    fn dispatch(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        pipeline: &wgpu::ComputePipeline,
-        params: GpuEnvironmentBake,
-        layers: u32,
-        resources: &[(u32, wgpu::BindingResource<'_>)],
-    ) {
-        let params_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("environment bake parameters"),
-            contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: params_buffer.as_entire_binding() }];
-        entries.extend(
-            resources
-                .iter()
-                .map(|(binding, resource)| wgpu::BindGroupEntry { binding: *binding, resource: resource.clone() }),
-        );
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("environment bake"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        let groups = params.size.div_ceil(WORKGROUP);
-        pass.dispatch_workgroups(groups, groups, layers);
+        }
     }
 
     /// Uploads `map` and records and submits the passes that make its cube maps.
@@ -202,7 +201,7 @@ impl EnvironmentBaker {
         let params =
             |size, roughness, samples| GpuEnvironmentBake { size, source_size: radiance_size, roughness, samples };
         let out = faces_view(&radiance, 0);
-        self.dispatch(
+        dispatch(
             device,
             &mut encoder,
             &self.cube_from_equirect,
@@ -212,7 +211,7 @@ impl EnvironmentBaker {
         );
         for mip in 1..radiance_mips {
             let (finer, out) = (faces_view(&radiance, mip - 1), faces_view(&radiance, mip));
-            self.dispatch(
+            dispatch(
                 device,
                 &mut encoder,
                 &self.downsample,
@@ -225,7 +224,7 @@ impl EnvironmentBaker {
         for mip in 0..SPECULAR_MIPS {
             let roughness = mip as f32 / (SPECULAR_MIPS - 1) as f32;
             let out = faces_view(&specular, mip);
-            self.dispatch(
+            dispatch(
                 device,
                 &mut encoder,
                 &self.prefilter,

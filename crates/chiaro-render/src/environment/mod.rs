@@ -5,7 +5,8 @@
 //! the maps are made again only when the source (or, for `sky`, the sun; for the file's
 //! own environment, its texels) changes, while
 //! intensity and rotation are written each frame. Without an environment, 1x1 stand-ins
-//! are bound and the shaders compile the environment out.
+//! are bound and the shaders compile the environment out; the BRDF table is always the
+//! real one (punctual lights' energy compensation and sheen read it).
 
 mod bake;
 
@@ -78,12 +79,15 @@ pub struct EnvironmentCache {
     key: Option<EnvironmentKey>,
     maps: GpuEnvironmentMaps,
     baker: Option<bake::EnvironmentBaker>,
+    /// The BRDF table, made with the cache: bound with or without an environment.
+    table: wgpu::Texture,
 }
 
 impl EnvironmentCache {
     /// Stand-ins, until a frame asks for an environment.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> EnvironmentCache {
-        EnvironmentCache { key: None, maps: stand_ins(device, queue), baker: None }
+        let table = bake::bake_brdf_table(device, queue);
+        EnvironmentCache { key: None, maps: stand_ins(device, queue, &table), baker: None, table }
     }
 
     /// The bound maps.
@@ -106,7 +110,8 @@ impl EnvironmentCache {
             let map = environment_map(&settings.source, scene)
                 .map_err(|e| RenderError::Environment(e.to_string()))?
                 .expect("a source with a key has a map");
-            let baker = self.baker.get_or_insert_with(|| bake::EnvironmentBaker::new(device, queue));
+            let table = &self.table;
+            let baker = self.baker.get_or_insert_with(|| bake::EnvironmentBaker::new(device, table.clone()));
             self.maps = baker.make(device, queue, &map);
             self.key = key;
         }
@@ -174,12 +179,11 @@ fn uniform_buffer(device: &wgpu::Device) -> wgpu::Buffer {
     })
 }
 
-/// 1x1 black maps, bound where no environment is.
-fn stand_ins(device: &wgpu::Device, queue: &wgpu::Queue) -> GpuEnvironmentMaps {
+/// 1x1 black maps and the BRDF table, bound where no environment is.
+fn stand_ins(device: &wgpu::Device, queue: &wgpu::Queue, table: &wgpu::Texture) -> GpuEnvironmentMaps {
     let black = EnvironmentMap { width: 1, height: 1, texels: vec![Vec3::ZERO] };
     let image = bake::upload_equirect(device, queue, &black, 1.0);
     let cube = bake::cube_texture(device, "environment stand-in cube", 1, 1, wgpu::TextureUsages::TEXTURE_BINDING);
-    let table = bake::table_texture(device, 1);
     GpuEnvironmentMaps {
         uniform: uniform_buffer(device),
         specular: bake::cube_view(&cube),

@@ -54,4 +54,73 @@ pub struct GpuMaterial {
     pub occlusion_uv: GpuTextureTransform,
     /// The emissive texture's transform and UV set.
     pub emissive_uv: GpuTextureTransform,
+    /// The KHR_materials_* extensions.
+    pub layers: GpuMaterialLayers,
+}
+
+/// One extension texture slot (`LayerTextureSlot` in `shaders/common/layers.wesl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuLayerTextureSlot {
+    /// Columns of the 2x2 part: (m00, m01, m10, m11).
+    pub linear: Vec4,
+    /// UV offset, added after the 2x2 part.
+    pub offset: Vec2,
+    /// 0 or 1: TEXCOORD_0 or TEXCOORD_1.
+    pub uv_set: u32,
+    /// The layer of the material's extension texture array; -1 where it has none.
+    pub layer: i32,
+}
+
+/// A material's KHR_materials_* factors and extension texture slots (`MaterialLayers` in
+/// `shaders/common/layers.wesl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuMaterialLayers {
+    /// KHR_materials_specular: the dielectric's F0 colour.
+    pub specular_color: Vec3,
+    /// KHR_materials_specular: the dielectric's Fresnel strength.
+    pub specular: f32,
+    /// KHR_materials_sheen: the sheen's colour (black: none).
+    pub sheen_color: Vec3,
+    /// KHR_materials_sheen: the sheen's roughness.
+    pub sheen_roughness: f32,
+    /// KHR_materials_volume: the colour white light turns after `attenuation_distance`.
+    pub attenuation_color: Vec3,
+    /// Infinite distances are sent as f32::MAX (WGSL has no infinity literal to test).
+    pub attenuation_distance: f32,
+    /// KHR_materials_diffuse_transmission: the colour diffuse light takes through.
+    pub diffuse_transmission_color: Vec3,
+    /// KHR_materials_diffuse_transmission: the share of diffuse light passed to the back.
+    pub diffuse_transmission: f32,
+    /// KHR_materials_ior: the dielectric's index of refraction (0: infinite).
+    pub ior: f32,
+    /// KHR_materials_clearcoat: the coat's strength.
+    pub clearcoat: f32,
+    /// KHR_materials_clearcoat: the coat's perceptual roughness.
+    pub clearcoat_roughness: f32,
+    /// KHR_materials_clearcoat: the coat normal map's X and Y scale.
+    pub clearcoat_normal_scale: f32,
+    /// KHR_materials_transmission: the share of light passing through the surface.
+    pub transmission: f32,
+    /// KHR_materials_volume: the volume's thickness (0: thin-walled).
+    pub thickness: f32,
+    /// KHR_materials_iridescence: the thin film's strength.
+    pub iridescence: f32,
+    /// KHR_materials_iridescence: the film's index of refraction.
+    pub iridescence_ior: f32,
+    /// KHR_materials_iridescence: the film's thickness (nm) where its texture reads 0.
+    pub iridescence_thickness_min: f32,
+    /// KHR_materials_iridescence: the film's thickness (nm) where its texture reads 1.
+    pub iridescence_thickness_max: f32,
+    /// KHR_materials_anisotropy: how far the highlight stretches.
+    pub anisotropy_strength: f32,
+    /// KHR_materials_anisotropy: the stretch's angle from the tangent, radians.
+    pub anisotropy_rotation: f32,
+    /// KHR_materials_dispersion: 20 / Abbe number.
+    pub dispersion: f32,
+    /// Pads the factors to 16-byte alignment.
+    pub _pad: [f32; 3],
+    /// By `chiaro_scene::LayerTexture::index`.
+    pub textures: [GpuLayerTextureSlot; 14],
 }

@@ -13,7 +13,7 @@ mod vertex;
 pub use environment::{GpuEnvironment, GpuEnvironmentBake};
 pub use frame::{GpuFrame, GpuObject, GpuProbeGridHeader};
 pub use light::{GpuAovLight, GpuLight, GpuLightListEntry, GpuVolumeLight};
-pub use material::{GpuMaterial, GpuTextureTransform};
+pub use material::{GpuLayerTextureSlot, GpuMaterial, GpuMaterialLayers, GpuTextureTransform};
 pub use shadow::{GpuAtlas, GpuCascade, GpuCasterView, GpuShadowFade, GpuShadowTile, GpuShadows};
 pub use vertex::GpuVertex;
 
@@ -74,6 +74,13 @@ layouts! {
     GpuMaterial {
         base_color, emissive, metallic, roughness, normal_scale, occlusion_strength, alpha_cutoff,
         alpha_mode, double_sided, flags, base_color_uv, metallic_roughness_uv, normal_uv, occlusion_uv,
-        emissive_uv,
+        emissive_uv, layers,
+    }
+    GpuLayerTextureSlot { linear, offset, uv_set, layer }
+    GpuMaterialLayers {
+        specular_color, specular, sheen_color, sheen_roughness, attenuation_color, attenuation_distance,
+        diffuse_transmission_color, diffuse_transmission, ior, clearcoat, clearcoat_roughness, clearcoat_normal_scale,
+        transmission, thickness, iridescence, iridescence_ior, iridescence_thickness_min, iridescence_thickness_max,
+        anisotropy_strength, anisotropy_rotation, dispersion, textures,
     }
 }

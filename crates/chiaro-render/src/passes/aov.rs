@@ -75,6 +75,7 @@ impl AovPass {
             constants: Vec::new(),
             alpha_test_override: None,
             textured_override: None,
+            layered_override: None,
         };
         AovPass {
             pipelines: MeshPipelines::new(desc("aov", "fs_aov", vec![AOV_FORMAT, AOV_FORMAT])),

@@ -39,6 +39,7 @@ impl PassType for DepthPrepassPass {
                 constants: Vec::new(),
                 alpha_test_override: None,
                 textured_override: None,
+                layered_override: None,
             }),
         }
     }

@@ -100,6 +100,7 @@ impl GBufferPass {
             ],
             alpha_test_override: Some(overrides::ALPHA_TESTED),
             textured_override: Some(overrides::MATERIAL_TEXTURED),
+            layered_override: None,
         })
     }
 }
@@ -124,7 +125,7 @@ fn background_targets(plan: &FramePlan) -> Option<BackgroundTargets> {
 
 /// The opaque and masked draws, which the G-buffer takes.
 fn opaque_draws(plan: &FramePlan) -> &[u32] {
-    &plan.camera_draws[..plan.transparent_from]
+    &plan.camera_draws[..plan.transmissive_from]
 }
 
 impl FramePass for GBufferPass {

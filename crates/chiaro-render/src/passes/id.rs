@@ -48,6 +48,7 @@ impl PassType for IdPass {
             constants: Vec::new(),
             alpha_test_override: None,
             textured_override: None,
+            layered_override: None,
         });
         IdPass { pipelines }
     }

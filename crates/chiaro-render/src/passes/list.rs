@@ -10,7 +10,7 @@ macro_rules! frame_passes {
             gbuffer: GBufferPass ["gbuffer", "background"],
             deferred_lights: DeferredLightsPass ["deferred_light"],
             ldr_decode: LdrDecodePass ["ldr_decode"],
-            forward: ForwardPass ["forward", "background"],
+            forward: ForwardPass ["forward", "background", "opaque_copy"],
             fxaa: FxaaPass ["fxaa"],
             aov: AovPass ["aov"],
             id: IdPass ["id"],

@@ -40,6 +40,9 @@ pub struct MeshPipelineKey {
     /// A draw whose material has a texture, where the pipelines have a
     /// `textured_override`.
     textured: bool,
+    /// A draw whose material has KHR_materials_* extensions, where the pipelines have a
+    /// `layered_override`.
+    layered: bool,
     samples: u32,
     topology: Topology,
 }
@@ -57,6 +60,10 @@ pub enum DepthTest {
     /// After a depth prepass of the opaque draws: those pass only where they are the
     /// surface the prepass kept (shading each pixel once); the others as `Nearest`.
     AfterPrepass,
+    /// After the G-buffer pass wrote the opaque and masked draws' depth: those pass only
+    /// where they are that surface (the deferred path's forward-shaded layered draws);
+    /// transparent draws as `Nearest`.
+    OverGBuffer,
 }
 
 /// A mesh pass's pipelines, made on first use for each `MeshPipelineKey`.
@@ -75,6 +82,7 @@ pub struct MeshPipelines {
     constants: Vec<(&'static str, f64)>,
     alpha_test_override: Option<Override>,
     textured_override: Option<Override>,
+    layered_override: Option<Override>,
     pipelines: HashMap<MeshPipelineKey, wgpu::RenderPipeline>,
     /// Samples per pixel of the targets of the frame being drawn (set by `prepare`).
     samples: u32,
@@ -109,6 +117,9 @@ pub struct MeshPipelinesDesc {
     /// A boolean override set only for textured draws' pipelines, so that the others
     /// sample no texture: lavapipe pays for every sample, even of a 1x1 default.
     pub textured_override: Option<Override>,
+    /// A boolean override set only for layered (KHR_materials_*) draws' pipelines, so
+    /// that the others compile the layered BRDF out.
+    pub layered_override: Option<Override>,
 }
 
 /// Stencil bit of pixels that hold a surface (set by the G-buffer pass).
@@ -141,6 +152,7 @@ impl MeshPipelines {
             constants: desc.constants,
             alpha_test_override: desc.alpha_test_override,
             textured_override: desc.textured_override,
+            layered_override: desc.layered_override,
             pipelines: HashMap::new(),
             samples: 1,
         }
@@ -151,9 +163,14 @@ impl MeshPipelines {
             cull_back: !d.double_sided,
             front_cw: d.mirrored,
             blend: self.blends && d.alpha_mode == AlphaMode::Blend,
-            prepassed: self.depth_test == DepthTest::AfterPrepass && d.alpha_mode == AlphaMode::Opaque,
+            prepassed: match self.depth_test {
+                DepthTest::AfterPrepass => d.alpha_mode == AlphaMode::Opaque,
+                DepthTest::OverGBuffer => d.alpha_mode != AlphaMode::Blend,
+                DepthTest::Nearest | DepthTest::SameSurface => false,
+            },
             alpha_tested: self.alpha_test_override.is_some() && d.alpha_mode == AlphaMode::Mask,
             textured: self.textured_override.is_none() || d.textured,
+            layered: self.layered_override.is_some() && d.layered,
             samples: self.samples,
             topology: d.topology,
         }
@@ -186,7 +203,9 @@ impl MeshPipelines {
             .collect();
         let (depth_compare, depth_write) = match self.depth_test {
             _ if key.prepassed => (wgpu::CompareFunction::GreaterEqual, false),
-            DepthTest::Nearest | DepthTest::AfterPrepass => (wgpu::CompareFunction::Greater, !key.blend),
+            DepthTest::Nearest | DepthTest::AfterPrepass | DepthTest::OverGBuffer => {
+                (wgpu::CompareFunction::Greater, !key.blend)
+            }
             DepthTest::SameSurface => (wgpu::CompareFunction::GreaterEqual, true),
         };
         let mut constants = self.constants.clone();
@@ -195,6 +214,9 @@ impl MeshPipelines {
         }
         if let Some(textured) = self.textured_override {
             constants.push(textured.flag(key.textured));
+        }
+        if let Some(layered) = self.layered_override {
+            constants.push(layered.flag(key.layered));
         }
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("{} {key:?}", self.label)),

@@ -9,6 +9,7 @@ use crate::graph::{FramePass, PassDeclaration, PassInit, PassType};
 pub mod background;
 pub mod fullscreen;
 pub mod mesh;
+pub mod opaque_copy;
 pub mod targets;
 
 include!("list.rs");

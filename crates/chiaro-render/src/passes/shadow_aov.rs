@@ -84,6 +84,7 @@ impl ShadowAovPass {
                 constants: Vec::new(),
                 alpha_test_override: None,
                 textured_override: None,
+                layered_override: None,
             }),
             light_layout,
             lights: None,

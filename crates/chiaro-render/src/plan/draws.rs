@@ -71,6 +71,12 @@ pub struct Draw {
     pub alpha_mode: AlphaMode,
     /// Whether the material has any texture (else its shading samples none).
     pub textured: bool,
+    /// Whether the material has KHR_materials_* extensions (the layered BRDF shades it,
+    /// and the deferred path draws it forward too).
+    pub layered: bool,
+    /// Whether light passes through the (opaque or masked) material
+    /// (KHR_materials_transmission): it is drawn after the other solids, refracting them.
+    pub transmissive: bool,
     /// Whether back faces are drawn too (glTF `doubleSided`).
     pub double_sided: bool,
     /// The instance's transform mirrors (negative determinant), which flips the winding.
@@ -163,6 +169,8 @@ pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
                 topology,
                 alpha_mode: m.alpha_mode,
                 textured: m.has_texture(),
+                layered: m.layers.is_layered() && !m.unlit,
+                transmissive: m.layers.transmits() && !m.unlit && m.alpha_mode != AlphaMode::Blend,
                 double_sided: m.double_sided,
                 mirrored: inst.world_from_local.determinant() < 0.0,
                 center_ws: inst.world_from_local.transform_point3(p.bounds.center()),
@@ -225,9 +233,15 @@ pub fn camera_draw_order(draws: &[Draw], far_key: impl Fn(Vec3) -> f32) -> Vec<u
         (d.double_sided, d.mirrored, d.material, d.first_index)
     });
     let distance = |i: u32| far_key(draws[i as usize].center_ws);
+    // Transmissive solids refract the image of the others, so they come after them, far
+    // to near (a nearer one sees the farther one through it).
+    let (mut transmissive, mut order): (Vec<u32>, Vec<u32>) =
+        solid.into_iter().partition(|&i| draws[i as usize].transmissive);
+    transmissive.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
     blended.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
-    solid.extend(blended);
-    solid
+    order.extend(transmissive);
+    order.extend(blended);
+    order
 }
 
 #[cfg(test)]

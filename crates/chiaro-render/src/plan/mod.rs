@@ -103,8 +103,16 @@ pub struct FramePlan {
     /// Indices into the scene's draws, in the order the camera passes draw them: opaque
     /// and masked ones, then from `transparent_from` the alpha-blended ones.
     pub camera_draws: Vec<u32>,
+    /// Where the transmissive (KHR_materials_transmission) solids start in
+    /// `camera_draws`; they end where the transparent draws start.
+    pub transmissive_from: usize,
     /// Where the transparent draws start in `camera_draws`.
     pub transparent_from: usize,
+    /// The forward pass's solid draws before the transmissive ones: every other solid on
+    /// the forward path; on the deferred path the layered (KHR_materials_*) ones, shaded
+    /// again over the G-buffer's light. The pass then draws the transmissive solids and
+    /// the transparent draws.
+    pub forward_draws: Vec<u32>,
     /// The forward path's opaque (not alpha-tested) draws, which a depth prepass draws
     /// first; empty on the deferred path.
     pub prepass_draws: Vec<u32>,
@@ -248,12 +256,14 @@ impl FramePlan {
         };
         let transparent_from =
             camera_draws.iter().take_while(|&&d| draws[d as usize].alpha_mode != AlphaMode::Blend).count();
+        let transmissive_from =
+            camera_draws[..transparent_from].iter().take_while(|&&d| !draws[d as usize].transmissive).count();
         let volumes = match path {
             RenderPath::Forward => Vec::new(),
             RenderPath::Deferred => light_volumes(scene, view, &lights, &lists),
         };
         let prepass_draws = match path {
-            RenderPath::Forward => camera_draws[..transparent_from]
+            RenderPath::Forward => camera_draws[..transmissive_from]
                 .iter()
                 .copied()
                 .filter(|&d| draws[d as usize].alpha_mode == AlphaMode::Opaque)
@@ -261,15 +271,19 @@ impl FramePlan {
             RenderPath::Deferred => Vec::new(),
         };
         let culling = settings.lights.culling;
-        let forward_draws = match path {
-            RenderPath::Forward => &camera_draws[..],
-            RenderPath::Deferred => &camera_draws[transparent_from..],
+        let forward_draws: Vec<u32> = match path {
+            RenderPath::Forward => camera_draws[..transmissive_from].to_vec(),
+            RenderPath::Deferred => {
+                camera_draws[..transmissive_from].iter().copied().filter(|&d| draws[d as usize].layered).collect()
+            }
         };
-        let culled = if forward_draws.is_empty() {
+        let shaded_forward: Vec<u32> =
+            forward_draws.iter().chain(&camera_draws[transmissive_from..]).copied().collect();
+        let culled = if shaded_forward.is_empty() {
             CulledLights::default()
         } else {
             let first_local = lists.directional.len();
-            cull_lights(culling, scene, draws, forward_draws, view, &lights, first_local, &shadowed)
+            cull_lights(culling, scene, draws, &shaded_forward, view, &lights, first_local, &shadowed)
         };
         let (msaa, fxaa) = antialiasing(&request, path, settings);
         // A debug view of the G-buffer shades nothing, so it draws no shadow tiles (and
@@ -290,7 +304,9 @@ impl FramePlan {
             lists,
             shadows,
             camera_draws,
+            transmissive_from,
             transparent_from,
+            forward_draws,
             prepass_draws,
             volumes,
             cookie_layers: cookie_slots(scene).into_iter().map(|slot| slot.map(|(_, layer)| layer)).collect(),

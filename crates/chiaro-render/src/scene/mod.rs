@@ -4,18 +4,20 @@
 
 pub mod baked;
 pub mod cookies;
+pub mod layer_textures;
 mod textures;
 
-use crate::gpu::{GpuMaterial, GpuObject, GpuTextureTransform, GpuVertex};
+use crate::gpu::{GpuLayerTextureSlot, GpuMaterial, GpuMaterialLayers, GpuObject, GpuTextureTransform, GpuVertex};
 use crate::plan::draws::{Draw, GeometryLayout, scene_draws};
 use crate::shader_constants::{
     MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_ALPHA_OPAQUE, MATERIAL_FLAG_NORMAL_TEXTURE, MATERIAL_FLAG_UNLIT,
 };
 use baked::BakedTextures;
 use bytemuck::Zeroable;
-use chiaro_scene::{AlphaMode, Material, Scene, TextureRef};
+use chiaro_scene::{AlphaMode, LayerTexture, Material, MaterialLayers, Scene, TextureRef};
 use cookies::CookieTextures;
 use glam::{Vec2, Vec3, Vec4};
+use layer_textures::{LayerPlan, layer_plan, upload_layers};
 use textures::{SamplerCache, solid, upload_scene_image};
 use wgpu::util::DeviceExt;
 
@@ -70,6 +72,23 @@ pub fn material_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             count: None,
         });
     }
+    // The KHR_materials_* textures: one array (scene/layer_textures.rs) and its sampler.
+    entries.push(wgpu::BindGroupLayoutEntry {
+        binding: 11,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+            multisampled: false,
+        },
+        count: None,
+    });
+    entries.push(wgpu::BindGroupLayoutEntry {
+        binding: 12,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+        count: None,
+    });
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("material layout"),
         entries: &entries,
@@ -89,8 +108,43 @@ fn texture_transform(t: Option<&TextureRef>) -> GpuTextureTransform {
     }
 }
 
-/// A material's factors, alpha mode and texture transforms as the shaders read them.
-pub fn gpu_material(m: &Material) -> GpuMaterial {
+/// A material's KHR_materials_* factors and its extension texture slots (their layers in
+/// `plan`'s array) as the shaders read them.
+pub fn gpu_material_layers(l: &MaterialLayers, plan: &LayerPlan) -> GpuMaterialLayers {
+    let textures = LayerTexture::ALL.map(|slot| {
+        let t = texture_transform(l.texture(slot));
+        GpuLayerTextureSlot { linear: t.linear, offset: t.offset, uv_set: t.uv_set, layer: plan.slots[slot.index()] }
+    });
+    GpuMaterialLayers {
+        specular_color: l.specular_color,
+        specular: l.specular,
+        sheen_color: l.sheen_color,
+        sheen_roughness: l.sheen_roughness,
+        attenuation_color: l.attenuation_color,
+        attenuation_distance: l.attenuation_distance.min(f32::MAX),
+        diffuse_transmission_color: l.diffuse_transmission_color,
+        diffuse_transmission: l.diffuse_transmission,
+        ior: l.ior,
+        clearcoat: l.clearcoat,
+        clearcoat_roughness: l.clearcoat_roughness,
+        clearcoat_normal_scale: l.clearcoat_normal_scale,
+        transmission: l.transmission,
+        thickness: l.thickness,
+        iridescence: l.iridescence,
+        iridescence_ior: l.iridescence_ior,
+        iridescence_thickness_min: l.iridescence_thickness_min,
+        iridescence_thickness_max: l.iridescence_thickness_max,
+        anisotropy_strength: l.anisotropy_strength,
+        anisotropy_rotation: l.anisotropy_rotation,
+        dispersion: l.dispersion,
+        _pad: [0.0; 3],
+        textures,
+    }
+}
+
+/// A material's factors, alpha mode and texture transforms as the shaders read them, its
+/// extension textures in `plan`'s layers.
+pub fn gpu_material(m: &Material, plan: &LayerPlan) -> GpuMaterial {
     GpuMaterial {
         base_color: m.base_color,
         emissive: m.emissive,
@@ -113,6 +167,7 @@ pub fn gpu_material(m: &Material) -> GpuMaterial {
         normal_uv: texture_transform(m.normal_texture.as_ref()),
         occlusion_uv: texture_transform(m.occlusion_texture.as_ref()),
         emissive_uv: texture_transform(m.emissive_texture.as_ref()),
+        layers: gpu_material_layers(&m.layers, plan),
     }
 }
 
@@ -218,6 +273,7 @@ fn material_bind_groups(
     let images: Vec<wgpu::TextureView> = uploaded.into_iter().map(|(view, _)| view).collect();
     let white = solid(device, queue, "white", [255, 255, 255, 255]);
     let flat_normal = solid(device, queue, "flat normal", [128, 128, 255, 255]);
+    let no_layers = upload_layers(device, queue, "no extension textures", &layer_plan(&Material::default(), 0), &[]);
     let mut samplers = SamplerCache::default();
     let default = Material::default();
     let groups = scene
@@ -225,9 +281,10 @@ fn material_bind_groups(
         .iter()
         .chain(std::iter::once(&default))
         .map(|m| {
+            let plan = layer_plan(m, scene.images.len());
             let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(&m.name),
-                contents: bytemuck::bytes_of(&gpu_material(m)),
+                contents: bytemuck::bytes_of(&gpu_material(m, &plan)),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
             let slots = [
@@ -255,6 +312,14 @@ fn material_bind_groups(
                     resource: wgpu::BindingResource::Sampler(sampler),
                 });
             }
+            let layers = match plan.images.is_empty() {
+                true => no_layers.clone(),
+                false => upload_layers(device, queue, &m.name, &plan, &scene.images),
+            };
+            entries.push(wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::TextureView(&layers) });
+            let layer_sampler = samplers.get(device, &plan.sampler);
+            entries
+                .push(wgpu::BindGroupEntry { binding: 12, resource: wgpu::BindingResource::Sampler(&layer_sampler) });
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&m.name), layout, entries: &entries })
         })
         .collect();

@@ -30,15 +30,7 @@ pub(super) fn image_uses(
     }
     let mut uses: Vec<Option<ColorSpace>> = Vec::new();
     for material in materials.iter().zip(drawn).filter(|(_, drawn)| *drawn).map(|(m, _)| m) {
-        let slots = [
-            (material.base_color_texture, ColorSpace::Srgb),
-            (material.metallic_roughness_texture, ColorSpace::Linear),
-            (material.normal_texture, ColorSpace::Linear),
-            (material.occlusion_texture, ColorSpace::Linear),
-            (material.emissive_texture, ColorSpace::Srgb),
-        ];
-        for (texture, color_space) in slots {
-            let Some(texture) = texture else { continue };
+        for (texture, color_space) in material.textures_in_color_spaces() {
             if uses.len() <= texture.image {
                 uses.resize(texture.image + 1, None);
             }
@@ -100,26 +92,11 @@ impl Loader<'_> {
             }
         }
         for material in materials {
-            for texture in [
-                &mut material.base_color_texture,
-                &mut material.metallic_roughness_texture,
-                &mut material.normal_texture,
-                &mut material.occlusion_texture,
-                &mut material.emissive_texture,
-            ]
-            .into_iter()
-            .flatten()
-            {
+            for texture in material.textures_mut().into_iter().flatten() {
                 texture.image = scene_index[texture.image];
             }
             // A material nothing draws keeps no reference to images that were not read.
-            for texture in [
-                &mut material.base_color_texture,
-                &mut material.metallic_roughness_texture,
-                &mut material.normal_texture,
-                &mut material.occlusion_texture,
-                &mut material.emissive_texture,
-            ] {
+            for texture in material.textures_mut() {
                 if texture.is_some_and(|t| t.image >= images.len()) {
                     *texture = None;
                 }

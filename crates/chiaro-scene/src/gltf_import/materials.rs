@@ -79,6 +79,7 @@ impl Loader<'_> {
             double_sided: m.double_sided,
             shadow_casting,
             unlit: raw.pointer("/extensions/KHR_materials_unlit").is_some(),
+            layers: self.material_layers(&label, raw)?,
         };
         let factors_finite = material.base_color.is_finite()
             && material.emissive.is_finite()
@@ -100,7 +101,7 @@ impl Loader<'_> {
     /// A texture info's image, sampler, UV set and KHR_texture_transform. The transform is
     /// read from the raw JSON because the typed model drops it on normal and occlusion
     /// textures.
-    fn texture_ref(
+    pub(super) fn texture_ref(
         &mut self,
         label: &str,
         texture: usize,
@@ -156,13 +157,7 @@ impl Loader<'_> {
     /// to slot. Sets 0 and 1 stay where they are; a material that names a later set has
     /// it in a slot it leaves free (a third distinct set falls back to slot 0, noted).
     pub(super) fn assign_uv_slots(&mut self, index: usize, material: &mut Material) -> [u32; 2] {
-        let textures = [
-            &mut material.base_color_texture,
-            &mut material.metallic_roughness_texture,
-            &mut material.normal_texture,
-            &mut material.occlusion_texture,
-            &mut material.emissive_texture,
-        ];
+        let textures = material.textures_mut();
         let sets: Vec<u32> = textures.iter().flat_map(|t| t.map(|t| t.tex_coord)).collect();
         let mut later: Vec<u32> = sets.iter().copied().filter(|&set| set > 1).collect();
         later.sort_unstable();

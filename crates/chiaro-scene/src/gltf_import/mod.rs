@@ -29,6 +29,7 @@ mod image_based_light;
 mod images;
 mod instancing;
 mod ktx2_image;
+mod layers;
 mod lights_cameras;
 mod materials;
 mod meshes;
@@ -60,7 +61,7 @@ use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 14] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 24] = [
     "KHR_lights_punctual",
     image_based_light::EXTENSION,
     "KHR_materials_emissive_strength",
@@ -75,6 +76,16 @@ pub const SUPPORTED_EXTENSIONS: [&str; 14] = [
     "EXT_texture_webp",
     ktx2_image::EXTENSION,
     animation_pointer::EXTENSION,
+    layers::EXTENSIONS[0],
+    layers::EXTENSIONS[1],
+    layers::EXTENSIONS[2],
+    layers::EXTENSIONS[3],
+    layers::EXTENSIONS[4],
+    layers::EXTENSIONS[5],
+    layers::EXTENSIONS[6],
+    layers::EXTENSIONS[7],
+    layers::EXTENSIONS[8],
+    layers::EXTENSIONS[9],
 ];
 
 /// Loads a `.gltf` or `.glb` file and everything it references.

@@ -30,7 +30,7 @@ fn unsupported_image_formats_name_the_image() {
 
 /// A quad facing +Z with upright glTF UVs (v = 0 at the top, y = 1) and a material that
 /// sets every factor and texture slot, two images written into `dir`.
-fn painted_quad(dir: &TempDir) -> serde_json::Value {
+pub(super) fn painted_quad(dir: &TempDir) -> serde_json::Value {
     let mut rgba = image::RgbaImage::new(2, 1);
     rgba.put_pixel(1, 0, image::Rgba([10, 20, 30, 255]));
     dir.write("color.png", &png_bytes(rgba.into()));

@@ -10,6 +10,7 @@ mod geometry;
 mod image_based_light;
 mod instancing;
 mod invalid_files;
+mod layers;
 mod lights_cameras;
 mod materials;
 mod test_assets;
