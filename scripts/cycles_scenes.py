@@ -6,9 +6,9 @@ parameter spanned across the row, lit by a sun, a point light or an environment.
     python3 scripts/cycles_scenes.py OUT.gltf --light sun|point|environment
         [--base-color R,G,B] [--metallic M] [--roughness R]
         [--param NAME VALUES]... [--extension NAME] [--ext-param KEY VALUES]...
-        [--ext-fixed JSON] [--materials FILE.json]
+        [--ext-fixed JSON] [--extra-extension NAME JSON]... [--materials FILE.json]
         [--sun-lux E] [--point-cd I] [--env-nits L] [--env-kind uniform|gradient]
-        [--aspect W/H] [--segments 48] [--rings 24]
+        [--aspect W/H] [--segments 48] [--rings 24] [--no-floor] [--sphere-shadows off]
 
 Materials. Every sphere starts from the plain metallic-roughness material the
 --base-color, --metallic and --roughness options give; then:
@@ -18,6 +18,8 @@ Materials. Every sphere starts from the plain metallic-roughness material the
   is a comma list of numbers (`0.1,0.3,0.5`) or a JSON list (`[[1,0,0],[0,1,0]]`).
 - `--extension NAME` adds that extension to every sphere; `--ext-fixed JSON` is its
   dict of fixed values, `--ext-param KEY VALUES` (repeatable) spans one of its keys.
+- `--extra-extension NAME JSON` (repeatable) adds one more extension with those fixed
+  values to every sphere (KHR_materials_volume beside KHR_materials_transmission).
 - `--materials FILE.json` replaces all of the above: a JSON list of glTF material
   dicts, one per sphere (names are given if missing).
 The row has as many spheres as there are values (5 with the defaults). Every extension
@@ -36,7 +38,12 @@ Geometry: spheres of radius 0.5 m resting on the floor (y = 0), 1.25 m apart alo
 smooth normals, UVs and tangents (u around, v down; tangent along +u, w = +1), 48 x 24
 segments by default; a 40 m grey floor (base colour 0.5, roughness 0.8); a camera 8.7 m
 away looking slightly down at the row (aspect --aspect, default 1). Node and material
-names say what they span (`sphere 2 roughness=0.5`). Standard library only.
+names say what they span (`sphere 2 roughness=0.5`). `--no-floor` leaves the floor out
+(a refracting sphere then shows the environment behind it in both renderers: Cycles'
+refracted rays do not see opaque objects under --direct-only). `--sphere-shadows off`
+gives the sphere nodes `extras.castShadows = "off"`, which Chiaro reads and Cycles
+follows with cycles_render.py's --node-shadow-extras (compare_cycles.py
+--cycles-arg=--node-shadow-extras). Standard library only.
 """
 
 from __future__ import annotations
@@ -257,12 +264,23 @@ def spanned_materials(args: argparse.Namespace) -> list[Json]:
             raise SceneError(f"--ext-fixed: not JSON ({err})")
         if not isinstance(fixed, dict):
             raise SceneError("--ext-fixed: not a JSON object")
+    extras: list[tuple[str, Json]] = []
+    for name, text in args.extra_extension:
+        try:
+            values = json.loads(text)
+        except ValueError as err:
+            raise SceneError(f"--extra-extension {name}: not JSON ({err})")
+        if not isinstance(values, dict) or name == args.extension:
+            raise SceneError(f"--extra-extension {name}: not a JSON object, or the --extension itself")
+        extras.append((name, values))
     materials = []
     for i in range(counts.pop()):
         m: Json = {"pbrMetallicRoughness": {"baseColorFactor": list(args.base_color) + [1.0],
                                             "metallicFactor": args.metallic, "roughnessFactor": args.roughness}}
         if args.extension:
             m["extensions"] = {args.extension: dict(fixed)}
+        for name, values in extras:
+            m.setdefault("extensions", {})[name] = dict(values)
         labels = []
         for path, values in spans:
             set_path(m, path, values[i])
@@ -317,20 +335,24 @@ def light_nodes(kind: str, sun_lux: float, point_cd: float) -> tuple[list[Json],
 
 
 def build_scene(materials: list[Json], light: str, sun_lux: float, point_cd: float, aspect: float,
-                segments: int, rings: int) -> Json:
+                segments: int, rings: int, with_floor: bool = True, sphere_shadows: bool = True) -> Json:
     """The glTF document, its buffer embedded as a data URI."""
     buf = Buffer()
     sphere = buf.primitive(*uv_sphere(SPHERE_RADIUS_M, segments, rings), material=0)
-    floor = buf.primitive(*floor_quad(FLOOR_HALF_SIZE_M), material=len(materials))
     meshes: list[Json] = [{"name": f"sphere {i}", "primitives": [dict(sphere, material=i)]}
                           for i in range(len(materials))]
-    meshes.append({"name": "floor", "primitives": [floor]})
+    if with_floor:
+        floor_prim = buf.primitive(*floor_quad(FLOOR_HALF_SIZE_M), material=len(materials))
+        meshes.append({"name": "floor", "primitives": [floor_prim]})
     nodes: list[Json] = []
     first_x = -SPHERE_SPACING_M * (len(materials) - 1) / 2
     for i, m in enumerate(materials):
         nodes.append({"name": m["name"], "mesh": i,
                       "translation": [round(first_x + i * SPHERE_SPACING_M, 6), SPHERE_RADIUS_M, 0.0]})
-    nodes.append({"name": "floor", "mesh": len(materials)})
+        if not sphere_shadows:
+            nodes[-1]["extras"] = {"castShadows": "off"}
+    if with_floor:
+        nodes.append({"name": "floor", "mesh": len(materials)})
     forward = normalize([t - p for t, p in zip(CAMERA_TARGET, CAMERA_POSITION)])
     nodes.append({"name": "camera", "camera": 0, "translation": list(CAMERA_POSITION),
                   "rotation": looking_along(forward)})
@@ -343,7 +365,7 @@ def build_scene(materials: list[Json], light: str, sun_lux: float, point_cd: flo
         "scenes": [{"nodes": list(range(len(nodes)))}],
         "nodes": nodes,
         "meshes": meshes,
-        "materials": materials + [dict(FLOOR_MATERIAL)],
+        "materials": materials + ([dict(FLOOR_MATERIAL)] if with_floor else []),
         "cameras": [{"type": "perspective", "perspective": {"yfov": CAMERA_YFOV_RAD, "aspectRatio": aspect,
                                                             "znear": 0.1, "zfar": 100.0}}],
         "buffers": [{"byteLength": len(buf.data),
@@ -382,6 +404,11 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--aspect", type=float, default=1.0, help="the camera's width / height")
     ap.add_argument("--segments", type=int, default=48)
     ap.add_argument("--rings", type=int, default=24)
+    ap.add_argument("--extra-extension", nargs=2, action="append", default=[], metavar=("NAME", "JSON"),
+                    help="one more extension with these fixed values on every sphere (repeatable)")
+    ap.add_argument("--no-floor", action="store_true", help="leave the floor out")
+    ap.add_argument("--sphere-shadows", choices=("on", "off"), default="on",
+                    help="off: the sphere nodes get extras.castShadows = \"off\"")
     return ap
 
 
@@ -394,9 +421,10 @@ def main(argv: list[str] | None = None) -> int:
         if args.segments < 3 or args.rings < 2 or args.segments * args.rings > 20000:
             raise SceneError("--segments/--rings: need at least 3 x 2 and at most 20000 quads (16-bit indices)")
         doc = build_scene(spanned_materials(args), args.light, args.sun_lux, args.point_cd, args.aspect,
-                          args.segments, args.rings)
+                          args.segments, args.rings, with_floor=not args.no_floor,
+                          sphere_shadows=args.sphere_shadows == "on")
         out.write_text(json.dumps(doc, indent=1))
-        print(f"cycles_scenes: wrote {out} ({len(doc['materials']) - 1} spheres, {args.light})")
+        print(f"cycles_scenes: wrote {out} ({len(doc['meshes']) - (0 if args.no_floor else 1)} spheres, {args.light})")
         if args.light == "environment":
             env = out.with_name(out.stem + ".environment.hdr")
             write_environment(env, args.env_kind, args.env_nits)

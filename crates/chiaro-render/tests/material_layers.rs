@@ -398,3 +398,63 @@ fn a_device_that_binds_sixteen_textures_draws_transmissive_materials_unrefracted
         }
     }
 }
+
+#[test]
+fn an_anisotropic_metal_in_a_furnace_returns_no_more_light_than_it_receives() {
+    // A 0.9 metal in a uniform white environment reflects at most 0.9 of it, however
+    // stretched its lobe (multiple scattering returns what single scattering loses).
+    let env = write_uniform_environment("anisotropy-furnace.hdr");
+    for strength in [0.5, 1.0] {
+        let layers = MaterialLayers { anisotropy_strength: strength, ..Default::default() };
+        compare(Vec3::splat(0.9), 1.0, 0.4, layers, Vec::new(), Some(&env), |path, plain, aniso| {
+            let mean =
+                |pixels: &[Pixel]| pixels.iter().map(|p| luminance(p.radiance)).sum::<f32>() / pixels.len() as f32;
+            let (plain, aniso) = (mean(plain), mean(aniso));
+            assert!(plain <= 0.9 && aniso <= 0.9, "{path:?} strength {strength}: {plain} plain, {aniso} stretched");
+            assert!(aniso > 0.95 * plain, "{path:?} strength {strength}: {aniso} against {plain}");
+        });
+    }
+}
+
+#[test]
+fn dispersion_parts_the_colours_of_an_edge_seen_through_a_volume() {
+    // A glass ball before a wall white on the left, black on the right: through the
+    // ball the edge is refracted, each colour at its own ior where the glass disperses.
+    let two_tone = |dispersion: f32| {
+        let layers = MaterialLayers { transmission: 1.0, thickness: 2.0, dispersion, ..Default::default() };
+        let mut scene = sphere_before_wall(layers, Vec3::ONE);
+        let mut dark = scene.instances[1].clone();
+        dark.node = 201;
+        dark.name = "dark half".into();
+        // A black unlit panel just in front of the right half of the wall.
+        dark.world_from_local = glam::Mat4::from_translation(Vec3::new(20.0, 0.0, -2.9))
+            * glam::Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+        dark.mesh = scene.meshes.len();
+        let mut panel = chiaro_scene::shapes::plane(40.0, 1);
+        panel.material = Some(2);
+        scene.meshes.push(chiaro_scene::Mesh::of_triangles("dark".into(), vec![panel]));
+        scene.materials.push(chiaro_scene::Material {
+            name: "dark".into(),
+            base_color: glam::Vec4::new(0.0, 0.0, 0.0, 1.0),
+            unlit: true,
+            ..Default::default()
+        });
+        scene.instances.push(dark);
+        scene
+    };
+    let mut renderer = renderer();
+    for path in [RenderPath::Forward, RenderPath::Deferred] {
+        let parting = |scene: &Scene, renderer: &mut Renderer| {
+            let frame = render(renderer, scene, &settings(path), SIZE);
+            sphere_pixels(&frame, scene)
+                .into_iter()
+                .filter(|p| p.position.length() < 1.01)
+                .map(|p| (p.radiance.x - p.radiance.z).abs())
+                .fold(0.0, f32::max)
+        };
+        let plain = parting(&two_tone(0.0), &mut renderer);
+        let dispersed = parting(&two_tone(10.0), &mut renderer);
+        assert!(plain < 0.01, "{path:?}: without dispersion red and blue refract alike: {plain}");
+        assert!(dispersed > 0.2, "{path:?}: with dispersion the edge parts red from blue by {dispersed}");
+    }
+}

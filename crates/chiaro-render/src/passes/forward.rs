@@ -276,7 +276,7 @@ fn forward_draws(plan: &FramePlan) -> &[u32] {
     &plan.forward_draws
 }
 
-/// The transmissive solids, far to near.
+/// The transmissive solids, near to far.
 fn transmissive_draws(plan: &FramePlan) -> &[u32] {
     &plan.camera_draws[plan.transmissive_from..plan.transparent_from]
 }

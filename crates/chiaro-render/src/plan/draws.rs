@@ -233,11 +233,12 @@ pub fn camera_draw_order(draws: &[Draw], far_key: impl Fn(Vec3) -> f32) -> Vec<u
         (d.double_sided, d.mirrored, d.material, d.first_index)
     });
     let distance = |i: u32| far_key(draws[i as usize].center_ws);
-    // Transmissive solids refract the image of the others, so they come after them, far
-    // to near (a nearer one sees the farther one through it).
+    // Transmissive solids refract the image of the others, so they come after them; near
+    // to far, since each replaces what is behind it (the copy they refract holds only
+    // the other solids) and the depth test then spares the farther ones' hidden pixels.
     let (mut transmissive, mut order): (Vec<u32>, Vec<u32>) =
         solid.into_iter().partition(|&i| draws[i as usize].transmissive);
-    transmissive.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
+    transmissive.sort_by(|&a, &b| distance(a).total_cmp(&distance(b)));
     blended.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
     order.extend(transmissive);
     order.extend(blended);
