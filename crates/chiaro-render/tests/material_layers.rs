@@ -196,8 +196,8 @@ fn a_thin_film_shifts_hue_with_the_viewing_angle() {
 
 #[test]
 fn anisotropy_stretches_the_highlight_along_the_tangent() {
-    // The sphere has no tangents: the shader takes world X projected onto the surface,
-    // which is screen X here.
+    // The sphere's tangents run along its parallels (shapes::sphere): screen X where
+    // the highlight is, seen from +Z.
     let to_light = Vec3::new(0.0, 0.0, 1.0);
     let layers = MaterialLayers { anisotropy_strength: 0.8, ..Default::default() };
     compare(Vec3::new(0.9, 0.9, 0.9), 1.0, 0.3, layers, vec![sun(-to_light, 3.0)], None, |path, plain, aniso| {
@@ -245,9 +245,11 @@ fn diffuse_transmission_lights_the_far_side_in_its_colour() {
         assert!(centre.len() > 500);
         for (p, t) in centre {
             assert!(p.radiance.max_element() < 1e-4, "{path:?}: lit without transmission: {}", p.radiance);
-            // Lambert from behind: base * colour * cos / pi * 3 lux.
+            // Lambert from behind in the transmission colour (not the base's 0.8), less
+            // the dielectric's reflection towards the eye: colour * cos / pi * 3 lux * (1 - F).
             let cos = Vec3::new(0.3, -0.2, 1.0).normalize().dot(Vec3::Z);
-            let expected = 0.8 * 1.0 * 3.0 * cos / std::f32::consts::PI;
+            let fresnel = 0.04 + 0.96 * (1.0 - p.normal.dot(p.view)).powi(5);
+            let expected = 1.0 * 3.0 * cos / std::f32::consts::PI * (1.0 - fresnel);
             assert!((t.radiance.y / expected - 1.0).abs() < 0.05, "{path:?}: {} vs {expected}", t.radiance.y);
             assert!(t.radiance.y > 8.0 * t.radiance.x, "{path:?}: transmitted light is green: {}", t.radiance);
         }
@@ -456,5 +458,91 @@ fn dispersion_parts_the_colours_of_an_edge_seen_through_a_volume() {
         let dispersed = parting(&two_tone(10.0), &mut renderer);
         assert!(plain < 0.01, "{path:?}: without dispersion red and blue refract alike: {plain}");
         assert!(dispersed > 0.2, "{path:?}: with dispersion the edge parts red from blue by {dispersed}");
+    }
+}
+
+/// A 4x4 image of one texel value.
+fn flat_image(name: &str, texel: [u8; 4], color_space: chiaro_scene::ColorSpace) -> chiaro_scene::Image {
+    chiaro_scene::Image {
+        name: name.into(),
+        width: 4,
+        height: 4,
+        rgba8: texel.repeat(16),
+        file_mips: Vec::new(),
+        basis_source: None,
+        color_space,
+    }
+}
+
+#[test]
+fn extension_textures_are_read_from_their_channels() {
+    // Each case: a factor given by the factor alone, and the same value given by a
+    // factor of 1 times a texture holding it in the slot's channel (sRGB-encoded in the
+    // colour slots) and something else in every other channel. The two must render alike.
+    use chiaro_scene::{ColorSpace, LayerTexture, TextureRef};
+    let to_light = Vec3::new(-0.4, 0.5, 1.0).normalize();
+    let lights = vec![sun(-to_light, 3.0), sun(Vec3::NEG_Z, 1.0)];
+    type Case = (MaterialLayers, MaterialLayers, LayerTexture, [u8; 4], ColorSpace);
+    let half = 128.0 / 255.0;
+    let cases: Vec<Case> = vec![
+        (
+            MaterialLayers { clearcoat: half, clearcoat_roughness: 0.1, ..Default::default() },
+            MaterialLayers { clearcoat: 1.0, clearcoat_roughness: 0.1, ..Default::default() },
+            LayerTexture::Clearcoat,
+            [128, 0, 255, 0],
+            ColorSpace::Linear,
+        ),
+        (
+            MaterialLayers { clearcoat: 1.0, clearcoat_roughness: 0.4 * half, ..Default::default() },
+            MaterialLayers { clearcoat: 1.0, clearcoat_roughness: 0.4, ..Default::default() },
+            LayerTexture::ClearcoatRoughness,
+            [0, 128, 255, 0],
+            ColorSpace::Linear,
+        ),
+        (
+            MaterialLayers { specular: half, ..Default::default() },
+            MaterialLayers::default(),
+            LayerTexture::Specular,
+            [0, 0, 0, 128],
+            ColorSpace::Linear,
+        ),
+        (
+            // sRGB 188 is linear 0.5029.
+            MaterialLayers { sheen_color: Vec3::splat(0.5029), sheen_roughness: 0.5, ..Default::default() },
+            MaterialLayers { sheen_color: Vec3::ONE, sheen_roughness: 0.5, ..Default::default() },
+            LayerTexture::SheenColor,
+            [188, 188, 188, 0],
+            ColorSpace::Srgb,
+        ),
+        (
+            MaterialLayers { sheen_color: Vec3::ONE, sheen_roughness: half, ..Default::default() },
+            MaterialLayers { sheen_color: Vec3::ONE, sheen_roughness: 1.0, ..Default::default() },
+            LayerTexture::SheenRoughness,
+            [255, 0, 0, 128],
+            ColorSpace::Linear,
+        ),
+    ];
+    let mut renderer = renderer();
+    for (by_factor, by_texture, slot, texel, color_space) in cases {
+        let reference = sphere_scene(Vec3::new(0.3, 0.2, 0.1), 0.0, 0.6, by_factor, lights.clone());
+        let mut textured = sphere_scene(Vec3::new(0.3, 0.2, 0.1), 0.0, 0.6, by_texture, lights.clone());
+        textured.images.push(flat_image("slot", texel, color_space));
+        textured.materials[0].layers.textures[slot.index()] = Some(TextureRef {
+            image: textured.images.len() - 1,
+            sampler: Default::default(),
+            tex_coord: 0,
+            transform: Default::default(),
+        });
+        for path in [RenderPath::Forward, RenderPath::Deferred] {
+            let a = sphere_pixels(&frame(&mut renderer, &reference, &settings(path)), &reference);
+            let b = sphere_pixels(&frame(&mut renderer, &textured, &settings(path)), &textured);
+            let mean_error: f32 = a
+                .iter()
+                .zip(&b)
+                .map(|(a, b)| (a.radiance - b.radiance).abs().max_element() / (luminance(a.radiance) + 0.01))
+                .sum::<f32>()
+                / a.len() as f32;
+            assert!(mean_error < 0.01, "{slot:?} on {path:?}: factor and texture differ by {mean_error}");
+        }
     }
 }

@@ -112,8 +112,14 @@ impl Loader<'_> {
             }
         };
 
-        let normal_map_uv_set =
-            material.and_then(|m| materials.get(m)).and_then(|m| m.normal_texture).map(|t| t.tex_coord);
+        // The UV set tangents follow: the normal map's, else the clearcoat's normal map's or
+        // the anisotropy texture's, whose directions live in the same frame.
+        let normal_map_uv_set = material.and_then(|m| materials.get(m)).and_then(|m| {
+            m.normal_texture
+                .or(m.layers.textures[crate::layers::LayerTexture::ClearcoatNormal.index()])
+                .or(m.layers.textures[crate::layers::LayerTexture::Anisotropy.index()])
+                .map(|t| t.tex_coord)
+        });
         let tangents = tangents.take().unwrap_or_else(|| {
             let uvs = if normal_map_uv_set == Some(1) { &uv1 } else { &uv0 };
             generated_tangents(&positions, &normals, normal_map_uv_set.map(|_| uvs.as_slice()), &indices)
