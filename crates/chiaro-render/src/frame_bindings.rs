@@ -71,7 +71,7 @@ pub enum Resource {
     Environment,
     EnvironmentSpecular,
     EnvironmentBrdf,
-    EnvironmentImage,
+    ShadowTints,
 }
 
 /// One binding of group 0.
@@ -124,7 +124,11 @@ pub const FRAME_BINDINGS: [FrameBinding; 22] = [
     fragment(Resource::Environment, "ENVIRONMENT", Kind::Uniform),
     fragment(Resource::EnvironmentSpecular, "ENVIRONMENT_SPECULAR", Kind::FloatTexture(Dimension::Cube)),
     fragment(Resource::EnvironmentBrdf, "ENVIRONMENT_BRDF", Kind::FloatTexture(Dimension::D2)),
-    fragment(Resource::EnvironmentImage, "ENVIRONMENT_IMAGE", Kind::FloatTexture(Dimension::D2)),
+    // What casters that let light through leave of it, per shadow texel: a layer per
+    // atlas (shadows/tint.wesl). The environment's image, which only the background
+    // reads, is bound by the background pipeline instead, so that a forward shader and
+    // its material stay within the 16 sampled textures a stage is sure to have.
+    fragment(Resource::ShadowTints, "SHADOW_TINTS", Kind::FloatTexture(Dimension::D2Array)),
 ];
 
 /// The binding number of the binding named `name`.

@@ -13,7 +13,7 @@ use crate::error::RenderError;
 use crate::frame_bindings::{FRAME_BINDINGS, FrameBinding, Resource};
 use crate::gpu::{GpuFrame, GpuLight, GpuLightListEntry, GpuShadows};
 use crate::graph::Targets;
-use crate::passes::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use crate::passes::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS, SHADOW_TINTS};
 use crate::plan::FramePlan;
 use crate::scene::GpuScene;
 use crate::shader_constants::{MAX_FRAME_LIGHTS, MAX_UNIFORM_LIGHTS};
@@ -67,7 +67,7 @@ struct BoundResources {
     environment_uniform: wgpu::Buffer,
     environment_specular: wgpu::TextureView,
     environment_brdf_table: wgpu::TextureView,
-    environment_image: wgpu::TextureView,
+    shadow_tints: wgpu::TextureView,
 }
 
 /// A storage buffer that is made again, twice as large, when a frame needs more.
@@ -249,7 +249,7 @@ impl FrameData {
             environment_uniform: environment.uniform.clone(),
             environment_specular: environment.specular.clone(),
             environment_brdf_table: environment.brdf_table.clone(),
-            environment_image: environment.image.clone(),
+            shadow_tints: targets.view(SHADOW_TINTS).clone(),
         };
         if let Some((last, group)) = &self.last_bind_group
             && *last == bound
@@ -291,7 +291,7 @@ impl FrameData {
                     Resource::Environment => bound.environment_uniform.as_entire_binding(),
                     Resource::EnvironmentSpecular => view(&bound.environment_specular),
                     Resource::EnvironmentBrdf => view(&bound.environment_brdf_table),
-                    Resource::EnvironmentImage => view(&bound.environment_image),
+                    Resource::ShadowTints => view(&bound.shadow_tints),
                 };
                 wgpu::BindGroupEntry { binding: binding as u32, resource }
             })

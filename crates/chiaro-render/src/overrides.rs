@@ -72,6 +72,8 @@ overrides! {
     TONE_MAPPING = 18;
     /// The draw's material has KHR_materials_* extensions: the layered BRDF shades it.
     MATERIAL_LAYERED = 19;
+    /// Shadows are tinted by casters that let light through (the shadow tints).
+    TINTED_SHADOWS = 20;
 }
 
 #[cfg(test)]

@@ -287,7 +287,15 @@ impl Renderer {
         self.environment.update(device, queue, &settings.environment, scene)?;
         let frame_bind_group =
             self.frame_data.bind_group(device, &prepared.gpu, self.environment.maps(), &self.targets);
-        let prepare = PrepareContext { device, queue, plan: &plan, scene: &prepared.gpu, source: scene, output_format };
+        let prepare = PrepareContext {
+            device,
+            queue,
+            plan: &plan,
+            scene: &prepared.gpu,
+            source: scene,
+            output_format,
+            environment_image: &self.environment.maps().image,
+        };
         for &i in &graph.order {
             self.passes[i].prepare(&prepare);
         }

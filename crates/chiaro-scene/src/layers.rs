@@ -236,4 +236,80 @@ impl MaterialLayers {
     pub fn transmits(&self) -> bool {
         self.transmission > 0.0
     }
+
+    /// What one crossing of the surface lets through of a light behind it, per channel,
+    /// for shadows: `None` for a surface that lets nothing through (no transmission and no
+    /// diffuse transmission), which casts an ordinary shadow. From the factors alone (no
+    /// textures, no vertex colours, no angle): the dielectric share `1 - metallic`, less
+    /// its Fresnel reflectance at normal incidence, split as the spec mixes its lobes,
+    /// `transmission` of it tinted by the base colour and the rest's diffuse transmission
+    /// tinted by its colour; a volume's Beer-Lambert attenuation over half its thickness,
+    /// since a ray through a closed volume crosses two surfaces. The renderer's coloured
+    /// shadows and the reference tracer both apply it once per surface crossed.
+    pub fn shadow_transmittance(&self, base_color: Vec3, metallic: f32) -> Option<Vec3> {
+        if self.transmission <= 0.0 && self.diffuse_transmission <= 0.0 {
+            return None;
+        }
+        let dielectric = (1.0 - metallic).clamp(0.0, 1.0);
+        let f0 = ((self.ior - 1.0) / (self.ior + 1.0)).powi(2) * self.specular;
+        let specular = self.transmission * base_color;
+        let diffuse = (1.0 - self.transmission) * self.diffuse_transmission * self.diffuse_transmission_color;
+        let mut through = (specular + diffuse) * dielectric * (1.0 - f0.clamp(0.0, 1.0));
+        if self.thickness > 0.0 && self.attenuation_distance.is_finite() && self.attenuation_distance > 0.0 {
+            let exponent = 0.5 * self.thickness / self.attenuation_distance;
+            through *= self.attenuation_color.max(Vec3::ZERO).powf(exponent);
+        }
+        Some(through.clamp(Vec3::ZERO, Vec3::ONE))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: Vec3, b: Vec3) -> bool {
+        (a - b).abs().max_element() < 1e-5
+    }
+
+    #[test]
+    fn opaque_surfaces_cast_ordinary_shadows() {
+        assert_eq!(MaterialLayers::default().shadow_transmittance(Vec3::ONE, 0.0), None);
+    }
+
+    #[test]
+    fn transmission_is_tinted_by_base_colour_less_fresnel_and_metal() {
+        let glass = MaterialLayers { transmission: 1.0, ..MaterialLayers::default() };
+        // ior 1.5: F0 = 0.04.
+        let red = Vec3::new(1.0, 0.2, 0.1);
+        assert!(close(glass.shadow_transmittance(red, 0.0).unwrap(), red * 0.96));
+        assert!(close(glass.shadow_transmittance(red, 0.5).unwrap(), red * 0.48));
+        let half = MaterialLayers { transmission: 0.5, ..glass.clone() };
+        assert!(close(half.shadow_transmittance(Vec3::ONE, 0.0).unwrap(), Vec3::splat(0.48)));
+    }
+
+    #[test]
+    fn diffuse_transmission_takes_its_own_colour() {
+        let leaf = MaterialLayers {
+            diffuse_transmission: 0.5,
+            diffuse_transmission_color: Vec3::new(0.2, 1.0, 0.2),
+            ..MaterialLayers::default()
+        };
+        let through = leaf.shadow_transmittance(Vec3::new(1.0, 0.0, 0.0), 0.0).unwrap();
+        assert!(close(through, Vec3::new(0.1, 0.5, 0.1) * 0.96), "{through}");
+    }
+
+    #[test]
+    fn a_volume_attenuates_over_half_its_thickness_per_crossing() {
+        let volume = MaterialLayers {
+            transmission: 1.0,
+            thickness: 2.0,
+            attenuation_distance: 1.0,
+            attenuation_color: Vec3::new(0.5, 1.0, 0.25),
+            ..MaterialLayers::default()
+        };
+        let through = volume.shadow_transmittance(Vec3::ONE, 0.0).unwrap();
+        // Two crossings make the full Beer-Lambert colour^(thickness / distance).
+        let two = through * through / (0.96 * 0.96);
+        assert!(close(two, Vec3::new(0.25, 1.0, 0.0625)), "{two}");
+    }
 }

@@ -321,6 +321,12 @@ pub struct Material {
 }
 
 impl Material {
+    /// What one crossing of the surface lets through for shadows, per channel, or `None`
+    /// where it casts an ordinary shadow (see `MaterialLayers::shadow_transmittance`).
+    pub fn shadow_transmittance(&self) -> Option<Vec3> {
+        self.layers.shadow_transmittance(self.base_color.truncate(), self.metallic)
+    }
+
     /// Every texture reference the material holds: the five core slots, then the
     /// extensions' in `LayerTexture::ALL` order.
     pub fn textures_mut(&mut self) -> Vec<&mut Option<TextureRef>> {

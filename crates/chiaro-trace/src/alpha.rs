@@ -4,7 +4,7 @@
 //! image. The GPU's passes sample mip levels too, which only softens alpha near edges.
 
 use chiaro_scene::{AlphaMode, Image, Material, Scene, ShadowCasting, WrapMode};
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 /// One image's alpha channel.
 #[derive(Clone, Debug)]
@@ -48,6 +48,9 @@ pub struct AlphaMaterial {
     pub alpha_mode: AlphaMode,
     pub cutoff: f32,
     pub casting: ShadowCasting,
+    /// What a solid caster lets through per crossing (`Material::shadow_transmittance`):
+    /// a coloured shadow; `None` for an ordinary one.
+    pub transmittance: Option<Vec3>,
     factor: f32,
     /// Index into the images kept beside, the UV set, the transform's columns, and the
     /// sampler's wrap and filter.
@@ -55,11 +58,13 @@ pub struct AlphaMaterial {
 }
 
 impl AlphaMaterial {
-    /// Whether surfaces of `material` ever need their alpha: MASK for the camera, clipped
-    /// or dithered for shadows.
+    /// Whether surfaces of `material` ever need their alpha or material: MASK for the
+    /// camera, clipped or dithered for shadows, or letting light through (a solid caster
+    /// with a shadow transmittance).
     pub fn needed(material: &Material) -> bool {
         material.alpha_mode == AlphaMode::Mask
             || matches!(material.shadow_casting, ShadowCasting::Clip | ShadowCasting::Dither)
+            || (material.shadow_casting == ShadowCasting::On && material.shadow_transmittance().is_some())
     }
 
     pub fn new(material: &Material) -> AlphaMaterial {
@@ -67,6 +72,7 @@ impl AlphaMaterial {
             alpha_mode: material.alpha_mode,
             cutoff: material.alpha_cutoff,
             casting: material.shadow_casting,
+            transmittance: material.shadow_transmittance(),
             factor: material.base_color.w,
             texture: material.base_color_texture.map(|t| {
                 (

@@ -119,8 +119,13 @@ pub struct GpuMaterialLayers {
     pub anisotropy_rotation: f32,
     /// KHR_materials_dispersion: 20 / Abbe number.
     pub dispersion: f32,
-    /// Pads the factors to 16-byte alignment.
-    pub _pad: [f32; 3],
+    /// What one crossing of the surface lets through for coloured shadows
+    /// (`Material::shadow_transmittance`), red, green and blue; ones for an opaque one.
+    pub shadow_transmittance_r: f32,
+    /// See `shadow_transmittance_r`.
+    pub shadow_transmittance_g: f32,
+    /// See `shadow_transmittance_r`.
+    pub shadow_transmittance_b: f32,
     /// By `chiaro_scene::LayerTexture::index`.
     pub textures: [GpuLayerTextureSlot; 14],
 }

@@ -81,6 +81,7 @@ layouts! {
         specular_color, specular, sheen_color, sheen_roughness, attenuation_color, attenuation_distance,
         diffuse_transmission_color, diffuse_transmission, ior, clearcoat, clearcoat_roughness, clearcoat_normal_scale,
         transmission, thickness, iridescence, iridescence_ior, iridescence_thickness_min, iridescence_thickness_max,
-        anisotropy_strength, anisotropy_rotation, dispersion, textures,
+        anisotropy_strength, anisotropy_rotation, dispersion, shadow_transmittance_r, shadow_transmittance_g,
+        shadow_transmittance_b, textures,
     }
 }

@@ -100,6 +100,8 @@ pub struct PrepareContext<'a> {
     pub source: &'a Scene,
     /// The format of `OUTPUT` this frame.
     pub output_format: wgpu::TextureFormat,
+    /// The environment's image (a placeholder without one), for the background.
+    pub environment_image: &'a wgpu::TextureView,
 }
 
 /// A pass at work: the part the renderer calls each frame it runs. `Send`, so that a

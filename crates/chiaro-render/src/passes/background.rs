@@ -23,27 +23,63 @@ pub struct BackgroundTargets {
 pub struct BackgroundPipelines {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
+    /// Group 1: the environment's image, which group 0 has no room for.
+    image_layout: wgpu::BindGroupLayout,
+    /// The image bound, and its group, made again when the image changes.
+    image_group: Option<(wgpu::TextureView, wgpu::BindGroup)>,
     depth_format: wgpu::TextureFormat,
     pipelines: HashMap<BackgroundTargets, wgpu::RenderPipeline>,
 }
 
 impl BackgroundPipelines {
-    /// Pipelines with group 0 (the frame's) alone, over depth of `depth_format`.
+    /// Pipelines with group 0 (the frame's) and the environment's image as group 1,
+    /// over depth of `depth_format`.
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout, depth_format: wgpu::TextureFormat) -> Self {
+        let image_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("background image layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
         BackgroundPipelines {
             module: shaders::module(device, "background", crate::wgsl!("background")),
             layout: device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("background layout"),
-                bind_group_layouts: &[Some(frame_layout)],
+                bind_group_layouts: &[Some(frame_layout), Some(&image_layout)],
                 immediate_size: 0,
             }),
+            image_layout,
+            image_group: None,
             depth_format,
             pipelines: HashMap::new(),
         }
     }
 
-    /// Makes the pipeline for `targets` if it is new.
-    pub fn prepare(&mut self, device: &wgpu::Device, targets: &BackgroundTargets) {
+    /// Makes the pipeline for `targets` if it is new, and binds `environment_image`.
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        targets: &BackgroundTargets,
+        environment_image: &wgpu::TextureView,
+    ) {
+        if self.image_group.as_ref().is_none_or(|(view, _)| view != environment_image) {
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("background image"),
+                layout: &self.image_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(environment_image),
+                }],
+            });
+            self.image_group = Some((environment_image.clone(), group));
+        }
         if self.pipelines.contains_key(targets) {
             return;
         }
@@ -89,9 +125,12 @@ impl BackgroundPipelines {
         self.pipelines.insert(targets.clone(), pipeline);
     }
 
-    /// Draws the background into `pass` (group 0 bound), with the pipeline `prepare` made.
+    /// Draws the background into `pass` (group 0 bound), with the pipeline and image
+    /// group `prepare` made; group 1 is left holding the image.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, targets: &BackgroundTargets) {
         pass.set_pipeline(&self.pipelines[targets]);
+        let (_, group) = self.image_group.as_ref().expect("prepared");
+        pass.set_bind_group(1, group, &[]);
         pass.draw(0..3, 0..1);
     }
 }

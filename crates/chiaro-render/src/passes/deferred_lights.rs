@@ -12,7 +12,7 @@ use super::targets::{GBUFFER_ALBEDO_METALLIC, GBUFFER_PACKED, LIGHT_BUFFER_LDR, 
 use super::gbuffer::{light_target, light_target_desc};
 use super::targets::DEPTH;
 use super::mesh::{STENCIL_SURFACE, scene_depth};
-use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS, SHADOW_TINTS};
 use crate::debug_view::DebugView;
 use crate::gpu::GpuVolumeLight;
 use crate::overrides;
@@ -151,7 +151,7 @@ impl PassType for DeferredLightsPass {
         if plan.path != RenderPath::Deferred {
             return;
         }
-        pass.read(DIRECTIONAL_ATLAS).read(LOCAL_ATLAS).read(GBUFFER_ALBEDO_METALLIC).read(GBUFFER_PACKED);
+        pass.read(DIRECTIONAL_ATLAS).read(LOCAL_ATLAS).read(SHADOW_TINTS).read(GBUFFER_ALBEDO_METALLIC).read(GBUFFER_PACKED);
         // Stencil marks go into the depth target's stencil.
         pass.modify(DEPTH);
         let target = Variant::of(plan).target();
@@ -298,6 +298,7 @@ impl DeferredLightsPass {
             overrides::COOKIES_ENABLED.flag(f.cookies),
             overrides::TENT_FILTERS.flag(f.tent_filters),
             overrides::SOFT_CASCADES.flag(f.soft_cascades),
+            overrides::TINTED_SHADOWS.flag(f.tinted_shadows),
         ];
         let buffers = [Some(vertex_layout)];
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -11,7 +11,7 @@
 use super::background::{BackgroundPipelines, BackgroundTargets};
 use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, forward_depth, scene_depth};
 use super::opaque_copy::OpaqueCopy;
-use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS, SHADOW_TINTS};
 use crate::graph::target::ATTACHMENT_SAMPLED;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
 use crate::overrides;
@@ -64,7 +64,7 @@ impl PassType for ForwardPass {
         if draws_nothing && plan.path == RenderPath::Deferred {
             return;
         }
-        pass.read(DIRECTIONAL_ATLAS).read(LOCAL_ATLAS).modify(forward_depth(plan));
+        pass.read(DIRECTIONAL_ATLAS).read(LOCAL_ATLAS).read(SHADOW_TINTS).modify(forward_depth(plan));
         match plan.path {
             RenderPath::Deferred => {
                 pass.modify(HDR);
@@ -167,7 +167,7 @@ impl FramePass for ForwardPass {
             t.copy.prepare(cx.device, cx.plan.view.width, cx.plan.view.height);
         }
         if let Some(targets) = background_targets(cx.plan) {
-            self.background.prepare(cx.device, &targets);
+            self.background.prepare(cx.device, &targets, cx.environment_image);
         }
     }
 

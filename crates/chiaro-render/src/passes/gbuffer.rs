@@ -138,7 +138,7 @@ impl FramePass for GBufferPass {
         let pipelines = self.pipelines.get_mut(&key).expect("made above");
         pipelines.prepare(cx.device, &cx.scene.draws, opaque_draws(cx.plan), 1);
         if let Some(targets) = background_targets(cx.plan) {
-            self.background.prepare(cx.device, &targets);
+            self.background.prepare(cx.device, &targets, cx.environment_image);
         }
     }
 

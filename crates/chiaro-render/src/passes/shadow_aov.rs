@@ -4,7 +4,7 @@
 
 use super::targets::DEPTH;
 use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, cleared, scene_depth};
-use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
+use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS, SHADOW_TINTS};
 use crate::gpu::GpuAovLight;
 use crate::graph::target::ATTACHMENT_COPY;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
@@ -36,7 +36,7 @@ impl PassType for ShadowAovPass {
             return;
         }
         let desc = TargetDesc::view_sized(SHADOW_AOV_FORMAT, ATTACHMENT_COPY).with_layers(lights);
-        pass.read(DIRECTIONAL_ATLAS).read(LOCAL_ATLAS).modify(DEPTH).create(SHADOW, desc).export(SHADOW);
+        pass.read(DIRECTIONAL_ATLAS).read(LOCAL_ATLAS).read(SHADOW_TINTS).modify(DEPTH).create(SHADOW, desc).export(SHADOW);
     }
 
     fn new(init: &PassInit<'_>) -> ShadowAovPass {

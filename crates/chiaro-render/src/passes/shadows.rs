@@ -4,6 +4,10 @@
 //! some are. Pipelines vary by slope bias, cull mode, winding, depth clamping and how the
 //! material casts (solid, alpha-tested or dithered: the last two sample the material's
 //! base colour alpha), since those are pipeline state in wgpu.
+//!
+//! Casters that let light through (`Draw::tints_shadows`) write no depth: where a tile has
+//! any, they are drawn into the shadow tints instead (shaders/shadows/tint.wesl), every
+//! tile every frame (they are few, and the layers then need no cache of their own).
 
 use crate::gpu::{GpuCasterView, GpuVertex};
 use crate::graph::target::ATTACHMENT_SAMPLED;
@@ -15,7 +19,7 @@ use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, 
 use crate::shaders;
 use chiaro_scene::{CastShadows, ShadowCasting};
 use std::collections::HashMap;
-use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS, SHADOW_FORMAT};
+use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS, SHADOW_FORMAT, SHADOW_TINTS, SHADOW_TINTS_FORMAT};
 
 
 /// The atlas target of each atlas.
@@ -25,6 +29,15 @@ fn atlas_target(atlas: ShadowAtlas) -> Target {
         ShadowAtlas::Local => LOCAL_ATLAS,
     }
 }
+/// The layer of the shadow tints that holds each atlas's tiles (shadows/tint.wesl's
+/// TINT_LAYER_*).
+fn tint_layer(atlas: ShadowAtlas) -> u32 {
+    match atlas {
+        ShadowAtlas::Directional => 0,
+        ShadowAtlas::Local => 1,
+    }
+}
+
 const TOTAL_TILES: u64 = (MAX_DIRECTIONAL_SHADOW_TILES + MAX_LOCAL_SHADOW_TILES) as u64;
 
 #[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
@@ -56,6 +69,8 @@ pub struct ShadowPass {
     unclipped_depth: bool,
     /// Writes the far plane over one tile: a cleared tile inside a pass that keeps the rest.
     clear_tile: wgpu::RenderPipeline,
+    /// Tinting casters' pipelines, by whether they clamp depth (cascades).
+    tint_pipelines: HashMap<bool, wgpu::RenderPipeline>,
 }
 
 fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
@@ -81,6 +96,19 @@ impl PassType for ShadowPass {
             if shadows.redrawn_tiles().any(|(_, t)| t.atlas == atlas) {
                 pass.modify(atlas_target(atlas)).side_effect();
             }
+        }
+        // Two layers the size of the larger atlas while any caster tints; else a 1x1
+        // texel made anew (zero, which tints nothing) so that no stale tint survives for
+        // a shader that reads the tints unspecialised (the shadow AOV).
+        let tinted = plan.features.tinted_shadows;
+        let size = if tinted {
+            shadows.atlas_size(ShadowAtlas::Directional).max(shadows.atlas_size(ShadowAtlas::Local))
+        } else {
+            1
+        };
+        pass.persistent(SHADOW_TINTS, TargetDesc::square(size, SHADOW_TINTS_FORMAT, ATTACHMENT_SAMPLED).with_layers(2));
+        if tinted {
+            pass.modify(SHADOW_TINTS).side_effect();
         }
     }
 
@@ -167,6 +195,7 @@ impl PassType for ShadowPass {
             pipeline_layout,
             alpha_pipeline_layout,
             pipelines: HashMap::new(),
+            tint_pipelines: HashMap::new(),
         }
     }
 }
@@ -217,6 +246,98 @@ impl ShadowPass {
     }
 }
 
+impl ShadowPass {
+    /// A tinting caster pipeline: both faces (each surface a ray crosses tints it, as in
+    /// the reference), no depth, colours multiplied and the nearest depth kept.
+    fn create_tint(&self, device: &wgpu::Device, clamp_depth: bool) -> wgpu::RenderPipeline {
+        let multiply = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::Zero,
+            dst_factor: wgpu::BlendFactor::Src,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let nearest = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Max,
+        };
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("tinting caster pipeline"),
+            layout: Some(&self.alpha_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some("vs_caster_tint"),
+                compilation_options: Default::default(),
+                buffers: &[Some(GpuVertex::layout())],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                unclipped_depth: self.unclipped_depth && clamp_depth,
+                ..Default::default()
+            },
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some("fs_caster_tint"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: SHADOW_TINTS_FORMAT,
+                    blend: Some(wgpu::BlendState { color: multiply, alpha: nearest }),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    /// Draws every tile's tinting casters into its layer of the shadow tints, cleared
+    /// first; `timestamps` as for a depth pass.
+    fn record_tints(&self, cx: &mut PassContext<'_>, atlas: ShadowAtlas, first: bool, last: bool) {
+        let bind_group = self.bind_group.as_ref().expect("prepared");
+        let shadows = &cx.plan.shadows;
+        let view = cx.targets.layer_view(SHADOW_TINTS, tint_layer(atlas));
+        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow tint pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color { r: 1.0, g: 1.0, b: 1.0, a: 0.0 }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: cx.timestamps.as_ref().and_then(|t| t.writes(first, last)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_vertex_buffer(0, cx.scene.vertices.slice(..));
+        pass.set_index_buffer(cx.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.set_pipeline(&self.tint_pipelines[&(atlas == ShadowAtlas::Directional)]);
+        for (i, tile) in shadows.tiles.iter().enumerate().filter(|(_, t)| t.atlas == atlas && !t.tint_casters.is_empty()) {
+            let (x, y, size) = tile.viewport;
+            pass.set_viewport(x as f32, y as f32, size as f32, size as f32, 0.0, 1.0);
+            pass.set_scissor_rect(x, y, size, size);
+            pass.set_bind_group(0, bind_group, &[(i as u64 * self.stride) as u32]);
+            let mut bound_material = usize::MAX;
+            for (draw, instances) in instanced_runs(&cx.scene.draws, &tile.tint_casters) {
+                if bound_material != draw.material {
+                    pass.set_bind_group(1, &cx.scene.materials[draw.material], &[]);
+                    bound_material = draw.material;
+                }
+                pass.draw_indexed(
+                    draw.first_index..draw.first_index + draw.index_count,
+                    draw.base_vertex,
+                    draw.object..draw.object + instances,
+                );
+                cx.stats.shadow_caster_draws += 1;
+            }
+        }
+    }
+}
+
 impl FramePass for ShadowPass {
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         let tiles = &cx.plan.shadows.tiles;
@@ -236,6 +357,14 @@ impl FramePass for ShadowPass {
                 if !self.pipelines.contains_key(&key) {
                     let pipeline = self.create(cx.device, key);
                     self.pipelines.insert(key, pipeline);
+                }
+            }
+        }
+        if cx.plan.features.tinted_shadows {
+            for clamp_depth in [true, false] {
+                if !self.tint_pipelines.contains_key(&clamp_depth) {
+                    let pipeline = self.create_tint(cx.device, clamp_depth);
+                    self.tint_pipelines.insert(clamp_depth, pipeline);
                 }
             }
         }
@@ -261,8 +390,8 @@ impl FramePass for ShadowPass {
 
     /// One wgpu pass per atlas that has tiles to draw this frame. Without the cache, each
     /// is cleared and every tile drawn; with it, the atlas is kept and only the tiles the
-    /// plan draws again are cleared and drawn. The first carries the start timestamp, the
-    /// last the end.
+    /// plan draws again are cleared and drawn. Then, where casters tint, one pass per
+    /// layer of the shadow tints. The first carries the start timestamp, the last the end.
     fn record(&self, cx: &mut PassContext<'_>) {
         let bind_group = self.bind_group.as_ref().expect("prepared");
         let shadows = &cx.plan.shadows;
@@ -270,8 +399,13 @@ impl FramePass for ShadowPass {
             .into_iter()
             .filter(|&atlas| shadows.redrawn_tiles().any(|(_, t)| t.atlas == atlas))
             .collect();
+        let tinted: Vec<ShadowAtlas> = [ShadowAtlas::Directional, ShadowAtlas::Local]
+            .into_iter()
+            .filter(|_| cx.plan.features.tinted_shadows)
+            .collect();
+        let passes = atlases.len() + tinted.len();
         for (k, &atlas) in atlases.iter().enumerate() {
-            let timestamp_writes = cx.timestamps.as_ref().and_then(|t| t.writes(k == 0, k + 1 == atlases.len()));
+            let timestamp_writes = cx.timestamps.as_ref().and_then(|t| t.writes(k == 0, k + 1 == passes));
             let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(match atlas {
                     ShadowAtlas::Directional => "directional shadow pass",
@@ -325,6 +459,10 @@ impl FramePass for ShadowPass {
                 pass.pop_debug_group();
                 cx.stats.shadow_tiles_rendered += 1;
             }
+        }
+        for (k, &atlas) in tinted.iter().enumerate() {
+            let index = atlases.len() + k;
+            self.record_tints(cx, atlas, index == 0, index + 1 == passes);
         }
     }
 }

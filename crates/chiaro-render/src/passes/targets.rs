@@ -34,3 +34,12 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float
 pub const DIRECTIONAL_ATLAS: Target = Target("directional shadow atlas");
 /// The point and spot lights' tiles.
 pub const LOCAL_ATLAS: Target = Target("local shadow atlas");
+
+/// The shadow tints' format: per texel, the light the casters that let it through leave
+/// (RGB, multiplied together) and `1 / (1 + d)` of the nearest one's depth `d` (A, the
+/// largest kept), so that a texel nothing tints, cleared or never drawn (zero), tints
+/// nothing. Half floats: `d` keeps 11 significant bits.
+pub const SHADOW_TINTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Two layers the size of the larger atlas: the directional atlas's tiles in layer 0,
+/// the local atlas's in layer 1, each at its depth tile's texels.
+pub const SHADOW_TINTS: Target = Target("shadow tints");

@@ -77,6 +77,10 @@ pub struct Draw {
     /// Whether light passes through the (opaque or masked) material
     /// (KHR_materials_transmission): it is drawn after the other solids, refracting them.
     pub transmissive: bool,
+    /// Whether it casts a coloured shadow: a solid caster whose material lets light
+    /// through (`Material::shadow_transmittance`). The shadow pass draws it into the
+    /// shadow tints rather than the depth atlases.
+    pub tints_shadows: bool,
     /// Whether back faces are drawn too (glTF `doubleSided`).
     pub double_sided: bool,
     /// The instance's transform mirrors (negative determinant), which flips the winding.
@@ -154,7 +158,8 @@ pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
             let mut h = std::hash::DefaultHasher::new();
             geometry[inst.mesh][k].hash(&mut h);
             inst.world_from_local.to_cols_array().map(f32::to_bits).hash(&mut h);
-            (inst.cast_shadows, m.shadow_casting, m.double_sided).hash(&mut h);
+            let tints_shadows = m.shadow_casting == ShadowCasting::On && m.shadow_transmittance().is_some();
+            (inst.cast_shadows, m.shadow_casting, m.double_sided, tints_shadows).hash(&mut h);
             if m.shadow_casting == ShadowCasting::Clip || m.shadow_casting == ShadowCasting::Dither {
                 // What the alpha test reads.
                 let texture = m.base_color_texture.map(|t| (image_hash(t.image), t.tex_coord, format!("{t:?}")));
@@ -171,6 +176,7 @@ pub fn scene_draws(scene: &Scene, layout: &GeometryLayout) -> Vec<Draw> {
                 textured: m.has_texture(),
                 layered: m.layers.is_layered() && !m.unlit,
                 transmissive: m.layers.transmits() && !m.unlit && m.alpha_mode != AlphaMode::Blend,
+                tints_shadows,
                 double_sided: m.double_sided,
                 mirrored: inst.world_from_local.determinant() < 0.0,
                 center_ws: inst.world_from_local.transform_point3(p.bounds.center()),

@@ -29,6 +29,9 @@ pub struct ShaderFeatures {
     /// shadow mask): else the forward loops over shadowed lights are compiled out, which
     /// lavapipe otherwise runs, masked, once per block of pixels.
     pub local_shadows: bool,
+    /// A shadow tile of the frame has a caster that lets light through: shadows are
+    /// tinted by the shadow tints (`Draw::tints_shadows`).
+    pub tinted_shadows: bool,
 }
 
 impl ShaderFeatures {
@@ -41,6 +44,7 @@ impl ShaderFeatures {
         pcss: true,
         environment: true,
         local_shadows: true,
+        tinted_shadows: true,
     };
 
     /// The features the frame's `lights`, the scene's bake and the settings call for;
@@ -57,11 +61,13 @@ impl ShaderFeatures {
             pcss: lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { pcss: true, .. })),
             environment: settings.environment.enabled_for(scene),
             local_shadows: local_shadowed.contains(&true),
+            // Set by the plan once it knows each tile's casters.
+            tinted_shadows: false,
         }
     }
 
     /// The override constants that select this specialisation.
-    pub fn constants(self) -> [(&'static str, f64); 7] {
+    pub fn constants(self) -> [(&'static str, f64); 8] {
         [
             overrides::COOKIES_ENABLED.flag(self.cookies),
             overrides::BAKED_ENABLED.flag(self.baked),
@@ -70,6 +76,7 @@ impl ShaderFeatures {
             overrides::PCSS_SHADOWS.flag(self.pcss),
             overrides::ENVIRONMENT_ENABLED.flag(self.environment),
             overrides::LOCAL_SHADOWS.flag(self.local_shadows),
+            overrides::TINTED_SHADOWS.flag(self.tinted_shadows),
         ]
     }
 }

@@ -293,7 +293,8 @@ impl FramePlan {
         } else {
             atlases.cache.redraws(&shadows, draws, settings.shadows.cache)
         };
-        let features = features::ShaderFeatures::of(scene, settings, &lights, &shadowed[lists.directional.len()..]);
+        let mut features = features::ShaderFeatures::of(scene, settings, &lights, &shadowed[lists.directional.len()..]);
+        features.tinted_shadows = shadows.tiles.iter().any(|tile| !tile.tint_casters.is_empty());
         FramePlan {
             view: *view,
             request,

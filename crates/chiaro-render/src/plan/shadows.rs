@@ -80,8 +80,12 @@ pub struct CasterTile {
     pub slope_bias: f32,
     /// A point or spot light's range sphere: its tiles draw the casters inside it.
     pub light_range: Option<Sphere>,
-    /// Indices into the scene's draws of the casters that can reach the tile.
+    /// Indices into the scene's draws of the casters that can reach the tile and write
+    /// its depth.
     pub casters: Vec<u32>,
+    /// Those that can reach it and let light through (`Draw::tints_shadows`): drawn into
+    /// the shadow tints instead.
+    pub tint_casters: Vec<u32>,
 }
 
 /// Tile allocators of both atlases, kept by the renderer from frame to frame.
@@ -200,7 +204,10 @@ pub fn plan_shadows(
     let directional_slots = plan_directional(&mut plan, scene, view, settings, max_distance, directional, atlases);
     let local_slots = plan_local(&mut plan, scene, view, settings, local, atlases);
     for tile in &mut plan.tiles {
-        tile.casters = tile_casters(draws, tile);
+        let (casters, tint_casters) =
+            tile_casters(draws, tile).into_iter().partition(|&d| !draws[d as usize].tints_shadows);
+        tile.casters = casters;
+        tile.tint_casters = tint_casters;
     }
     (plan, ShadowSlots { directional: directional_slots, local: local_slots })
 }
@@ -271,6 +278,7 @@ fn plan_directional(
                     slope_bias: light.shadow.depth_bias,
                     light_range: None,
                     casters: Vec::new(),
+                    tint_casters: Vec::new(),
                 });
             }
             ShadowSlot::Realtime { first_tile: first_tile as u32, tile_count: cascade_count as u32, filter, pcss }
@@ -492,6 +500,7 @@ fn plan_local_light_tiles(
             slope_bias: light.shadow.depth_bias,
             light_range: Some(Sphere { center: light.position(), radius: range }),
             casters: Vec::new(),
+            tint_casters: Vec::new(),
         });
     }
     ShadowSlot::Realtime {

@@ -109,8 +109,8 @@ fn texture_transform(t: Option<&TextureRef>) -> GpuTextureTransform {
 }
 
 /// A material's KHR_materials_* factors and its extension texture slots (their layers in
-/// `plan`'s array) as the shaders read them.
-pub fn gpu_material_layers(l: &MaterialLayers, plan: &LayerPlan) -> GpuMaterialLayers {
+/// `plan`'s array) as the shaders read them, with what it lets through for shadows.
+pub fn gpu_material_layers(l: &MaterialLayers, shadow_transmittance: Vec3, plan: &LayerPlan) -> GpuMaterialLayers {
     let textures = LayerTexture::ALL.map(|slot| {
         let t = texture_transform(l.texture(slot));
         GpuLayerTextureSlot { linear: t.linear, offset: t.offset, uv_set: t.uv_set, layer: plan.slots[slot.index()] }
@@ -137,7 +137,9 @@ pub fn gpu_material_layers(l: &MaterialLayers, plan: &LayerPlan) -> GpuMaterialL
         anisotropy_strength: l.anisotropy_strength,
         anisotropy_rotation: l.anisotropy_rotation,
         dispersion: l.dispersion,
-        _pad: [0.0; 3],
+        shadow_transmittance_r: shadow_transmittance.x,
+        shadow_transmittance_g: shadow_transmittance.y,
+        shadow_transmittance_b: shadow_transmittance.z,
         textures,
     }
 }
@@ -167,7 +169,7 @@ pub fn gpu_material(m: &Material, plan: &LayerPlan) -> GpuMaterial {
         normal_uv: texture_transform(m.normal_texture.as_ref()),
         occlusion_uv: texture_transform(m.occlusion_texture.as_ref()),
         emissive_uv: texture_transform(m.emissive_texture.as_ref()),
-        layers: gpu_material_layers(&m.layers, plan),
+        layers: gpu_material_layers(&m.layers, m.shadow_transmittance().unwrap_or(Vec3::ONE), plan),
     }
 }
 

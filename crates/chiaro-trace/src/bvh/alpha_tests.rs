@@ -102,6 +102,31 @@ fn dithered_casters_let_one_minus_alpha_through_each_time() {
 }
 
 #[test]
+fn transmissive_casters_let_their_colour_through_each_time() {
+    let red = Vec3::new(0.9, 0.3, 0.1);
+    let mut material = Material { base_color: red.extend(1.0), metallic: 0.0, ..Material::default() };
+    material.layers.transmission = 1.0;
+    let per_crossing = material.shadow_transmittance().expect("transmissive");
+    assert!((per_crossing - red * 0.96).abs().max_element() < 1e-6, "{per_crossing}");
+    let mut scene = plane_scene(material, Vec::new());
+    let mut second = scene.instances[0].clone();
+    second.world_from_local = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0));
+    scene.instances.push(second);
+    let bvh = SceneBvh::build(&scene);
+    let through = bvh.transmittance_rgb(Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y, f32::INFINITY);
+    assert!((through - per_crossing * per_crossing).abs().max_element() < 1e-6, "{through}");
+    let mean = bvh.transmittance(Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y, f32::INFINITY);
+    assert!((mean - (through.x + through.y + through.z) / 3.0).abs() < 1e-6);
+    // The camera sees the glass.
+    assert!(bvh.closest_hit(Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y, f32::INFINITY).is_some());
+    // A transmissive surface that is also metal lets nothing through.
+    let mut metal = Material { metallic: 1.0, ..Material::default() };
+    metal.layers.transmission = 1.0;
+    let bvh = SceneBvh::build(&plane_scene(metal, Vec::new()));
+    assert_eq!(bvh.transmittance_rgb(Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y, f32::INFINITY), Vec3::ZERO);
+}
+
+#[test]
 fn materials_that_cast_off_are_seen_but_block_nothing() {
     let material = Material { shadow_casting: ShadowCasting::Off, ..Material::default() };
     let bvh = SceneBvh::build(&plane_scene(material, Vec::new()));

@@ -242,16 +242,25 @@ impl SceneBvh {
         })
     }
 
-    /// How much light gets along the ray with `0 <= t < max_t`: 0 where a solid caster
-    /// (or an alpha-tested one where its alpha passes) lies on it, else the product of
-    /// `1 - alpha` over the dithered casters it crosses. Instances that cast no shadows
-    /// let everything through; non-finite or zero rays too.
+    /// How much light gets along the ray with `0 <= t < max_t`, the mean of its three
+    /// channels (`transmittance_rgb`): what the shadow reference and the baker compare.
     pub fn transmittance(&self, origin: Vec3, direction: Vec3, max_t: f32) -> f32 {
+        let through = self.transmittance_rgb(origin, direction, max_t);
+        (through.x + through.y + through.z) / 3.0
+    }
+
+    /// How much light gets along the ray with `0 <= t < max_t`, per channel: 0 where a
+    /// solid caster (or an alpha-tested one where its alpha passes) lies on it, else the
+    /// product of `1 - alpha` over the dithered casters it crosses and of the shadow
+    /// transmittance over the surfaces that let light through (a coloured shadow), each
+    /// surface once. Instances that cast no shadows let everything through; non-finite or
+    /// zero rays too.
+    pub fn transmittance_rgb(&self, origin: Vec3, direction: Vec3, max_t: f32) -> Vec3 {
         let (Some(bvh), Some(rays)) = (self.bvh.as_ref(), Rays::new(origin, direction, max_t)) else {
-            return 1.0;
+            return Vec3::ONE;
         };
         let mut crossed: Vec<u32> = Vec::new();
-        let mut through = 1.0;
+        let mut through = Vec3::ONE;
         let blocked = !bvh.ray_traverse_miss(rays.traversal, |_, id| {
             if self.triangle_mask[id] & CASTER == 0 {
                 return f32::INFINITY;
@@ -260,21 +269,23 @@ impl SceneBvh {
             let Some((material, alpha)) = self.alpha_at(id, &rays.caller, t) else {
                 return Rays::traversal_t(t);
             };
-            match material.casting {
-                ShadowCasting::Clip if alpha < material.cutoff => f32::INFINITY,
-                ShadowCasting::Dither => {
-                    // Each triangle once, however many leaves reference it.
-                    let original = self.alpha_triangles[self.triangle_alpha[id] as usize].original;
-                    if !crossed.contains(&original) {
-                        crossed.push(original);
-                        through *= 1.0 - alpha.clamp(0.0, 1.0);
-                    }
-                    f32::INFINITY
+            // Each triangle once, however many leaves reference it.
+            let mut cross = |by: Vec3| {
+                let original = self.alpha_triangles[self.triangle_alpha[id] as usize].original;
+                if !crossed.contains(&original) {
+                    crossed.push(original);
+                    through *= by;
                 }
+                f32::INFINITY
+            };
+            match (material.casting, material.transmittance) {
+                (ShadowCasting::Clip, _) if alpha < material.cutoff => f32::INFINITY,
+                (ShadowCasting::Dither, _) => cross(Vec3::splat(1.0 - alpha.clamp(0.0, 1.0))),
+                (ShadowCasting::On, Some(transmittance)) => cross(transmittance),
                 _ => Rays::traversal_t(t),
             }
         });
-        if blocked { 0.0 } else { through }
+        if blocked { Vec3::ZERO } else { through }
     }
 
     /// Whether a caster blocks the ray entirely (see `transmittance`).
