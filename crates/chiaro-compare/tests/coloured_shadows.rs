@@ -3,7 +3,9 @@
 //! glass pane above a floor tints its shadow for a sun, a spot and a point light, on both
 //! paths; the shadow's visibility (the mean of its channels) agrees with the traced one,
 //! and each channel of the floor's light under the pane is the pane's transmittance of
-//! the light beside it. An opaque pane of the same colour still casts a black shadow.
+//! the light beside it. An opaque pane of the same colour still casts a black shadow; a
+//! closed glass box tints once when single-sided (its back faces cast nothing, as the
+//! camera sees it) and twice when double-sided.
 
 mod common;
 
@@ -165,4 +167,53 @@ fn diffuse_transmission_tints_the_shadow_in_its_own_colour() {
     let ratio = floor_ratio("sun", &leaf, RenderPath::Forward);
     println!("leaf: floor under / beside {ratio:.4} (expected {expected:.4})");
     assert!((ratio - expected).abs().max_element() < 0.03, "{ratio}, expected {expected}");
+}
+
+#[test]
+fn a_single_sided_glass_box_tints_once_a_double_sided_one_twice() {
+    let through = RED_GLASS * 0.96;
+    for (double_sided, crossings) in [(false, 1), (true, 2)] {
+        let sun = Light { intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y) };
+        let mut scene = floor_scene(12.0, Vec3::ZERO, vec![sun]);
+        look_from(&mut scene, Vec3::new(0.0, 0.5, 3.0), Vec3::new(0.0, 0.0, -0.3));
+        let mut material = Material {
+            name: "red glass".into(),
+            base_color: RED_GLASS.extend(1.0),
+            metallic: 0.0,
+            double_sided,
+            ..Material::default()
+        };
+        material.layers.transmission = 1.0;
+        let mut cube = shapes::cuboid(Vec3::splat(1.6));
+        cube.material = Some(scene.materials.len());
+        scene.materials.push(material);
+        scene.meshes.push(Mesh::of_triangles("glass box".into(), vec![cube]));
+        scene.instances.push(MeshInstance {
+            mesh: scene.meshes.len() - 1,
+            node: 200,
+            name: "glass box".into(),
+            world_from_local: Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0)),
+            cast_shadows: CastShadows::On,
+            receive_shadows: true,
+            is_static: true,
+            lightmap: None,
+            gpu_instance: None,
+            label: 0,
+        });
+        let label = format!("double-sided {double_sided}");
+        let result = compare(&scene, &settings(RenderPath::Forward), 192);
+        let under: Vec<f32> = (0..result.rendered[0].len())
+            .filter(|&i| {
+                result.reference.position[i].is_some_and(|p| p.y.abs() < 1e-3 && p.x.abs() < 0.65 && p.z.abs() < 0.65)
+            })
+            .map(|i| result.rendered[0][i])
+            .collect();
+        assert!(under.len() > 300, "{label}: {} pixels under the box", under.len());
+        let mean = under.iter().sum::<f32>() / under.len() as f32;
+        let tint = through.powf(crossings as f32);
+        let expected = (tint.x + tint.y + tint.z) / 3.0;
+        println!("{label}: shadow term under the box {mean:.4} (expected {expected:.4}) over {} pixels", under.len());
+        assert!((mean - expected).abs() < 0.02, "{label}: {mean}, expected {expected}");
+        assert_agrees_with_reference(&label, &result.reports[0].comparison);
+    }
 }

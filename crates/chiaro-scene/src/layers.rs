@@ -245,7 +245,9 @@ impl MaterialLayers {
     /// `transmission` of it tinted by the base colour and the rest's diffuse transmission
     /// tinted by its colour; a volume's Beer-Lambert attenuation over half its thickness,
     /// since a ray through a closed volume crosses two surfaces. The renderer's coloured
-    /// shadows and the reference tracer both apply it once per surface crossed.
+    /// shadows and the reference tracer both apply it once per surface crossed that casts
+    /// with the face the light meets: a single-sided closed object (the camera sees its
+    /// front wall alone) tints once, a double-sided or two-sided-casting one twice.
     pub fn shadow_transmittance(&self, base_color: Vec3, metallic: f32) -> Option<Vec3> {
         if self.transmission <= 0.0 && self.diffuse_transmission <= 0.0 {
             return None;

@@ -69,8 +69,8 @@ pub struct ShadowPass {
     unclipped_depth: bool,
     /// Writes the far plane over one tile: a cleared tile inside a pass that keeps the rest.
     clear_tile: wgpu::RenderPipeline,
-    /// Tinting casters' pipelines, by whether they clamp depth (cascades).
-    tint_pipelines: HashMap<bool, wgpu::RenderPipeline>,
+    /// Tinting casters' pipelines, by `tint_key`.
+    tint_pipelines: HashMap<CasterKey, wgpu::RenderPipeline>,
 }
 
 fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
@@ -81,6 +81,12 @@ fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
         clamp_depth: tile.atlas == ShadowAtlas::Directional,
         casting: draw.shadow_casting,
     }
+}
+
+/// A tinting caster's pipeline state: culling, winding and depth clamping as for its
+/// depth (no bias: it writes no depth).
+fn tint_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
+    CasterKey { slope_bias_bits: 0, casting: ShadowCasting::On, ..caster_key(tile, draw) }
 }
 
 impl PassType for ShadowPass {
@@ -247,9 +253,10 @@ impl ShadowPass {
 }
 
 impl ShadowPass {
-    /// A tinting caster pipeline: both faces (each surface a ray crosses tints it, as in
-    /// the reference), no depth, colours multiplied and the nearest depth kept.
-    fn create_tint(&self, device: &wgpu::Device, clamp_depth: bool) -> wgpu::RenderPipeline {
+    /// A tinting caster pipeline: the faces the caster casts with (a single-sided
+    /// surface tints where its front faces the light, as the reference counts it), no
+    /// depth, colours multiplied and the nearest depth kept.
+    fn create_tint(&self, device: &wgpu::Device, key: CasterKey) -> wgpu::RenderPipeline {
         let multiply = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::Zero,
             dst_factor: wgpu::BlendFactor::Src,
@@ -270,8 +277,9 @@ impl ShadowPass {
                 buffers: &[Some(GpuVertex::layout())],
             },
             primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                unclipped_depth: self.unclipped_depth && clamp_depth,
+                front_face: if key.front_cw { wgpu::FrontFace::Cw } else { wgpu::FrontFace::Ccw },
+                cull_mode: key.cull_back.then_some(wgpu::Face::Back),
+                unclipped_depth: self.unclipped_depth && key.clamp_depth,
                 ..Default::default()
             },
             depth_stencil: None,
@@ -315,14 +323,19 @@ impl ShadowPass {
         });
         pass.set_vertex_buffer(0, cx.scene.vertices.slice(..));
         pass.set_index_buffer(cx.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.set_pipeline(&self.tint_pipelines[&(atlas == ShadowAtlas::Directional)]);
         for (i, tile) in shadows.tiles.iter().enumerate().filter(|(_, t)| t.atlas == atlas && !t.tint_casters.is_empty()) {
             let (x, y, size) = tile.viewport;
             pass.set_viewport(x as f32, y as f32, size as f32, size as f32, 0.0, 1.0);
             pass.set_scissor_rect(x, y, size, size);
             pass.set_bind_group(0, bind_group, &[(i as u64 * self.stride) as u32]);
+            let mut bound = None;
             let mut bound_material = usize::MAX;
             for (draw, instances) in instanced_runs(&cx.scene.draws, &tile.tint_casters) {
+                let key = tint_key(tile, draw);
+                if bound != Some(key) {
+                    pass.set_pipeline(&self.tint_pipelines[&key]);
+                    bound = Some(key);
+                }
                 if bound_material != draw.material {
                     pass.set_bind_group(1, &cx.scene.materials[draw.material], &[]);
                     bound_material = draw.material;
@@ -360,11 +373,12 @@ impl FramePass for ShadowPass {
                 }
             }
         }
-        if cx.plan.features.tinted_shadows {
-            for clamp_depth in [true, false] {
-                if !self.tint_pipelines.contains_key(&clamp_depth) {
-                    let pipeline = self.create_tint(cx.device, clamp_depth);
-                    self.tint_pipelines.insert(clamp_depth, pipeline);
+        for tile in tiles {
+            for &d in &tile.tint_casters {
+                let key = tint_key(tile, &cx.scene.draws[d as usize]);
+                if !self.tint_pipelines.contains_key(&key) {
+                    let pipeline = self.create_tint(cx.device, key);
+                    self.tint_pipelines.insert(key, pipeline);
                 }
             }
         }

@@ -104,7 +104,9 @@ fn dithered_casters_let_one_minus_alpha_through_each_time() {
 #[test]
 fn transmissive_casters_let_their_colour_through_each_time() {
     let red = Vec3::new(0.9, 0.3, 0.1);
-    let mut material = Material { base_color: red.extend(1.0), metallic: 0.0, ..Material::default() };
+    // Double-sided, as a pane: either face tints.
+    let mut material =
+        Material { base_color: red.extend(1.0), metallic: 0.0, double_sided: true, ..Material::default() };
     material.layers.transmission = 1.0;
     let per_crossing = material.shadow_transmittance().expect("transmissive");
     assert!((per_crossing - red * 0.96).abs().max_element() < 1e-6, "{per_crossing}");
@@ -120,7 +122,7 @@ fn transmissive_casters_let_their_colour_through_each_time() {
     // The camera sees the glass.
     assert!(bvh.closest_hit(Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y, f32::INFINITY).is_some());
     // A transmissive surface that is also metal lets nothing through.
-    let mut metal = Material { metallic: 1.0, ..Material::default() };
+    let mut metal = Material { metallic: 1.0, double_sided: true, ..Material::default() };
     metal.layers.transmission = 1.0;
     let bvh = SceneBvh::build(&plane_scene(metal, Vec::new()));
     assert_eq!(bvh.transmittance_rgb(Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y, f32::INFINITY), Vec3::ZERO);
@@ -160,5 +162,45 @@ fn vertex_colour_alpha_multiplies_the_materials() {
     // 0.8 * alpha passes 0.5 where alpha > 0.625, x > 0.25.
     for (x, blocked) in [(-0.5, false), (0.2, false), (0.3, true), (0.9, true)] {
         assert_eq!(bvh.occluded(Vec3::new(x, 1.0, 0.1), Vec3::NEG_Y, f32::INFINITY), blocked, "x = {x}");
+    }
+}
+
+#[test]
+fn a_single_sided_transmissive_solid_tints_once_a_double_sided_one_twice() {
+    let red = Vec3::new(0.9, 0.3, 0.1);
+    for (double_sided, mirrored, crossings) in [(false, false, 1), (true, false, 2), (false, true, 1)] {
+        let mut material = Material { base_color: red.extend(1.0), metallic: 0.0, double_sided, ..Material::default() };
+        material.layers.transmission = 1.0;
+        let per_crossing = material.shadow_transmittance().unwrap();
+        let mut cube = shapes::cuboid(Vec3::ONE);
+        cube.material = Some(0);
+        let mirror = if mirrored { Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)) } else { Mat4::IDENTITY };
+        let scene = Scene {
+            meshes: vec![Mesh::of_triangles("cube".into(), vec![cube])],
+            materials: vec![material],
+            instances: vec![MeshInstance {
+                mesh: 0,
+                node: 0,
+                name: "cube".into(),
+                world_from_local: Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0)) * mirror,
+                cast_shadows: CastShadows::On,
+                receive_shadows: true,
+                is_static: true,
+                lightmap: None,
+                gpu_instance: None,
+                label: 0,
+            }],
+            ..Scene::default()
+        };
+        let bvh = SceneBvh::build(&scene);
+        // From under the cube up to a light above it, and from above down through it.
+        for (origin, direction) in [(Vec3::new(0.1, 0.0, 0.2), Vec3::Y), (Vec3::new(0.1, 2.0, 0.2), Vec3::NEG_Y)] {
+            let through = bvh.transmittance_rgb(origin, direction, f32::INFINITY);
+            let expected = per_crossing.powf(crossings as f32);
+            assert!(
+                (through - expected).abs().max_element() < 1e-5,
+                "double-sided {double_sided}, mirrored {mirrored}: {through}, expected {expected}"
+            );
+        }
     }
 }

@@ -26,6 +26,12 @@ use std::time::{Duration, Instant};
 const VISIBLE: u8 = 1;
 /// The instance casts shadows, so shadow rays stop at it.
 const CASTER: u8 = 2;
+/// Its shadow is cast by the faces turned to the light alone (neither the instance casts
+/// two-sided nor the material is double-sided), as the renderer culls them: a surface
+/// that lets light through tints it only where its front faces the light.
+const ONE_SIDED: u8 = 4;
+/// The instance's transform mirrors, so its triangles' winding is turned.
+const MIRRORED: u8 = 8;
 
 fn instance_mask(cast_shadows: CastShadows) -> u8 {
     match cast_shadows {
@@ -281,11 +287,27 @@ impl SceneBvh {
             match (material.casting, material.transmittance) {
                 (ShadowCasting::Clip, _) if alpha < material.cutoff => f32::INFINITY,
                 (ShadowCasting::Dither, _) => cross(Vec3::splat(1.0 - alpha.clamp(0.0, 1.0))),
+                (ShadowCasting::On, Some(_)) if !self.tints_towards(id, direction) => f32::INFINITY,
                 (ShadowCasting::On, Some(transmittance)) => cross(transmittance),
                 _ => Rays::traversal_t(t),
             }
         });
         if blocked { Vec3::ZERO } else { through }
+    }
+
+    /// Whether triangle reference `id` tints light travelling against `direction` (a
+    /// shadow ray's, from the surface to the light): always where it casts with both
+    /// faces, else where its front (counter-clockwise, mirrored instances turned) faces
+    /// the light.
+    fn tints_towards(&self, id: usize, direction: Vec3) -> bool {
+        let mask = self.triangle_mask[id];
+        if mask & ONE_SIDED == 0 {
+            return true;
+        }
+        let tri = &self.triangles[id];
+        let [a, b, c] = [tri.v0, tri.v1, tri.v2].map(|v| Vec3::from_array(v.into()));
+        let facing = (b - a).cross(c - a).dot(direction) > 0.0;
+        facing != (mask & MIRRORED != 0)
     }
 
     /// Whether a caster blocks the ray entirely (see `transmittance`).
@@ -378,7 +400,13 @@ fn world_triangles<'a>(
     primitives.iter().enumerate().flat_map(move |(primitive_index, primitive)| {
         let material = primitive.material.and_then(|m| scene.materials.get(m).map(|material| (m, material)));
         let casts = material.is_none_or(|(_, m)| m.shadow_casting != ShadowCasting::Off);
-        let mask = if casts { instance_bits } else { instance_bits & !CASTER };
+        let mut mask = if casts { instance_bits } else { instance_bits & !CASTER };
+        if instance.cast_shadows != CastShadows::TwoSided && material.is_none_or(|(_, m)| !m.double_sided) {
+            mask |= ONE_SIDED;
+        }
+        if world_from_local.determinant() < 0.0 {
+            mask |= MIRRORED;
+        }
         let alpha = material.filter(|(_, m)| AlphaMaterial::needed(m)).map(|(m, material)| {
             let uvs = if AlphaMaterial::new(material).uv_set() == 1 { &primitive.uv1 } else { &primitive.uv0 };
             (m as u32, uvs)
