@@ -243,12 +243,13 @@ impl MaterialLayers {
     /// textures, no vertex colours, no angle): the dielectric share `1 - metallic`, less
     /// its Fresnel reflectance at normal incidence, split as the spec mixes its lobes,
     /// `transmission` of it tinted by the base colour and the rest's diffuse transmission
-    /// tinted by its colour; a volume's Beer-Lambert attenuation over half its thickness,
-    /// since a ray through a closed volume crosses two surfaces. The renderer's coloured
-    /// shadows and the reference tracer both apply it once per surface crossed that casts
-    /// with the face the light meets: a single-sided closed object (the camera sees its
-    /// front wall alone) tints once, a double-sided or two-sided-casting one twice.
-    pub fn shadow_transmittance(&self, base_color: Vec3, metallic: f32) -> Option<Vec3> {
+    /// tinted by its colour; a volume's Beer-Lambert attenuation over its thickness, split
+    /// between the walls the light crosses. The renderer's coloured shadows and the
+    /// reference tracer both apply it once per surface crossed whose material shows the
+    /// face the light meets: a single-sided closed object (the camera sees its front wall
+    /// alone) tints once, with the whole thickness; a `double_sided` one twice, with half
+    /// of it each time.
+    pub fn shadow_transmittance(&self, base_color: Vec3, metallic: f32, double_sided: bool) -> Option<Vec3> {
         if self.transmission <= 0.0 && self.diffuse_transmission <= 0.0 {
             return None;
         }
@@ -258,7 +259,8 @@ impl MaterialLayers {
         let diffuse = (1.0 - self.transmission) * self.diffuse_transmission * self.diffuse_transmission_color;
         let mut through = (specular + diffuse) * dielectric * (1.0 - f0.clamp(0.0, 1.0));
         if self.thickness > 0.0 && self.attenuation_distance.is_finite() && self.attenuation_distance > 0.0 {
-            let exponent = 0.5 * self.thickness / self.attenuation_distance;
+            let walls = if double_sided { 2.0 } else { 1.0 };
+            let exponent = self.thickness / (walls * self.attenuation_distance);
             through *= self.attenuation_color.max(Vec3::ZERO).powf(exponent);
         }
         Some(through.clamp(Vec3::ZERO, Vec3::ONE))
@@ -275,7 +277,7 @@ mod tests {
 
     #[test]
     fn opaque_surfaces_cast_ordinary_shadows() {
-        assert_eq!(MaterialLayers::default().shadow_transmittance(Vec3::ONE, 0.0), None);
+        assert_eq!(MaterialLayers::default().shadow_transmittance(Vec3::ONE, 0.0, false), None);
     }
 
     #[test]
@@ -283,10 +285,10 @@ mod tests {
         let glass = MaterialLayers { transmission: 1.0, ..MaterialLayers::default() };
         // ior 1.5: F0 = 0.04.
         let red = Vec3::new(1.0, 0.2, 0.1);
-        assert!(close(glass.shadow_transmittance(red, 0.0).unwrap(), red * 0.96));
-        assert!(close(glass.shadow_transmittance(red, 0.5).unwrap(), red * 0.48));
+        assert!(close(glass.shadow_transmittance(red, 0.0, false).unwrap(), red * 0.96));
+        assert!(close(glass.shadow_transmittance(red, 0.5, false).unwrap(), red * 0.48));
         let half = MaterialLayers { transmission: 0.5, ..glass.clone() };
-        assert!(close(half.shadow_transmittance(Vec3::ONE, 0.0).unwrap(), Vec3::splat(0.48)));
+        assert!(close(half.shadow_transmittance(Vec3::ONE, 0.0, false).unwrap(), Vec3::splat(0.48)));
     }
 
     #[test]
@@ -296,12 +298,12 @@ mod tests {
             diffuse_transmission_color: Vec3::new(0.2, 1.0, 0.2),
             ..MaterialLayers::default()
         };
-        let through = leaf.shadow_transmittance(Vec3::new(1.0, 0.0, 0.0), 0.0).unwrap();
+        let through = leaf.shadow_transmittance(Vec3::new(1.0, 0.0, 0.0), 0.0, false).unwrap();
         assert!(close(through, Vec3::new(0.1, 0.5, 0.1) * 0.96), "{through}");
     }
 
     #[test]
-    fn a_volume_attenuates_over_half_its_thickness_per_crossing() {
+    fn a_volume_attenuates_over_its_thickness_split_between_the_walls_crossed() {
         let volume = MaterialLayers {
             transmission: 1.0,
             thickness: 2.0,
@@ -309,9 +311,13 @@ mod tests {
             attenuation_color: Vec3::new(0.5, 1.0, 0.25),
             ..MaterialLayers::default()
         };
-        let through = volume.shadow_transmittance(Vec3::ONE, 0.0).unwrap();
-        // Two crossings make the full Beer-Lambert colour^(thickness / distance).
-        let two = through * through / (0.96 * 0.96);
-        assert!(close(two, Vec3::new(0.25, 1.0, 0.0625)), "{two}");
+        let beer_lambert = Vec3::new(0.25, 1.0, 0.0625);
+        // Single-sided: one wall crossed, the whole thickness.
+        let one = volume.shadow_transmittance(Vec3::ONE, 0.0, false).unwrap();
+        assert!(close(one / 0.96, beer_lambert), "{one}");
+        // Double-sided: two crossings make the same colour^(thickness / distance).
+        let half = volume.shadow_transmittance(Vec3::ONE, 0.0, true).unwrap();
+        let two = half * half / (0.96 * 0.96);
+        assert!(close(two, beer_lambert), "{two}");
     }
 }

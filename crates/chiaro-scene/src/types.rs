@@ -324,7 +324,7 @@ impl Material {
     /// What one crossing of the surface lets through for shadows, per channel, or `None`
     /// where it casts an ordinary shadow (see `MaterialLayers::shadow_transmittance`).
     pub fn shadow_transmittance(&self) -> Option<Vec3> {
-        self.layers.shadow_transmittance(self.base_color.truncate(), self.metallic)
+        self.layers.shadow_transmittance(self.base_color.truncate(), self.metallic, self.double_sided)
     }
 
     /// Every texture reference the material holds: the five core slots, then the

@@ -83,10 +83,13 @@ fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
     }
 }
 
-/// A tinting caster's pipeline state: culling, winding and depth clamping as for its
-/// depth (no bias: it writes no depth).
+/// A tinting caster's pipeline state: winding and depth clamping as for its depth (no
+/// bias: it writes no depth), and the faces its material shows the camera: a
+/// single-sided one tints where its front faces the light, one wall of a closed object,
+/// as the camera sees one wall of it; the instance's two-sided casting (glTF's default,
+/// for open meshes' depth) does not make it tint twice.
 fn tint_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
-    CasterKey { slope_bias_bits: 0, casting: ShadowCasting::On, ..caster_key(tile, draw) }
+    CasterKey { slope_bias_bits: 0, casting: ShadowCasting::On, cull_back: !draw.double_sided, ..caster_key(tile, draw) }
 }
 
 impl PassType for ShadowPass {
@@ -253,9 +256,9 @@ impl ShadowPass {
 }
 
 impl ShadowPass {
-    /// A tinting caster pipeline: the faces the caster casts with (a single-sided
-    /// surface tints where its front faces the light, as the reference counts it), no
-    /// depth, colours multiplied and the nearest depth kept.
+    /// A tinting caster pipeline: the faces its material shows (`tint_key`; the
+    /// reference counts them alike), no depth, colours multiplied and the nearest depth
+    /// kept.
     fn create_tint(&self, device: &wgpu::Device, key: CasterKey) -> wgpu::RenderPipeline {
         let multiply = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::Zero,

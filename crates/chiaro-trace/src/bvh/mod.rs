@@ -26,9 +26,9 @@ use std::time::{Duration, Instant};
 const VISIBLE: u8 = 1;
 /// The instance casts shadows, so shadow rays stop at it.
 const CASTER: u8 = 2;
-/// Its shadow is cast by the faces turned to the light alone (neither the instance casts
-/// two-sided nor the material is double-sided), as the renderer culls them: a surface
-/// that lets light through tints it only where its front faces the light.
+/// Its material is single-sided: where it lets light through, it tints a shadow only where
+/// its front faces the light, as the renderer draws tints (one wall of a closed object,
+/// as the camera sees one; the instance's two-sided casting does not change it).
 const ONE_SIDED: u8 = 4;
 /// The instance's transform mirrors, so its triangles' winding is turned.
 const MIRRORED: u8 = 8;
@@ -296,9 +296,9 @@ impl SceneBvh {
     }
 
     /// Whether triangle reference `id` tints light travelling against `direction` (a
-    /// shadow ray's, from the surface to the light): always where it casts with both
-    /// faces, else where its front (counter-clockwise, mirrored instances turned) faces
-    /// the light.
+    /// shadow ray's, from the surface to the light): always where its material is
+    /// double-sided, else where its front (counter-clockwise, mirrored instances turned)
+    /// faces the light.
     fn tints_towards(&self, id: usize, direction: Vec3) -> bool {
         let mask = self.triangle_mask[id];
         if mask & ONE_SIDED == 0 {
@@ -401,7 +401,7 @@ fn world_triangles<'a>(
         let material = primitive.material.and_then(|m| scene.materials.get(m).map(|material| (m, material)));
         let casts = material.is_none_or(|(_, m)| m.shadow_casting != ShadowCasting::Off);
         let mut mask = if casts { instance_bits } else { instance_bits & !CASTER };
-        if instance.cast_shadows != CastShadows::TwoSided && material.is_none_or(|(_, m)| !m.double_sided) {
+        if material.is_none_or(|(_, m)| !m.double_sided) {
             mask |= ONE_SIDED;
         }
         if world_from_local.determinant() < 0.0 {
