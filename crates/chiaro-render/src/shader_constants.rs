@@ -75,6 +75,38 @@ pub const MATERIAL_FLAG_NORMAL_TEXTURE: u32 = 1;
 /// light.
 pub const MATERIAL_FLAG_UNLIT: u32 = 2;
 
+/// Extension texture slots of a material (`GpuMaterialLayers::textures`), one per
+/// `chiaro_scene::LayerTexture`; a test holds the two equal.
+pub const LAYER_TEXTURE_SLOTS: u32 = 14;
+/// The slot of `LayerTexture::Specular` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_SPECULAR: u32 = 0;
+/// The slot of `LayerTexture::SpecularColor` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_SPECULAR_COLOR: u32 = 1;
+/// The slot of `LayerTexture::Clearcoat` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_CLEARCOAT: u32 = 2;
+/// The slot of `LayerTexture::ClearcoatRoughness` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_CLEARCOAT_ROUGHNESS: u32 = 3;
+/// The slot of `LayerTexture::ClearcoatNormal` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_CLEARCOAT_NORMAL: u32 = 4;
+/// The slot of `LayerTexture::SheenColor` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_SHEEN_COLOR: u32 = 5;
+/// The slot of `LayerTexture::SheenRoughness` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_SHEEN_ROUGHNESS: u32 = 6;
+/// The slot of `LayerTexture::Transmission` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_TRANSMISSION: u32 = 7;
+/// The slot of `LayerTexture::Thickness` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_THICKNESS: u32 = 8;
+/// The slot of `LayerTexture::Iridescence` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_IRIDESCENCE: u32 = 9;
+/// The slot of `LayerTexture::IridescenceThickness` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_IRIDESCENCE_THICKNESS: u32 = 10;
+/// The slot of `LayerTexture::Anisotropy` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_ANISOTROPY: u32 = 11;
+/// The slot of `LayerTexture::DiffuseTransmission` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_DIFFUSE_TRANSMISSION: u32 = 12;
+/// The slot of `LayerTexture::DiffuseTransmissionColor` (its index in `LayerTexture::ALL`).
+pub const LAYER_SLOT_DIFFUSE_TRANSMISSION_COLOR: u32 = 13;
+
 /// `GpuFrame::debug_view`.
 pub const DEBUG_VIEW_NONE: u32 = 0;
 /// `GpuFrame::debug_view`: tint each surface by its cascade.
@@ -164,6 +196,21 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("MATERIAL_ALPHA_BLEND", MATERIAL_ALPHA_BLEND),
     ("MATERIAL_FLAG_NORMAL_TEXTURE", MATERIAL_FLAG_NORMAL_TEXTURE),
     ("MATERIAL_FLAG_UNLIT", MATERIAL_FLAG_UNLIT),
+    ("LAYER_TEXTURE_SLOTS", LAYER_TEXTURE_SLOTS),
+    ("LAYER_SLOT_SPECULAR", LAYER_SLOT_SPECULAR),
+    ("LAYER_SLOT_SPECULAR_COLOR", LAYER_SLOT_SPECULAR_COLOR),
+    ("LAYER_SLOT_CLEARCOAT", LAYER_SLOT_CLEARCOAT),
+    ("LAYER_SLOT_CLEARCOAT_ROUGHNESS", LAYER_SLOT_CLEARCOAT_ROUGHNESS),
+    ("LAYER_SLOT_CLEARCOAT_NORMAL", LAYER_SLOT_CLEARCOAT_NORMAL),
+    ("LAYER_SLOT_SHEEN_COLOR", LAYER_SLOT_SHEEN_COLOR),
+    ("LAYER_SLOT_SHEEN_ROUGHNESS", LAYER_SLOT_SHEEN_ROUGHNESS),
+    ("LAYER_SLOT_TRANSMISSION", LAYER_SLOT_TRANSMISSION),
+    ("LAYER_SLOT_THICKNESS", LAYER_SLOT_THICKNESS),
+    ("LAYER_SLOT_IRIDESCENCE", LAYER_SLOT_IRIDESCENCE),
+    ("LAYER_SLOT_IRIDESCENCE_THICKNESS", LAYER_SLOT_IRIDESCENCE_THICKNESS),
+    ("LAYER_SLOT_ANISOTROPY", LAYER_SLOT_ANISOTROPY),
+    ("LAYER_SLOT_DIFFUSE_TRANSMISSION", LAYER_SLOT_DIFFUSE_TRANSMISSION),
+    ("LAYER_SLOT_DIFFUSE_TRANSMISSION_COLOR", LAYER_SLOT_DIFFUSE_TRANSMISSION_COLOR),
     ("DEBUG_VIEW_NONE", DEBUG_VIEW_NONE),
     ("DEBUG_VIEW_CASCADES", DEBUG_VIEW_CASCADES),
     ("CASTER_CLAMP_DEPTH", CASTER_CLAMP_DEPTH),
@@ -199,3 +246,33 @@ pub const F32_CONSTANTS: &[(&str, f32)] = &[
 /// so sixteen draws at their brightest still sum to a finite value (radiance this high
 /// tone-maps to white either way).
 pub const MAX_EXPOSED_VOLUME_RADIANCE: f32 = chiaro_math::tonemap::MAX_EXPOSED_RADIANCE / 16.0;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use chiaro_scene::LayerTexture;
+
+    #[test]
+    fn layer_slots_are_the_scene_s() {
+        assert_eq!(LayerTexture::ALL.len(), LAYER_TEXTURE_SLOTS as usize);
+        let slots = [
+            (LayerTexture::Specular, LAYER_SLOT_SPECULAR),
+            (LayerTexture::SpecularColor, LAYER_SLOT_SPECULAR_COLOR),
+            (LayerTexture::Clearcoat, LAYER_SLOT_CLEARCOAT),
+            (LayerTexture::ClearcoatRoughness, LAYER_SLOT_CLEARCOAT_ROUGHNESS),
+            (LayerTexture::ClearcoatNormal, LAYER_SLOT_CLEARCOAT_NORMAL),
+            (LayerTexture::SheenColor, LAYER_SLOT_SHEEN_COLOR),
+            (LayerTexture::SheenRoughness, LAYER_SLOT_SHEEN_ROUGHNESS),
+            (LayerTexture::Transmission, LAYER_SLOT_TRANSMISSION),
+            (LayerTexture::Thickness, LAYER_SLOT_THICKNESS),
+            (LayerTexture::Iridescence, LAYER_SLOT_IRIDESCENCE),
+            (LayerTexture::IridescenceThickness, LAYER_SLOT_IRIDESCENCE_THICKNESS),
+            (LayerTexture::Anisotropy, LAYER_SLOT_ANISOTROPY),
+            (LayerTexture::DiffuseTransmission, LAYER_SLOT_DIFFUSE_TRANSMISSION),
+            (LayerTexture::DiffuseTransmissionColor, LAYER_SLOT_DIFFUSE_TRANSMISSION_COLOR),
+        ];
+        for (texture, slot) in slots {
+            assert_eq!(texture.index(), slot as usize, "{texture:?}");
+        }
+    }
+}

@@ -1,5 +1,6 @@
 //! glTF metallic-roughness materials as `shaders/common/material.wesl` reads them.
 
+use crate::shader_constants::LAYER_TEXTURE_SLOTS;
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
 
@@ -127,5 +128,5 @@ pub struct GpuMaterialLayers {
     /// See `shadow_transmittance_r`.
     pub shadow_transmittance_b: f32,
     /// By `chiaro_scene::LayerTexture::index`.
-    pub textures: [GpuLayerTextureSlot; 14],
+    pub textures: [GpuLayerTextureSlot; LAYER_TEXTURE_SLOTS as usize],
 }

@@ -4,7 +4,7 @@
 //! a full mip chain. An array's layers share one size, so a cookie of another size is
 //! resampled to the largest; with no cookie of a kind, a 1x1 white stand-in is bound.
 
-use super::textures::downsample;
+use super::textures::upload_rgba8_layers;
 use crate::plan::cookies::{CookieArray, cookie_slots};
 use chiaro_scene::{Image, Scene};
 
@@ -119,38 +119,8 @@ fn upload_array(
     } else {
         (width, height)
     };
-    let mip_level_count = 32 - width.max(height).leading_zeros();
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: layers.len() as u32 },
-        mip_level_count,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8Unorm,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    for (layer, texels) in layers.iter().enumerate() {
-        let base = texels.resized(width, height);
-        let (mut data, mut w, mut h) = (base.rgba8, width, height);
-        for level in 0..mip_level_count {
-            if level > 0 {
-                (data, w, h) = downsample(&data, w, h);
-            }
-            queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &texture,
-                    mip_level: level,
-                    origin: wgpu::Origin3d { x: 0, y: 0, z: layer as u32 },
-                    aspect: wgpu::TextureAspect::All,
-                },
-                &data,
-                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(w * 4), rows_per_image: Some(h) },
-                wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-            );
-        }
-    }
-    texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(dimension), ..Default::default() })
+    let resized = layers.iter().map(|texels| texels.resized(width, height).rgba8).collect();
+    upload_rgba8_layers(device, queue, label, (width, height), resized, dimension)
 }
 
 #[cfg(test)]

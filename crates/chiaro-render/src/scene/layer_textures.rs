@@ -5,7 +5,7 @@
 //! the shader decodes the colour slots from sRGB. One sampler serves the array: the
 //! first slot's (the slots' own wrap and filter modes are not kept apart).
 
-use super::textures::downsample;
+use super::textures::upload_rgba8_layers;
 use chiaro_scene::{LayerTexture, Material, SamplerDesc};
 
 /// Side of the largest layer: bigger images are scaled down to it.
@@ -18,14 +18,15 @@ pub struct LayerPlan {
     /// `Scene::images` indices, one per layer.
     pub images: Vec<usize>,
     /// Each `LayerTexture` slot's layer, -1 where the material has no texture there.
-    pub slots: [i32; 14],
+    pub slots: [i32; LayerTexture::ALL.len()],
     /// The sampler the array is read with.
     pub sampler: SamplerDesc,
 }
 
 /// The layers material `m` needs; `image_count` bounds the image indices it may use.
 pub fn layer_plan(m: &Material, image_count: usize) -> LayerPlan {
-    let mut plan = LayerPlan { images: Vec::new(), slots: [-1; 14], sampler: SamplerDesc::default() };
+    let mut plan =
+        LayerPlan { images: Vec::new(), slots: [-1; LayerTexture::ALL.len()], sampler: SamplerDesc::default() };
     for slot in LayerTexture::ALL {
         let Some(texture) = m.layers.texture(slot).filter(|t| t.image < image_count) else { continue };
         if plan.images.is_empty() {
@@ -67,40 +68,7 @@ pub fn upload_layers(
     } else {
         sources.iter().map(|image| resampled(image, width, height)).collect()
     };
-    let mip_level_count = 32 - width.max(height).leading_zeros();
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: layers.len() as u32 },
-        mip_level_count,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8Unorm,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    for (layer, rgba) in layers.into_iter().enumerate() {
-        let (mut data, mut w, mut h) = (rgba, width, height);
-        for level in 0..mip_level_count {
-            if level > 0 {
-                (data, w, h) = downsample(&data, w, h);
-            }
-            queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &texture,
-                    mip_level: level,
-                    origin: wgpu::Origin3d { x: 0, y: 0, z: layer as u32 },
-                    aspect: wgpu::TextureAspect::All,
-                },
-                &data,
-                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(w * 4), rows_per_image: Some(h) },
-                wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-            );
-        }
-    }
-    texture.create_view(&wgpu::TextureViewDescriptor {
-        dimension: Some(wgpu::TextureViewDimension::D2Array),
-        ..Default::default()
-    })
+    upload_rgba8_layers(device, queue, label, (width, height), layers, wgpu::TextureViewDimension::D2Array)
 }
 
 /// The image's RGBA8 texels at `width` x `height`: as they are where the size matches,

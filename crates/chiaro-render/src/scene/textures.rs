@@ -158,6 +158,51 @@ pub fn upload_image(device: &wgpu::Device, queue: &wgpu::Queue, image: &Image) -
     texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
+/// An RGBA8 (linear) texture array of `layers`, each `width` x `height` texels already,
+/// with box-filtered mip chains, seen as `dimension` (2D array or cube array): the cookie
+/// arrays and the materials' extension arrays.
+pub fn upload_rgba8_layers(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    (width, height): (u32, u32),
+    layers: Vec<Vec<u8>>,
+    dimension: wgpu::TextureViewDimension,
+) -> wgpu::TextureView {
+    let mip_level_count = full_mip_chain(width, height);
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: layers.len() as u32 },
+        mip_level_count,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for (layer, rgba8) in layers.into_iter().enumerate() {
+        debug_assert_eq!(rgba8.len(), (width * height * 4) as usize, "layer {layer} of {label}");
+        let (mut data, mut w, mut h) = (rgba8, width, height);
+        for level in 0..mip_level_count {
+            if level > 0 {
+                (data, w, h) = downsample(&data, w, h);
+            }
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: level,
+                    origin: wgpu::Origin3d { x: 0, y: 0, z: layer as u32 },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &data,
+                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(w * 4), rows_per_image: Some(h) },
+                wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+            );
+        }
+    }
+    texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(dimension), ..Default::default() })
+}
+
 /// A 1x1 texture of one colour, standing in for a texture a material does not have.
 pub fn solid(device: &wgpu::Device, queue: &wgpu::Queue, name: &str, rgba: [u8; 4]) -> wgpu::TextureView {
     upload_image(
