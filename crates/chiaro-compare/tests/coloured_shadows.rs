@@ -5,7 +5,9 @@
 //! and each channel of the floor's light under the pane is the pane's transmittance of
 //! the light beside it. An opaque pane of the same colour still casts a black shadow; a
 //! closed glass box tints once when single-sided (its back faces cast nothing, as the
-//! camera sees it), even when it casts two-sided, and twice when double-sided.
+//! camera sees it), even when it casts two-sided, and twice when double-sided; a
+//! single-sided pane tints towards its front only (mirrored too); tints are drawn again
+//! on frames that keep their depth tiles; a box standing on the glass is not tinted.
 
 mod common;
 
@@ -105,11 +107,21 @@ fn a_glass_pane_tints_its_shadow_as_the_reference_traces_it() {
 /// The rendered radiance of the floor under the pane over that beside it, per channel
 /// (means over the pixels of each), from a frame of `scene`.
 fn floor_ratio(name: &str, scene: &Scene, path: RenderPath) -> Vec3 {
+    floor_ratio_after(name, scene, path, 1)
+}
+
+/// `floor_ratio` of the last of `frames` frames of one renderer (later frames keep the
+/// first one's depth tiles in the shadow cache).
+fn floor_ratio_after(name: &str, scene: &Scene, path: RenderPath, frames: u32) -> Vec3 {
     let mut renderer = renderer();
     let prepared = renderer.prepare(scene).unwrap();
     let view = View::from_camera(scene, 0, 192, 192);
     let options = FrameOptions { aovs: true, readback: true, ..Default::default() };
-    let frame = renderer.render(scene, &prepared, &view, &settings(path), options).unwrap();
+    let mut frame = renderer.render(scene, &prepared, &view, &settings(path), options).unwrap();
+    for _ in 1..frames {
+        frame = renderer.render(scene, &prepared, &view, &settings(path), options).unwrap();
+        assert_eq!(frame.shadow_tiles, 0, "{name}: a still frame draws no depth tile");
+    }
     let aovs = frame.aovs.as_ref().unwrap();
     let mean = |keep: &dyn Fn(Vec3) -> bool| {
         let (sum, n) = (0..frame.hdr.len())
@@ -219,4 +231,70 @@ fn a_single_sided_glass_box_tints_once_a_double_sided_one_twice() {
         assert!((mean - expected).abs() < 0.02, "{label}: {mean}, expected {expected}");
         assert_agrees_with_reference(&label, &result.reports[0].comparison);
     }
+}
+
+#[test]
+fn tints_are_drawn_again_on_frames_that_keep_their_depth_tiles() {
+    let through = RED_GLASS * 0.96;
+    let sun = Light { intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::new(0.05, -1.0, 0.02)) };
+    let ratio = floor_ratio_after("sun", &pane_scene(sun, 1.0), RenderPath::Forward, 3);
+    assert!((ratio - through).abs().max_element() < 0.03, "third frame: {ratio}, expected {through}");
+}
+
+#[test]
+fn a_single_sided_pane_tints_only_towards_its_front() {
+    let through = RED_GLASS * 0.96;
+    let mean_through = (through.x + through.y + through.z) / 3.0;
+    // Facing up (the light meets its front), mirrored (its winding turned, its front
+    // still up), and upside down (the light meets its back: no shadow at all).
+    let cases = [
+        ("up", Mat4::IDENTITY, mean_through),
+        ("mirrored", Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)), mean_through),
+        ("upside down", Mat4::from_rotation_x(std::f32::consts::PI), 1.0),
+    ];
+    for (label, turn, expected) in cases {
+        let sun = Light { intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::NEG_Y) };
+        let mut scene = pane_scene(sun, 1.0);
+        scene.materials[1].double_sided = false;
+        let pane = scene.instances.len() - 1;
+        scene.instances[pane].world_from_local *= turn;
+        let result = compare(&scene, &settings(RenderPath::Forward), 192);
+        let under: Vec<f32> = (0..result.rendered[0].len())
+            .filter(|&i| result.reference.position[i].is_some_and(|p| under_pane("sun", p)))
+            .map(|i| result.rendered[0][i])
+            .collect();
+        let mean = under.iter().sum::<f32>() / under.len() as f32;
+        println!("{label}: shadow term under the pane {mean:.4} (expected {expected:.4})");
+        assert!((mean - expected).abs() < 0.02, "{label}: {mean}, expected {expected}");
+        assert_agrees_with_reference(label, &result.reports[0].comparison);
+    }
+}
+
+#[test]
+fn what_lies_between_the_light_and_the_glass_is_not_tinted() {
+    // A white box standing on the pane, seen from above: its top is lit by the whole
+    // sun, like the floor beside the pane, in every channel.
+    let sun = Light { intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, Vec3::new(0.05, -1.0, 0.02)) };
+    let mut scene = pane_scene(sun, 1.0);
+    add_box(&mut scene, Vec3::new(0.2, 1.15, 0.1), Vec3::new(0.5, 0.3, 0.5), 0.0, CastShadows::On);
+    look_from(&mut scene, Vec3::new(0.0, 6.0, 2.5), Vec3::new(0.0, 0.5, 0.0));
+    let mut renderer = renderer();
+    let prepared = renderer.prepare(&scene).unwrap();
+    let view = View::from_camera(&scene, 0, 192, 192);
+    let options = FrameOptions { aovs: true, readback: true, ..Default::default() };
+    let frame = renderer.render(&scene, &prepared, &view, &settings(RenderPath::Forward), options).unwrap();
+    let aovs = frame.aovs.as_ref().unwrap();
+    let mean = |keep: &dyn Fn(Vec3) -> bool| {
+        let (sum, n) = (0..frame.hdr.len())
+            .filter(|&i| aovs.position_ws[i][0].is_finite() && keep(Vec3::from(aovs.position_ws[i])))
+            .map(|i| Vec3::new(frame.hdr[i][0], frame.hdr[i][1], frame.hdr[i][2]))
+            .fold((Vec3::ZERO, 0), |(s, n), v| (s + v, n + 1));
+        assert!(n > 50, "{n} pixels");
+        sum / n as f32
+    };
+    let top = mean(&|p| (p.y - 1.3).abs() < 1e-3 && (p.x - 0.2).abs() < 0.2 && (p.z - 0.1).abs() < 0.2);
+    let floor = mean(&|p| p.y.abs() < 1e-3 && p.x.abs() < 1.0 && (1.3..2.5).contains(&p.z));
+    let ratio = top / floor;
+    println!("box top over the floor beside the pane: {ratio:.4}");
+    assert!((ratio - Vec3::ONE).abs().max_element() < 0.03, "the box top is tinted: {ratio}");
 }

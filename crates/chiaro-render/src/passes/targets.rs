@@ -37,8 +37,8 @@ pub const LOCAL_ATLAS: Target = Target("local shadow atlas");
 
 /// The shadow tints' format: per texel, the light the casters that let it through leave
 /// (RGB, multiplied together) and `1 / (1 + d)` of the nearest one's depth `d` (A, the
-/// largest kept), so that a texel nothing tints, cleared or never drawn (zero), tints
-/// nothing. Half floats: `d` keeps 11 significant bits.
+/// largest kept), so that a texel nothing tints (cleared to alpha 0, or never drawn)
+/// tints nothing. Half floats: `d` keeps 11 significant bits.
 pub const SHADOW_TINTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Two layers the size of the larger atlas: the directional atlas's tiles in layer 0,
 /// the local atlas's in layer 1, each at its depth tile's texels.
