@@ -8,8 +8,8 @@ mod common;
 use chiaro_compare::{ShadowComparison, assert_agrees_with_reference};
 use chiaro_render::ShadowStatus;
 use chiaro_scene::{
-    AlphaMode, CastShadows, ColorSpace, Image, Light, LightKind, Material, Mesh, MeshInstance, SamplerDesc, Scene,
-    ShadowCasting, TextureRef, shapes,
+    AlphaMode, CastShadows, ColorSpace, Image, Light, LightKind, Material, SamplerDesc, Scene, ShadowCasting,
+    TextureRef, shapes,
 };
 use common::*;
 use glam::{Mat4, Vec3, Vec4};
@@ -31,22 +31,8 @@ fn checker_image() -> Image {
 /// Adds a horizontal 2 m quad at `height` with `material` (UVs 0..2: the texture repeats
 /// every metre), casting with both faces.
 fn add_quad(scene: &mut Scene, height: f32, material: Material) {
-    let mut quad = shapes::plane(2.0, 1);
-    quad.material = Some(scene.materials.len());
-    scene.materials.push(material);
-    scene.meshes.push(Mesh::of_triangles("quad".into(), vec![quad]));
-    scene.instances.push(MeshInstance {
-        mesh: scene.meshes.len() - 1,
-        node: 200,
-        name: "quad".into(),
-        world_from_local: Mat4::from_translation(Vec3::new(0.0, height, 0.0)),
-        cast_shadows: CastShadows::TwoSided,
-        receive_shadows: true,
-        is_static: true,
-        lightmap: None,
-        gpu_instance: None,
-        label: 0,
-    });
+    let at = Mat4::from_translation(Vec3::new(0.0, height, 0.0));
+    add_mesh(scene, "quad", shapes::plane(2.0, 1), material, at, CastShadows::TwoSided);
 }
 
 fn checker_scene(light: Light) -> Scene {

@@ -13,7 +13,7 @@ mod common;
 
 use chiaro_compare::assert_agrees_with_reference;
 use chiaro_render::{FrameOptions, ShadowStatus, View};
-use chiaro_scene::{CastShadows, Light, LightKind, Material, Mesh, MeshInstance, RenderPath, Scene, Settings, shapes};
+use chiaro_scene::{CastShadows, Light, LightKind, Material, RenderPath, Scene, Settings, shapes};
 use common::*;
 use glam::{Mat4, Vec3, Vec4};
 
@@ -29,22 +29,8 @@ fn pane_scene(light: Light, transmission: f32) -> Scene {
         Material { name: "red glass".into(), base_color: RED_GLASS.extend(1.0), metallic: 0.0, ..Material::default() };
     material.double_sided = true;
     material.layers.transmission = transmission;
-    let mut quad = shapes::plane(2.0, 1);
-    quad.material = Some(scene.materials.len());
-    scene.materials.push(material);
-    scene.meshes.push(Mesh::of_triangles("pane".into(), vec![quad]));
-    scene.instances.push(MeshInstance {
-        mesh: scene.meshes.len() - 1,
-        node: 200,
-        name: "pane".into(),
-        world_from_local: Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0)),
-        cast_shadows: CastShadows::TwoSided,
-        receive_shadows: true,
-        is_static: true,
-        lightmap: None,
-        gpu_instance: None,
-        label: 0,
-    });
+    let at = Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0));
+    add_mesh(&mut scene, "pane", shapes::plane(2.0, 1), material, at, CastShadows::TwoSided);
     scene
 }
 
@@ -199,22 +185,8 @@ fn a_single_sided_glass_box_tints_once_a_double_sided_one_twice() {
             ..Material::default()
         };
         material.layers.transmission = 1.0;
-        let mut cube = shapes::cuboid(Vec3::splat(1.6));
-        cube.material = Some(scene.materials.len());
-        scene.materials.push(material);
-        scene.meshes.push(Mesh::of_triangles("glass box".into(), vec![cube]));
-        scene.instances.push(MeshInstance {
-            mesh: scene.meshes.len() - 1,
-            node: 200,
-            name: "glass box".into(),
-            world_from_local: Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0)),
-            cast_shadows: cast,
-            receive_shadows: true,
-            is_static: true,
-            lightmap: None,
-            gpu_instance: None,
-            label: 0,
-        });
+        let at = Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0));
+        add_mesh(&mut scene, "glass box", shapes::cuboid(Vec3::splat(1.6)), material, at, cast);
         let label = format!("double-sided {double_sided}, casting {cast:?}");
         let result = compare(&scene, &settings(RenderPath::Forward), 192);
         let under: Vec<f32> = (0..result.rendered[0].len())

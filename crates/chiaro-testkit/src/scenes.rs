@@ -4,7 +4,7 @@
 
 use chiaro_scene::settings::Settings;
 use chiaro_scene::shapes;
-use chiaro_scene::{Camera, CastShadows, Light, LightKind, Material, Mesh, MeshInstance, Scene};
+use chiaro_scene::{Camera, CastShadows, Light, LightKind, Material, Mesh, MeshInstance, Primitive, Scene};
 use glam::{Mat4, Vec3};
 
 /// Settings with no ambient term, so only the punctual lights contribute.
@@ -83,6 +83,34 @@ pub fn add_box(scene: &mut Scene, position: Vec3, size: Vec3, yaw_rad: f32, cast
         gpu_instance: None,
         label: 0,
     });
+}
+
+/// Adds `primitive` as a mesh of its own with a material of its own, placed by
+/// `world_from_local` and casting by `cast`; returns the new instance's index.
+pub fn add_mesh(
+    scene: &mut Scene,
+    name: &str,
+    mut primitive: Primitive,
+    material: Material,
+    world_from_local: Mat4,
+    cast: CastShadows,
+) -> usize {
+    primitive.material = Some(scene.materials.len());
+    scene.materials.push(material);
+    scene.meshes.push(Mesh::of_triangles(name.into(), vec![primitive]));
+    scene.instances.push(MeshInstance {
+        mesh: scene.meshes.len() - 1,
+        node: 200 + scene.instances.len(),
+        name: name.into(),
+        world_from_local,
+        cast_shadows: cast,
+        receive_shadows: true,
+        is_static: true,
+        lightmap: None,
+        gpu_instance: None,
+        label: 0,
+    });
+    scene.instances.len() - 1
 }
 
 /// Where the plank of `plank_scene` starts, in x.

@@ -3,6 +3,7 @@
 //! at the far plane, depth-tested, so that it covers only what no surface
 //! did, sample by sample under MSAA. Shader: `shaders/background.wesl`.
 
+use super::fullscreen;
 use crate::overrides;
 use crate::shaders;
 use std::collections::HashMap;
@@ -35,19 +36,8 @@ impl BackgroundPipelines {
     /// Pipelines with group 0 (the frame's) and the environment's image as group 1,
     /// over depth of `depth_format`.
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout, depth_format: wgpu::TextureFormat) -> Self {
-        let image_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("background image layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        });
+        let filterable = wgpu::TextureSampleType::Float { filterable: true };
+        let image_layout = fullscreen::texture_layout(device, "background image layout", &[filterable]);
         BackgroundPipelines {
             module: shaders::module(device, "background", crate::wgsl!("background")),
             layout: device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -70,14 +60,7 @@ impl BackgroundPipelines {
         environment_image: &wgpu::TextureView,
     ) {
         if self.image_group.as_ref().is_none_or(|(view, _)| view != environment_image) {
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("background image"),
-                layout: &self.image_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(environment_image),
-                }],
-            });
+            let group = fullscreen::texture_bind_group(device, &self.image_layout, &[environment_image]);
             self.image_group = Some((environment_image.clone(), group));
         }
         if self.pipelines.contains_key(targets) {

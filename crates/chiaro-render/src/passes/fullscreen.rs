@@ -1,8 +1,9 @@
 //! What the full-screen passes share: a pipeline that draws one triangle over the target
 //! from `vs_fullscreen`, and a layout of unfilterable 2D textures read with textureLoad.
 
-/// A bind group layout of unfilterable 2D textures, one per entry of `sample_types`
-/// (binding 0 up), read by the fragment shader.
+/// A bind group layout of 2D textures of `sample_types` (unfilterable for the full-screen
+/// passes' textureLoad; the background's filterable environment image), binding 0 up,
+/// read by the fragment shader.
 pub fn texture_layout(
     device: &wgpu::Device,
     label: &str,

@@ -11,9 +11,12 @@
 
 use crate::gpu::{GpuCasterView, GpuVertex};
 use crate::graph::target::ATTACHMENT_SAMPLED;
-use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
+use crate::graph::{
+    FramePass, PassContext, PassInit, PassSetup, PassStats, PassType, PrepareContext, Target, TargetDesc,
+};
 use crate::plan::FramePlan;
-use crate::plan::draws::instanced_runs;
+use crate::plan::draws::{Draw, instanced_runs};
+use crate::scene::GpuScene;
 use crate::plan::shadows::{CasterTile, ShadowAtlas};
 use crate::shader_constants::{CASTER_CLAMP_DEPTH, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES};
 use crate::shaders;
@@ -73,7 +76,7 @@ pub struct ShadowPass {
     tint_pipelines: HashMap<CasterKey, wgpu::RenderPipeline>,
 }
 
-fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
+fn caster_key(tile: &CasterTile, draw: &Draw) -> CasterKey {
     CasterKey {
         slope_bias_bits: tile.slope_bias.to_bits(),
         cull_back: draw.cast_shadows != CastShadows::TwoSided && !draw.double_sided,
@@ -88,7 +91,7 @@ fn caster_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
 /// single-sided one tints where its front faces the light, one wall of a closed object,
 /// as the camera sees one wall of it; the instance's two-sided casting (glTF's default,
 /// for open meshes' depth) does not make it tint twice.
-fn tint_key(tile: &CasterTile, draw: &crate::plan::draws::Draw) -> CasterKey {
+fn tint_key(tile: &CasterTile, draw: &Draw) -> CasterKey {
     CasterKey { slope_bias_bits: 0, casting: ShadowCasting::On, cull_back: !draw.double_sided, ..caster_key(tile, draw) }
 }
 
@@ -331,26 +334,51 @@ impl ShadowPass {
             pass.set_viewport(x as f32, y as f32, size as f32, size as f32, 0.0, 1.0);
             pass.set_scissor_rect(x, y, size, size);
             pass.set_bind_group(0, bind_group, &[(i as u64 * self.stride) as u32]);
-            let mut bound = None;
-            let mut bound_material = usize::MAX;
-            for (draw, instances) in instanced_runs(&cx.scene.draws, &tile.tint_casters) {
-                let key = tint_key(tile, draw);
-                if bound != Some(key) {
-                    pass.set_pipeline(&self.tint_pipelines[&key]);
-                    bound = Some(key);
-                }
-                if bound_material != draw.material {
-                    pass.set_bind_group(1, &cx.scene.materials[draw.material], &[]);
-                    bound_material = draw.material;
-                }
-                pass.draw_indexed(
-                    draw.first_index..draw.first_index + draw.index_count,
-                    draw.base_vertex,
-                    draw.object..draw.object + instances,
-                );
-                cx.stats.shadow_caster_draws += 1;
-            }
+            // Every tinting caster reads its material's transmittance.
+            let casters = TileCasters { list: &tile.tint_casters, key_of: tint_key, reads_material: |_| true };
+            draw_casters(&mut pass, cx.scene, cx.stats, tile, &self.tint_pipelines, casters);
         }
+    }
+}
+
+/// One of a tile's caster lists and how it is drawn.
+struct TileCasters<'a> {
+    /// Indices into the scene's draws.
+    list: &'a [u32],
+    /// Each caster's pipeline state.
+    key_of: fn(&CasterTile, &Draw) -> CasterKey,
+    /// Whether a caster of that state reads its material (group 1).
+    reads_material: fn(CasterKey) -> bool,
+}
+
+/// Draws `casters` of `tile` into `pass` (group 0 bound at the tile's view) with
+/// `pipelines`, as instanced runs, binding each caster's material where it reads one.
+fn draw_casters(
+    pass: &mut wgpu::RenderPass<'_>,
+    scene: &GpuScene,
+    stats: &mut PassStats,
+    tile: &CasterTile,
+    pipelines: &HashMap<CasterKey, wgpu::RenderPipeline>,
+    casters: TileCasters<'_>,
+) {
+    let mut bound = None;
+    let mut bound_material = usize::MAX;
+    for (draw, instances) in instanced_runs(&scene.draws, casters.list) {
+        let key = (casters.key_of)(tile, draw);
+        if bound != Some(key) {
+            pass.set_pipeline(&pipelines[&key]);
+            bound = Some(key);
+        }
+        if (casters.reads_material)(key) && bound_material != draw.material {
+            pass.set_bind_group(1, &scene.materials[draw.material], &[]);
+            bound_material = draw.material;
+        }
+        pass.draw_indexed(
+            draw.first_index..draw.first_index + draw.index_count,
+            draw.base_vertex,
+            draw.object..draw.object + instances,
+        );
+        stats.shadow_caster_draws += 1;
     }
 }
 
@@ -453,26 +481,13 @@ impl FramePass for ShadowPass {
                     pass.draw(0..3, 0..1);
                 }
                 pass.set_bind_group(0, bind_group, &[(i as u64 * self.stride) as u32]);
-                let mut bound = None;
-                let mut bound_material = usize::MAX;
-                for (draw, instances) in instanced_runs(&cx.scene.draws, &tile.casters) {
-                    let key = caster_key(tile, draw);
-                    if bound != Some(key) {
-                        pass.set_pipeline(&self.pipelines[&key]);
-                        bound = Some(key);
-                    }
-                    // Alpha-tested and dithered casters read their material.
-                    if key.casting != ShadowCasting::On && bound_material != draw.material {
-                        pass.set_bind_group(1, &cx.scene.materials[draw.material], &[]);
-                        bound_material = draw.material;
-                    }
-                    pass.draw_indexed(
-                        draw.first_index..draw.first_index + draw.index_count,
-                        draw.base_vertex,
-                        draw.object..draw.object + instances,
-                    );
-                    cx.stats.shadow_caster_draws += 1;
-                }
+                // Alpha-tested and dithered casters read their material.
+                let casters = TileCasters {
+                    list: &tile.casters,
+                    key_of: caster_key,
+                    reads_material: |key| key.casting != ShadowCasting::On,
+                };
+                draw_casters(&mut pass, cx.scene, cx.stats, tile, &self.pipelines, casters);
                 pass.pop_debug_group();
                 cx.stats.shadow_tiles_rendered += 1;
             }
