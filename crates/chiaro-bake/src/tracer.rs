@@ -13,11 +13,12 @@
 use crate::emitters::{Emitters, power_heuristic};
 use crate::rng::Rng;
 use crate::surface::Surfaces;
-use chiaro_math::light::{distance_attenuation, spot_angle_params, spot_attenuation};
+use chiaro_math::light::{distance_attenuation, range_attenuation, spot_angle_params, spot_attenuation};
 use chiaro_math::sampling::cosine_direction;
 use chiaro_scene::environment::{EnvironmentError, EnvironmentLight};
 use chiaro_scene::settings::EnvironmentMode;
 use chiaro_scene::{Light, LightKind, LightMode, MeshInstance, Scene};
+use chiaro_trace::area::{AREA_LIGHT_SAMPLES, area_shape_visibility};
 use chiaro_trace::{SceneBvh, light_visibility};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -142,9 +143,21 @@ impl<'a> Tracer<'a> {
 
     /// Illuminance at normal incidence from light `l` at `p` (before the cosine), and the
     /// unit direction towards it; `None` out of range or cone.
+    /// An area light here is its far-field point: luminance times area times the cosine
+    /// at the light over the distance squared, from its centre (probes take it so; the
+    /// lightmaps' direct light is exact: `area_irradiance`).
     fn arriving(&self, l: &BakeLight, p: Vec3) -> Option<(Vec3, Vec3)> {
         match l.light.kind {
             LightKind::Directional => Some((l.color, -l.light.direction())),
+            LightKind::Rect { .. } | LightKind::Disk { .. } => {
+                let to_light = l.light.position() - p;
+                let d2 = to_light.length_squared();
+                let dir = to_light.try_normalize()?;
+                let area = l.light.kind.area_shape().map_or(0.0, |s| s.area());
+                let facing = l.light.direction().dot(-dir).max(0.0);
+                let e = l.color * (area * facing * distance_attenuation(d2, l.range));
+                (e.max_element() > 0.0).then_some((e, dir))
+            }
             _ => {
                 let to_light = l.light.position() - p;
                 let d2 = to_light.length_squared();
@@ -164,9 +177,26 @@ impl<'a> Tracer<'a> {
         if !l.light.shadow.casts() {
             return 1.0;
         }
+        1.0 - l.light.shadow.strength * (1.0 - self.seen(l, p, side, rays))
+    }
+
+    /// The share of the light that reaches `p` unblocked: one shadow ray, or for an area
+    /// light its stratified rays over its shape, jittered by the position.
+    fn seen(&self, l: &BakeLight, p: Vec3, side: Vec3, rays: &mut RayCount) -> f32 {
+        if l.light.is_area() {
+            *rays += AREA_LIGHT_SAMPLES as u64;
+            let seed = p.to_array().iter().fold(l.index as u64, |h, v| h.rotate_left(21) ^ v.to_bits() as u64);
+            return area_shape_visibility(self.bvh, &l.light, p, side, seed);
+        }
         *rays += 1;
-        let v = light_visibility(self.bvh, &l.light, p, side);
-        1.0 - l.light.shadow.strength * (1.0 - v)
+        light_visibility(self.bvh, &l.light, p, side)
+    }
+
+    /// Irradiance from an area light at `p` with normal `n` before shadows: exact (its
+    /// projected solid angle), inside the range window about its centre.
+    fn area_irradiance(&self, l: &BakeLight, p: Vec3, n: Vec3) -> Vec3 {
+        let window = range_attenuation((l.light.position() - p).length_squared(), l.range);
+        l.color * (l.light.area_projected_solid_angle(p, n) * window)
     }
 
     /// Irradiance on the surface at `p` (normal `n`, on the side of `side`) from the lights
@@ -181,6 +211,13 @@ impl<'a> Tracer<'a> {
     ) -> Vec3 {
         let mut e = Vec3::ZERO;
         for l in self.lights.iter().filter(|l| which(l)) {
+            if l.light.is_area() {
+                let unshadowed = self.area_irradiance(l, p, n);
+                if unshadowed.max_element() > 0.0 {
+                    e += unshadowed * self.visibility(l, p, side, rays);
+                }
+                continue;
+            }
             let Some((arriving, dir)) = self.arriving(l, p) else { continue };
             let cos = n.dot(dir);
             if cos <= 0.0 || side.dot(dir) <= 0.0 {
@@ -205,8 +242,7 @@ impl<'a> Tracer<'a> {
         if self.arriving(l, p).is_none() {
             return 1.0;
         }
-        *rays += 1;
-        light_visibility(self.bvh, &l.light, p, side)
+        self.seen(l, p, side, rays)
     }
 
     /// Direct irradiance from baked lights on a lightmap texel's sample point.

@@ -8,7 +8,7 @@ use std::f32::consts::PI;
 
 /// For n.h in [0, 1] the denominator's root is at least `a2`; rounding can take it below
 /// (to zero for a mirror lobe seen head-on), so it is held there.
-fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
+pub(crate) fn d_ggx(n_dot_h: f32, alpha: f32) -> f32 {
     let a2 = alpha * alpha;
     let f = (n_dot_h * n_dot_h * (a2 - 1.0) + 1.0).max(a2);
     a2 / (PI * f * f)

@@ -123,7 +123,7 @@ pub const FRAME_BINDINGS: [FrameBinding; 22] = [
     // The environment (lighting/environment.wesl).
     fragment(Resource::Environment, "ENVIRONMENT", Kind::Uniform),
     fragment(Resource::EnvironmentSpecular, "ENVIRONMENT_SPECULAR", Kind::FloatTexture(Dimension::Cube)),
-    fragment(Resource::EnvironmentBrdf, "ENVIRONMENT_BRDF", Kind::FloatTexture(Dimension::D2)),
+    fragment(Resource::EnvironmentBrdf, "ENVIRONMENT_BRDF", Kind::FloatTexture(Dimension::D2Array)),
     // What casters that let light through leave of it, per shadow texel: a layer per
     // atlas (shadows/tint.wesl). The environment's image, which only the background
     // reads, is bound by the background pipeline instead, so that a forward shader and

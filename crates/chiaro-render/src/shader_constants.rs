@@ -28,6 +28,12 @@ pub const LIGHT_KIND_DIRECTIONAL: u32 = 0;
 pub const LIGHT_KIND_POINT: u32 = 1;
 /// `GpuLight::kind` of a spot light.
 pub const LIGHT_KIND_SPOT: u32 = 2;
+/// `GpuLight::kind` of an EXT_lights_area rect light.
+pub const LIGHT_KIND_RECT: u32 = 3;
+/// `GpuLight::kind` of an EXT_lights_area disk light.
+pub const LIGHT_KIND_DISK: u32 = 4;
+/// The BRDF table's layer that holds the LTC matrices of area lights (`chiaro_math::ltc`).
+pub const LTC_LAYER: u32 = 1;
 
 /// `GpuLight::shadow_slot`: the GPU side of `plan::ShadowSlot`.
 pub const SHADOW_SLOT_NONE: u32 = 0;
@@ -176,6 +182,9 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("LIGHT_KIND_DIRECTIONAL", LIGHT_KIND_DIRECTIONAL),
     ("LIGHT_KIND_POINT", LIGHT_KIND_POINT),
     ("LIGHT_KIND_SPOT", LIGHT_KIND_SPOT),
+    ("LIGHT_KIND_RECT", LIGHT_KIND_RECT),
+    ("LIGHT_KIND_DISK", LIGHT_KIND_DISK),
+    ("LTC_LAYER", LTC_LAYER),
     ("SHADOW_SLOT_NONE", SHADOW_SLOT_NONE),
     ("SHADOW_SLOT_REALTIME", SHADOW_SLOT_REALTIME),
     ("SHADOW_SLOT_BAKED_ONLY", SHADOW_SLOT_BAKED_ONLY),

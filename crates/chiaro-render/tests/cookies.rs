@@ -91,6 +91,7 @@ fn cookie_at(light: &Light, image: &Image, p: Vec3) -> Vec3 {
             let (face, n) = (face as u32, image.height);
             bilinear(image, (face * n, (face + 1) * n), st.x, st.y, false)
         }
+        LightKind::Rect { .. } | LightKind::Disk { .. } => unreachable!("area lights take no cookie"),
     }
 }
 

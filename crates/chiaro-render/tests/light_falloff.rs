@@ -26,6 +26,7 @@ fn predicted(light: &Light, p: Vec3, range: f32) -> f32 {
             }
             e * brdf_cos(Vec3::ONE, 0.0, 1.0, Vec3::Y, v, l).x
         }
+        LightKind::Rect { .. } | LightKind::Disk { .. } => unreachable!("tests/area_lights.rs judges area lights"),
     }
 }
 

@@ -1,10 +1,12 @@
 //! KHR_lights_punctual lights as the scene holds them: their kind and units, placement,
 //! shadow settings from `extras`, cookie and bake mode.
 
+use chiaro_math::area_light::AreaShape;
 use chiaro_math::rigid::looking_along;
 use glam::{Mat4, Vec2, Vec3};
 
-/// KHR_lights_punctual's light types, with the units of their intensity.
+/// KHR_lights_punctual's light types and EXT_lights_area's, with the units of their
+/// intensity.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {
     /// Illuminance in lux on a surface facing the light.
@@ -18,6 +20,20 @@ pub enum LightKind {
         /// Half-angle from the axis beyond which the spot gives no light, radians.
         outer_cone_rad: f32,
     },
+    /// EXT_lights_area's rect: luminance in nits over `width` (local X) by `height`
+    /// (local Y) metres, emitting towards local -Z.
+    Rect {
+        /// Metres along the light's local X.
+        width: f32,
+        /// Metres along the light's local Y.
+        height: f32,
+    },
+    /// EXT_lights_area's disk: luminance in nits over a disk of `diameter` metres in the
+    /// local X/Y plane, emitting towards local -Z.
+    Disk {
+        /// Metres.
+        diameter: f32,
+    },
 }
 
 impl LightKind {
@@ -27,6 +43,17 @@ impl LightKind {
             LightKind::Directional => "directional",
             LightKind::Point => "point",
             LightKind::Spot { .. } => "spot",
+            LightKind::Rect { .. } => "rect",
+            LightKind::Disk { .. } => "disk",
+        }
+    }
+
+    /// The emitting shape of an area light; `None` for punctual lights.
+    pub fn area_shape(self) -> Option<AreaShape> {
+        match self {
+            LightKind::Rect { width, height } => Some(AreaShape::Rect { width, height }),
+            LightKind::Disk { diameter } => Some(AreaShape::Disk { diameter }),
+            _ => None,
         }
     }
 }
@@ -167,7 +194,8 @@ pub struct Light {
     pub kind: LightKind,
     /// Linear RGB.
     pub color: Vec3,
-    /// Lux for directional lights, candela for point and spot lights.
+    /// Lux for directional lights, candela for point and spot lights, nits (luminance)
+    /// for rect and disk lights.
     pub intensity: f32,
     /// Range from the file; `None` means infinite (a range is derived at render time).
     pub range: Option<f32>,
@@ -208,8 +236,48 @@ impl Light {
 
     /// The range a point or spot light is shaded, baked and judged with, metres:
     /// `chiaro_math::light::shaded_range` of its own range and peak intensity.
+    /// An area light's range also reaches past its own extent.
     pub fn shaded_range(&self, range_threshold_lux: f32) -> f32 {
-        chiaro_math::light::shaded_range(self.range, self.intensity * self.color.max_element(), range_threshold_lux)
+        let range = chiaro_math::light::shaded_range(self.range, self.peak_intensity_cd(), range_threshold_lux);
+        match (self.kind.area_shape(), self.range) {
+            (Some(shape), None) => range + shape.bounding_radius(),
+            _ => range,
+        }
+    }
+
+    /// The brightest channel's intensity in candela in the light's brightest direction:
+    /// a point or spot light's intensity, an area light's luminance times its area (what
+    /// it gives far away, along its axis). Lux for directional lights.
+    pub fn peak_intensity_cd(&self) -> f32 {
+        let area = self.kind.area_shape().map_or(1.0, AreaShape::area);
+        self.intensity * area * self.color.max_element()
+    }
+
+    /// Whether it is a rect or disk light.
+    pub fn is_area(&self) -> bool {
+        self.kind.area_shape().is_some()
+    }
+
+    /// A rect or disk light's outline in world space (`AreaShape::outline`); `None` for
+    /// punctual lights.
+    pub fn area_outline_ws(&self) -> Option<Vec<Vec3>> {
+        let shape = self.kind.area_shape()?;
+        Some(shape.outline().iter().map(|p| self.world_from_light.transform_point3(p.extend(0.0))).collect())
+    }
+
+    /// The projected solid angle a surface at `position` with unit `normal` sees a rect
+    /// or disk light under, exactly (clipped to its horizon), and zero behind the light,
+    /// which emits towards its -Z only: its unshadowed irradiance over its luminance. 0
+    /// for punctual lights.
+    pub fn area_projected_solid_angle(&self, position: Vec3, normal: Vec3) -> f32 {
+        let Some(outline) = self.area_outline_ws() else {
+            return 0.0;
+        };
+        if (position - self.position()).dot(self.direction()) <= 0.0 {
+            return 0.0;
+        }
+        let relative: Vec<Vec3> = outline.iter().map(|&p| p - position).collect();
+        chiaro_math::area_light::projected_solid_angle(&relative, normal)
     }
 
     /// Unit direction the light shines in (-Z of its node); unused by point lights.

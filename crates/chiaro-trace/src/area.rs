@@ -38,7 +38,9 @@ pub fn area_light_visibility(bvh: &SceneBvh, light: &Light, position: Vec3, faci
                     let direction = (axis + (e1 * disc.x + e2 * disc.y) * tan_half).normalize();
                     bvh.transmittance(origin, direction, f32::INFINITY)
                 }
-                LightKind::Point | LightKind::Spot { .. } => {
+                // Area lights are sampled over their own shape (`area_shape_visibility`);
+                // here, as a disc like a point light's.
+                LightKind::Point | LightKind::Spot { .. } | LightKind::Rect { .. } | LightKind::Disk { .. } => {
                     let to_centre = light.position() - origin;
                     let Some(axis) = to_centre.try_normalize() else {
                         sum += 1.0;
@@ -54,6 +56,48 @@ pub fn area_light_visibility(bvh: &SceneBvh, light: &Light, position: Vec3, faci
         }
     }
     sum / (n * n) as f32
+}
+
+/// Shadow rays a pixel sends to a rect or disk light, stratified over its shape in
+/// proportion to its sides (`AreaShape::strata`).
+pub const AREA_LIGHT_SAMPLES: u32 = 64;
+
+/// The visible share of a rect or disk light's light at a surface: shadow rays to
+/// stratified, jittered points of its shape, each weighted by what that point gives the
+/// surface (cos at the surface times cos at the light over the distance squared), so that
+/// the share times the exact unshadowed irradiance (`area_light::projected_solid_angle`)
+/// is the shadowed irradiance. Where no point of the light lights the surface (it faces
+/// away, or lies behind the light), the plain share of rays that get through. `seed`
+/// chooses the jitter; 1 for lights of other kinds.
+pub fn area_shape_visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_normal: Vec3, seed: u64) -> f32 {
+    let Some(shape) = light.kind.area_shape() else {
+        return 1.0;
+    };
+    let origin = shadow_ray_origin(position, facing_normal);
+    let (nx, ny) = shape.strata(AREA_LIGHT_SAMPLES);
+    let (axis_x, axis_y) = (light.world_from_light.x_axis.truncate(), light.world_from_light.y_axis.truncate());
+    let emits_along = light.direction();
+    let mut state = seed;
+    let (mut weighted, mut weights, mut plain) = (0.0f32, 0.0f32, 0.0f32);
+    for j in 0..ny {
+        for i in 0..nx {
+            let jitter = Vec2::new(unit_float(&mut state), unit_float(&mut state));
+            let local = shape.point((Vec2::new(i as f32, j as f32) + jitter) / Vec2::new(nx as f32, ny as f32));
+            let target = light.position() + axis_x * local.x + axis_y * local.y;
+            let to_target = target - origin;
+            let distance = to_target.length();
+            if distance <= 0.0 {
+                continue;
+            }
+            let l = to_target / distance;
+            let weight = facing_normal.dot(l).max(0.0) * emits_along.dot(-l).max(0.0) / (distance * distance);
+            let seen = bvh.transmittance(origin, l, distance * (1.0 - LIGHT_END_MARGIN));
+            weighted += weight * seen;
+            weights += weight;
+            plain += seen;
+        }
+    }
+    if weights > 0.0 { weighted / weights } else { plain / (nx * ny) as f32 }
 }
 
 /// A point of the unit disc from a point of the unit square, keeping areas (the polar

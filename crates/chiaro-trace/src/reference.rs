@@ -8,7 +8,7 @@
 //! (`area`).
 //! chiaro-compare's `verdict` judges a rendered shadow against it.
 
-use crate::area::area_light_visibility;
+use crate::area::{area_light_visibility, area_shape_visibility};
 use crate::bvh::SceneBvh;
 use chiaro_scene::{Light, LightKind, Scene, ShadowMode};
 use glam::{Mat4, Vec2, Vec3};
@@ -158,9 +158,12 @@ fn trace_row(scene: &Scene, bvh: &SceneBvh, world_from_clip: &Mat4, camera: &Pix
         row.normal[x] = facing_normal;
         row.receives[x] = scene.instances[hit.instance].receive_shadows;
         for (light_index, light) in scene.lights.iter().enumerate() {
-            row.visibility[light_index * width + x] = if light.shadow.mode == ShadowMode::Pcss {
+            let seed = ((y as u64 * camera.width as u64 + x as u64) << 8) ^ light_index as u64;
+            row.visibility[light_index * width + x] = if light.is_area() {
+                // Rect and disk lights are their shape, whatever their shadow mode.
+                area_shape_visibility(bvh, light, hit.position, facing_normal, seed)
+            } else if light.shadow.mode == ShadowMode::Pcss {
                 // The light's disc, jittered per pixel and light.
-                let seed = ((y as u64 * camera.width as u64 + x as u64) << 8) ^ light_index as u64;
                 area_light_visibility(bvh, light, hit.position, facing_normal, seed)
             } else {
                 light_visibility(bvh, light, hit.position, facing_normal)
@@ -182,7 +185,8 @@ pub fn light_visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_no
     let origin = shadow_ray_origin(position, facing_normal);
     let (direction, max_t) = match light.kind {
         LightKind::Directional => (-light.direction(), f32::INFINITY),
-        LightKind::Point | LightKind::Spot { .. } => {
+        // An area light's centre: one ray stands for it where a single ray must.
+        LightKind::Point | LightKind::Spot { .. } | LightKind::Rect { .. } | LightKind::Disk { .. } => {
             let to_light = light.position() - origin;
             let distance = to_light.length();
             (to_light / distance, distance * (1.0 - LIGHT_END_MARGIN))
@@ -238,6 +242,35 @@ mod tests {
         let view_from_world = Mat4::look_at_rh(eye, Vec3::ZERO, Vec3::Y);
         let clip_from_view = perspective_reverse_z(60f32.to_radians(), width as f32 / height as f32, 0.1, None);
         PixelCamera { clip_from_world: clip_from_view * view_from_world, width, height }
+    }
+
+    #[test]
+    fn a_rect_light_is_seen_whole_beside_a_plank_hidden_under_it_and_partly_between() {
+        // A 1 x 1 m rect 3 m up shining down, a 2 m wide plank 1 m above the floor.
+        let light = Light::new(LightKind::Rect { width: 1.0, height: 1.0 }, Vec3::new(0.0, 3.0, 0.0), Vec3::NEG_Y);
+        let scene = Scene {
+            meshes: vec![mesh(shapes::plane(20.0, 3)), mesh(shapes::cuboid(Vec3::ONE))],
+            instances: vec![
+                instance(0, Mat4::IDENTITY),
+                instance(
+                    1,
+                    Mat4::from_scale_rotation_translation(Vec3::new(2.0, 0.05, 8.0), glam::Quat::IDENTITY, Vec3::Y),
+                ),
+            ],
+            lights: vec![light.clone()],
+            ..Scene::default()
+        };
+        let bvh = SceneBvh::build(&scene);
+        let at = |x: f32| crate::area::area_shape_visibility(&bvh, &light, Vec3::new(x, 0.0, 0.0), Vec3::Y, 7);
+        assert_eq!(at(0.0), 0.0, "under the plank's middle");
+        assert_eq!(at(4.0), 1.0, "far beside it");
+        // The plank's edge (x = 1) seen from the light's points x_l in [-0.5, 0.5] falls
+        // at x = 1.5 - 0.5 x_l on the floor: penumbra from 1.25 to 1.75, half lit at 1.5.
+        let profile: Vec<f32> = [1.3, 1.4, 1.5, 1.6, 1.7].iter().map(|&x| at(x)).collect();
+        assert!(profile.windows(2).all(|w| w[0] < w[1]), "{profile:?}");
+        assert!((profile[2] - 0.5).abs() < 0.1, "half the light mid-penumbra: {profile:?}");
+        assert_eq!(at(1.8), 1.0);
+        assert_eq!(at(1.2), 0.0);
     }
 
     #[test]

@@ -83,14 +83,15 @@ fn object<'a>(value: &'a mut Value, what: &str) -> Result<&'a mut serde_json::Ma
     value.as_object_mut().ok_or_else(|| anyhow!("{what} is not a JSON object"))
 }
 
-/// Each scene light's values, written into the glTF light its node carries.
+/// Each scene light's values, written into the glTF light its node carries (a
+/// KHR_lights_punctual light, or an EXT_lights_area one).
 fn write_lights(root: &mut Value, lights: &[Light]) -> Result<()> {
     for light in lights {
-        let index = root["nodes"][light.node]["extensions"]["KHR_lights_punctual"]["light"]
+        let extension = if light.is_area() { "EXT_lights_area" } else { "KHR_lights_punctual" };
+        let index = root["nodes"][light.node]["extensions"][extension]["light"]
             .as_u64()
-            .ok_or_else(|| anyhow!("node {} carries no KHR_lights_punctual light", light.node))?
-            as usize;
-        let entry = &mut root["extensions"]["KHR_lights_punctual"]["lights"][index];
+            .ok_or_else(|| anyhow!("node {} carries no {extension} light", light.node))? as usize;
+        let entry = &mut root["extensions"][extension]["lights"][index];
         let gltf = object(entry, &format!("light {index}"))?;
         gltf.insert("color".into(), json!(light.color.to_array()));
         gltf.insert("intensity".into(), json!(light.intensity));
@@ -108,8 +109,14 @@ fn write_lights(root: &mut Value, lights: &[Light]) -> Result<()> {
         extras.insert("shadowNormalBias".into(), json!(light.shadow.normal_bias));
         extras.insert("shadowNearPlane".into(), json!(light.shadow.near_plane));
         match light.kind {
-            LightKind::Directional => extras.insert("angularDiameter".into(), json!(light.shadow.angular_diameter_deg)),
-            _ => extras.insert("lightRadius".into(), json!(light.shadow.light_radius)),
+            LightKind::Directional => {
+                extras.insert("angularDiameter".into(), json!(light.shadow.angular_diameter_deg));
+            }
+            // An area light's size is its shape's.
+            LightKind::Rect { .. } | LightKind::Disk { .. } => {}
+            _ => {
+                extras.insert("lightRadius".into(), json!(light.shadow.light_radius));
+            }
         };
         extras.insert("mode".into(), json!(light.mode.name()));
     }

@@ -108,11 +108,13 @@ fn print_lights(scene: &Scene) {
     let count = |f: fn(&LightKind) -> bool| scene.lights.iter().filter(|l| f(&l.kind)).count();
     let modes = |mode: chiaro_scene::LightMode| scene.lights.iter().filter(|l| l.mode == mode).count();
     println!(
-        "lights: {} ({} directional, {} point, {} spot; {} realtime, {} mixed, {} baked)",
+        "lights: {} ({} directional, {} point, {} spot, {} rect, {} disk; {} realtime, {} mixed, {} baked)",
         scene.lights.len(),
         count(|k| *k == LightKind::Directional),
         count(|k| *k == LightKind::Point),
         count(|k| matches!(k, LightKind::Spot { .. })),
+        count(|k| matches!(k, LightKind::Rect { .. })),
+        count(|k| matches!(k, LightKind::Disk { .. })),
         modes(chiaro_scene::LightMode::Realtime),
         modes(chiaro_scene::LightMode::Mixed),
         modes(chiaro_scene::LightMode::Baked)
@@ -121,6 +123,22 @@ fn print_lights(scene: &Scene) {
         let range = l.range.map(|r| format!("{r} m")).unwrap_or_else(|| "none (derived)".into());
         let color = l.color.to_array();
         match l.kind {
+            LightKind::Rect { width, height } => println!(
+                "  node {} '{}': rect, {} nits, color {color:.3?}, {width} x {height} m, range {range}, position {:.3?}, direction {:.3?}",
+                l.node,
+                l.name,
+                l.intensity,
+                l.position().to_array(),
+                l.direction().to_array()
+            ),
+            LightKind::Disk { diameter } => println!(
+                "  node {} '{}': disk, {} nits, color {color:.3?}, diameter {diameter} m, range {range}, position {:.3?}, direction {:.3?}",
+                l.node,
+                l.name,
+                l.intensity,
+                l.position().to_array(),
+                l.direction().to_array()
+            ),
             LightKind::Directional => println!(
                 "  node {} '{}': directional, {} lux, color {color:.3?}, direction {:.3?}",
                 l.node,

@@ -21,10 +21,10 @@ pub(super) fn shadow_mask_channels(scene: &Scene, settings: &Settings) -> Channe
             let range = l.shaded_range(settings.lights.range_threshold_lux);
             ChannelCandidate {
                 light,
-                importance: l.intensity * l.color.max_element(),
+                importance: l.peak_intensity_cd(),
                 bounds: match l.kind {
                     LightKind::Directional => None,
-                    LightKind::Point => Some((l.position(), range)),
+                    LightKind::Point | LightKind::Rect { .. } | LightKind::Disk { .. } => Some((l.position(), range)),
                     LightKind::Spot { outer_cone_rad, .. } => {
                         Some(spot_bounds(l.position(), l.direction(), range, outer_cone_rad))
                     }

@@ -158,11 +158,15 @@ fn compared_pairs(judged: &JudgedLight, edge_band: bool) -> Vec<Option<(f32, f32
 }
 
 /// Whether `light` can light a surface at `position` facing `normal`: the surface faces
-/// it, and for point and spot lights lies within `range` (and the cone).
+/// it, and for point and spot lights lies within `range` (and the cone); for rect and
+/// disk lights, within range of the centre and seeing some of the light in front of it.
 fn light_reaches(light: &Light, range: f32, position: Vec3, normal: Vec3) -> bool {
+    if light.is_area() {
+        return light.position().distance(position) < range && light.area_projected_solid_angle(position, normal) > 0.0;
+    }
     let (to_light, in_range) = match light.kind {
         LightKind::Directional => (-light.direction(), true),
-        LightKind::Point | LightKind::Spot { .. } => {
+        LightKind::Point | LightKind::Spot { .. } | LightKind::Rect { .. } | LightKind::Disk { .. } => {
             let offset = light.position() - position;
             let distance = offset.length();
             // At the light itself `to_light` is NaN and every test below fails.
@@ -174,7 +178,7 @@ fn light_reaches(light: &Light, range: f32, position: Vec3, normal: Vec3) -> boo
             let params = spot_angle_params(inner_cone_rad, outer_cone_rad);
             spot_attenuation(light.direction().dot(-to_light), params) > 0.0
         }
-        LightKind::Directional | LightKind::Point => true,
+        _ => true,
     };
     in_range && in_cone && normal.dot(to_light) > 0.0
 }

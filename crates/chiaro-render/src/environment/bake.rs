@@ -21,6 +21,8 @@ const SPECULAR_MIPS: u32 = 6;
 const PREFILTER_SAMPLES: u32 = 128;
 /// The BRDF table's side and samples per entry.
 const TABLE_SIZE: u32 = 64;
+// The LTC layer shares the split-sum table's grid, so one lookup serves both.
+const _: () = assert!(TABLE_SIZE as usize == chiaro_math::ltc::LTC_TABLE_SIZE);
 const TABLE_SAMPLES: u32 = 512;
 const WORKGROUP: u32 = 8;
 
@@ -69,17 +71,36 @@ fn faces_view(texture: &wgpu::Texture, mip: u32) -> wgpu::TextureView {
     })
 }
 
+/// The BRDF table's layers: the split-sum terms and sheen albedo, then the LTC matrices.
+const TABLE_LAYERS: u32 = 2;
+use crate::shader_constants::LTC_LAYER;
+
 fn table_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("environment brdf table"),
-        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: TABLE_LAYERS },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: FORMAT,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     })
+}
+
+/// The BRDF table as the shaders sample it: both layers.
+pub fn table_view(table: &wgpu::Texture) -> wgpu::TextureView {
+    table.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    })
+}
+
+/// The LTC layer's texels: the four entries of each cell's inverse matrix, as half floats.
+fn ltc_texels() -> Vec<u16> {
+    chiaro_math::ltc::table().iter().flat_map(|cell| cell.inverse.map(|v| half::f16::from_f32(v).to_bits())).collect()
 }
 
 /// The equirectangular image as a half-float texture, radiance divided by `scale`.
@@ -126,8 +147,28 @@ pub fn bake_brdf_table(device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::Text
     let table = table_texture(device, TABLE_SIZE);
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("brdf table") });
     let params = GpuEnvironmentBake { size: TABLE_SIZE, source_size: 0, roughness: 0.0, samples: TABLE_SAMPLES };
-    let view = table.create_view(&Default::default());
+    let view = table.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        base_array_layer: 0,
+        array_layer_count: Some(1),
+        ..Default::default()
+    });
     dispatch(device, &mut encoder, &table_pipeline, params, 1, &[(6, wgpu::BindingResource::TextureView(&view))]);
+    queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: &table,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x: 0, y: 0, z: LTC_LAYER },
+            aspect: wgpu::TextureAspect::All,
+        },
+        bytemuck::cast_slice(&ltc_texels()),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(TABLE_SIZE * 8),
+            rows_per_image: Some(TABLE_SIZE),
+        },
+        wgpu::Extent3d { width: TABLE_SIZE, height: TABLE_SIZE, depth_or_array_layers: 1 },
+    );
     queue.submit([encoder.finish()]);
     table
 }
@@ -237,7 +278,7 @@ impl EnvironmentBaker {
         GpuEnvironmentMaps {
             uniform: uniform_buffer(device),
             specular: cube_view(&specular),
-            brdf_table: self.table.create_view(&Default::default()),
+            brdf_table: table_view(&self.table),
             image,
             radiance_sh,
             specular_last_mip: (SPECULAR_MIPS - 1) as f32,

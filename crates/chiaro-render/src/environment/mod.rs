@@ -187,7 +187,7 @@ fn stand_ins(device: &wgpu::Device, queue: &wgpu::Queue, table: &wgpu::Texture) 
     GpuEnvironmentMaps {
         uniform: uniform_buffer(device),
         specular: bake::cube_view(&cube),
-        brdf_table: table.create_view(&Default::default()),
+        brdf_table: bake::table_view(table),
         image: image.create_view(&Default::default()),
         radiance_sh: ShRgb::default(),
         specular_last_mip: 0.0,

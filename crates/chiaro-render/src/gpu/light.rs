@@ -11,7 +11,8 @@ use glam::{Mat4, Vec2, Vec3};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct GpuLight {
-    /// Colour times intensity: lux for directional lights, candela for the others.
+    /// Colour times intensity: lux for directional lights, nits for rect and disk
+    /// lights, candela for the others.
     pub color: Vec3,
     /// `(a, b)` of the spot cone `saturate(dot(direction, -l) * a + b)^2`; (0, 1) for
     /// lights that never fade by angle. A spot's `a` is positive (`spot_angle_params`).
@@ -37,7 +38,8 @@ pub struct GpuLight {
     /// Its cookie's layer (2D array for directional and spot lights, cube array for
     /// points), or `NO_COOKIE`.
     pub cookie_layer: u32,
-    /// Directional: (1 / width, 1 / height), metres; spot: (1 / tan(outer), 0).
+    /// Directional: (1 / width, 1 / height), metres; spot: (1 / tan(outer), 0); rect and
+    /// disk lights (which have no cookie): half their extent along local X and Y, metres.
     pub cookie_scale: Vec2,
     /// The light's local +X and +Y, which orient its cookie.
     pub axis_x_ws: Vec3,
@@ -46,7 +48,8 @@ pub struct GpuLight {
     /// See `axis_x_ws`.
     pub axis_y_ws: Vec3,
     /// The light's size for contact-hardening shadows: a point or spot light's radius in
-    /// metres, tan of half a directional light's angular diameter.
+    /// metres, tan of half a directional light's angular diameter, the radius of an area
+    /// light's area as a disc.
     pub shadow_light_size: f32,
 }
 

@@ -45,11 +45,7 @@ pub fn cull_lights(
             }
             _ => Sphere { center: light.position(), radius: l.range },
         };
-        CullLight {
-            sphere,
-            shadowed: shadowed[first_local + k],
-            peak_intensity: light.intensity * light.color.max_element(),
-        }
+        CullLight { sphere, shadowed: shadowed[first_local + k], peak_intensity: light.peak_intensity_cd() }
     };
     match culling {
         LightCulling::None => CulledLights::default(),

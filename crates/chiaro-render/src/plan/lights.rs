@@ -5,8 +5,8 @@
 use super::shadows::ShadowSlot;
 use crate::gpu::GpuLight;
 use crate::shader_constants::{
-    LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, NO_COOKIE, NO_MASK_CHANNEL, SHADOW_FILTER_PCSS,
-    SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE, SHADOW_SLOT_REALTIME,
+    LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_DISK, LIGHT_KIND_POINT, LIGHT_KIND_RECT, LIGHT_KIND_SPOT, NO_COOKIE,
+    NO_MASK_CHANNEL, SHADOW_FILTER_PCSS, SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE, SHADOW_SLOT_REALTIME,
 };
 use crate::view::View;
 use chiaro_math::Frustum;
@@ -76,13 +76,15 @@ pub fn choose_lights(scene: &Scene, view: &View, settings: &Settings) -> LightCh
                 continue;
             }
             LightKind::Spot { outer_cone_rad, .. } => Some((l.direction(), outer_cone_rad)),
-            LightKind::Point => None,
+            // Area lights are bounded as points of their range, which reaches past their
+            // extent (Light::shaded_range).
+            LightKind::Point | LightKind::Rect { .. } | LightKind::Disk { .. } => None,
         };
         locals.push(i);
         bounds.push(LocalLightBounds {
             position: l.position(),
             range: l.shaded_range(settings.lights.range_threshold_lux),
-            peak_intensity: l.intensity * l.color.max_element(),
+            peak_intensity: l.peak_intensity_cd(),
             spot,
         });
     }
@@ -126,6 +128,8 @@ pub fn gpu_light(
         LightKind::Spot { inner_cone_rad, outer_cone_rad } => {
             (LIGHT_KIND_SPOT, spot_angle_params(inner_cone_rad, outer_cone_rad))
         }
+        LightKind::Rect { .. } => (LIGHT_KIND_RECT, (0.0, 1.0)),
+        LightKind::Disk { .. } => (LIGHT_KIND_DISK, (0.0, 1.0)),
     };
     let (shadow_slot, shadow_first_tile, shadow_filter) = match frame_light.shadow {
         ShadowSlot::None => (SHADOW_SLOT_NONE, 0, 0),
@@ -149,6 +153,9 @@ pub fn gpu_light(
         cookie_scale: match (light.kind, light.cookie) {
             (LightKind::Directional, Some(c)) => Vec2::ONE / c.size_m,
             (LightKind::Spot { outer_cone_rad, .. }, Some(_)) => Vec2::new(1.0 / outer_cone_rad.tan(), 0.0),
+            (LightKind::Rect { .. } | LightKind::Disk { .. }, _) => {
+                light.kind.area_shape().map_or(Vec2::ZERO, |shape| shape.half_extents())
+            }
             _ => Vec2::ZERO,
         },
         axis_x_ws: light.world_from_light.x_axis.truncate(),
@@ -156,6 +163,10 @@ pub fn gpu_light(
         axis_y_ws: light.world_from_light.y_axis.truncate(),
         shadow_light_size: match light.kind {
             LightKind::Directional => (light.shadow.angular_diameter_deg.to_radians() * 0.5).tan(),
+            // The radius of the disc of the light's area.
+            LightKind::Rect { .. } | LightKind::Disk { .. } => {
+                light.kind.area_shape().map_or(0.0, |shape| (shape.area() / std::f32::consts::PI).sqrt())
+            }
             _ => light.shadow.light_radius,
         },
     }

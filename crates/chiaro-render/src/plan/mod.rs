@@ -26,7 +26,7 @@ use crate::view::View;
 use chiaro_math::light::MAX_LOCAL_LIGHTS;
 use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::{
-    AlphaMode, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Scene, Settings,
+    AlphaMode, DeferredAntialiasing, Light, LightBuffer, LightCulling, MixedMode, RenderPath, Scene, Settings,
 };
 use cookies::cookie_slots;
 use culling::{CulledLights, cull_lights};
@@ -173,7 +173,12 @@ struct ShadedList {
 /// Directional lights first, then the chosen point and spot lights; the forward lists (all
 /// of the forward path's lights, the deferred path's transparent surfaces) take the most
 /// important `MAX_LOCAL_LIGHTS` of those.
-fn shaded_lights(choice: &LightChoice, slots: &ShadowSlots, mask_channels: &[Option<u8>]) -> ShadedList {
+fn shaded_lights(
+    choice: &LightChoice,
+    slots: &ShadowSlots,
+    mask_channels: &[Option<u8>],
+    is_area: &[bool],
+) -> ShadedList {
     let mut out = ShadedList {
         lights: Vec::with_capacity(choice.directional.len() + choice.local.len()),
         lists: ShadedLights::default(),
@@ -185,9 +190,11 @@ fn shaded_lights(choice: &LightChoice, slots: &ShadowSlots, mask_channels: &[Opt
         out.shadowed.push(true);
     }
     for (k, (&(id, range), &shadow)) in choice.local.iter().zip(&slots.local).enumerate() {
-        // A light with a shadow mask channel has a shadow even without tiles.
+        // A light with a shadow mask channel has a shadow even without tiles. Area
+        // lights are shaded in the loop that reads whole lights, shadowed or not (the
+        // other reads only what a point or spot light needs).
         let masked = mask_channels[id.index()].is_some();
-        let has_shadow = matches!(shadow, ShadowSlot::Realtime { .. }) || masked;
+        let has_shadow = matches!(shadow, ShadowSlot::Realtime { .. }) || masked || is_area[id.index()];
         if k < MAX_LOCAL_LIGHTS {
             let list = if has_shadow { &mut out.lists.shadowed_local } else { &mut out.lists.unshadowed_local };
             list.push(out.lights.len() as u32);
@@ -241,7 +248,8 @@ impl FramePlan {
         let mask_channels = mask_channels(scene, settings);
         let (mut shadows, slots) =
             plan_shadows(scene, draws, view, settings, &choice.directional, &choice.local, &mut atlases);
-        let ShadedList { lights, lists, shadowed } = shaded_lights(&choice, &slots, &mask_channels);
+        let is_area: Vec<bool> = scene.lights.iter().map(Light::is_area).collect();
+        let ShadedList { lights, lists, shadowed } = shaded_lights(&choice, &slots, &mask_channels, &is_area);
         let path = if request.deferred_view().is_some() { RenderPath::Deferred } else { settings.render.path };
         let light_buffer = settings.render.light_buffer;
         let mut frame_index = vec![None; scene.lights.len()];

@@ -392,7 +392,9 @@ fn local_tile_requests(
     local: &[(LightId, f32)],
     atlases: &mut ShadowAtlasTiles,
 ) -> Vec<((LightId, u32), usize)> {
-    let tiles_wanted = |light: &Light| if light.kind == LightKind::Point { POINT_LIGHT_FACES } else { 1 };
+    // Area lights are shadowed from their centre by a cube, as points are.
+    let tiles_wanted =
+        |light: &Light| if light.kind == LightKind::Point || light.is_area() { POINT_LIGHT_FACES } else { 1 };
     let view_from_world = view.view_from_world();
     let casting: Vec<(LightId, usize, u32)> = local
         .iter()

@@ -172,6 +172,10 @@ impl Loader<'_> {
         lights
             .iter()
             .map(|l| {
+                // Pointers name KHR_lights_punctual lights only.
+                if l.is_area() {
+                    return None;
+                }
                 let node = self.root.nodes.get(l.node)?;
                 node.extensions.as_ref()?.khr_lights_punctual.as_ref().map(|p| p.light.value())
             })

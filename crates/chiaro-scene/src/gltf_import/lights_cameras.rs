@@ -82,7 +82,7 @@ impl Loader<'_> {
     }
 
     /// Refuses colours, intensities and ranges Chiaro cannot shade.
-    fn check_light_strength(
+    pub(super) fn check_light_strength(
         &self,
         label: &str,
         color: Vec3,

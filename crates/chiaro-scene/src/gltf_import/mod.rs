@@ -30,6 +30,7 @@ mod images;
 mod instancing;
 mod ktx2_image;
 mod layers;
+mod lights_area;
 mod lights_cameras;
 mod materials;
 mod meshes;
@@ -61,8 +62,9 @@ use std::path::{Path, PathBuf};
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
-pub const SUPPORTED_EXTENSIONS: [&str; 24] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 25] = [
     "KHR_lights_punctual",
+    lights_area::EXTENSION,
     image_based_light::EXTENSION,
     "KHR_materials_emissive_strength",
     "KHR_materials_unlit",
@@ -211,6 +213,9 @@ impl<'a> Loader<'a> {
                     }
                 }
                 if let Some(light) = self.light(placement)? {
+                    lights.push(light);
+                }
+                if let Some(light) = self.area_light(placement)? {
                     lights.push(light);
                 }
             }

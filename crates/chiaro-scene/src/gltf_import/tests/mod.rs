@@ -11,6 +11,7 @@ mod image_based_light;
 mod instancing;
 mod invalid_files;
 mod layers;
+mod lights_area;
 mod lights_cameras;
 mod materials;
 mod test_assets;
