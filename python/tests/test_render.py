@@ -1,6 +1,7 @@
 """Rendered arrays checked against geometry: depth against the floor plane, ids against
 the box, shadows against rays cast towards the sun."""
 
+import json
 import threading
 
 import numpy as np
@@ -281,3 +282,42 @@ def test_a_bad_environment_is_an_error_naming_it(scene, tmp_path):
     with pytest.raises(chiaro.RenderError) as e:
         r.render(scene, camera=overview(), width=W, height=H)
     assert str(missing) in str(e.value) and "cannot read environment image" in str(e.value)
+
+
+def test_area_lights_have_a_type_a_size_and_an_aspect(renderer, scene_path, tmp_path):
+    with open(scene_path) as f:
+        doc = json.load(f)
+    doc["extensionsUsed"].append("EXT_lights_area")
+    doc["extensions"]["EXT_lights_area"] = {"lights": [
+        {"name": "panel", "type": "rect", "intensity": 400.0, "size": 0.5, "rect": {"aspect": 2.0}},
+        {"name": "lamp", "type": "disk", "intensity": 400.0, "size": 0.4}]}
+    down = scenes.quat_from_to([0, 0, -1], [0, -1, 0]).tolist()
+    doc["nodes"] += [{"name": "panel", "translation": [-1.0, 2.0, 0.0], "rotation": down,
+                      "extensions": {"EXT_lights_area": {"light": 0}}},
+                     {"name": "lamp", "translation": [1.0, 2.0, 0.0], "rotation": down,
+                      "extensions": {"EXT_lights_area": {"light": 1}}}]
+    doc["scenes"][0]["nodes"] += [len(doc["nodes"]) - 2, len(doc["nodes"]) - 1]
+    path = tmp_path / "area.gltf"
+    path.write_text(json.dumps(doc))
+    scene = chiaro.load(str(path))
+    sun, panel, lamp = scene.lights
+    assert (sun.type, panel.type, lamp.type) == ("directional", "rect", "disk")
+    assert panel.kind == "rect" and sun.size is None and sun.aspect is None and lamp.aspect is None
+    assert panel.size == pytest.approx(0.5) and panel.aspect == pytest.approx(2.0)
+    assert lamp.size == pytest.approx(0.4)
+    sun.intensity = 0.0
+    before = renderer.render(scene, camera=overview(), width=W, height=H, outputs=("hdr",))["hdr"]
+    assert before.max() > 0.0
+    # Four times the area at the same luminance: more light on the floor.
+    panel.size = 1.0
+    assert panel.size == pytest.approx(1.0) and panel.aspect == pytest.approx(2.0)
+    after = renderer.render(scene, camera=overview(), width=W, height=H, outputs=("hdr",))["hdr"]
+    assert after.sum() > 1.5 * before.sum()
+    panel.aspect = 1.0
+    assert scene.lights[1].aspect == pytest.approx(1.0) and scene.lights[1].size == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="not a rect or disk"):
+        sun.size = 1.0
+    with pytest.raises(ValueError, match="not a rect"):
+        lamp.aspect = 2.0
+    with pytest.raises(ValueError, match="must be a positive"):
+        panel.size = -1.0

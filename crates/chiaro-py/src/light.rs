@@ -52,10 +52,72 @@ impl Light {
         self.with(|l| l.node)
     }
 
-    /// "directional", "point" or "spot".
+    /// "directional", "point", "spot", "rect" or "disk".
     #[getter]
     fn kind(&self) -> &'static str {
         self.with(|l| l.kind.name())
+    }
+
+    /// The light's type as glTF names it: "directional", "point" or "spot"
+    /// (KHR_lights_punctual), "rect" or "disk" (EXT_lights_area). The same as `kind`.
+    #[getter]
+    #[pyo3(name = "type")]
+    fn light_type(&self) -> &'static str {
+        self.with(|l| l.kind.name())
+    }
+
+    /// A rect light's height (along its local Y) or a disk light's diameter, metres, as
+    /// EXT_lights_area's `size` (times the node's scale); None for punctual lights.
+    #[getter]
+    fn size(&self) -> Option<f32> {
+        self.with(|l| match l.kind {
+            LightKind::Rect { height, .. } => Some(height),
+            LightKind::Disk { diameter } => Some(diameter),
+            _ => None,
+        })
+    }
+
+    /// Sets a rect's height (keeping its aspect) or a disk's diameter; positive metres.
+    #[setter]
+    fn set_size(&self, metres: f32) -> PyResult<()> {
+        if !(metres.is_finite() && metres > 0.0) {
+            return Err(PyValueError::new_err(format!("size: {metres} must be a positive number of metres")));
+        }
+        self.edit(|l| {
+            l.kind = match l.kind {
+                LightKind::Rect { width, height } => LightKind::Rect { width: width / height * metres, height: metres },
+                LightKind::Disk { .. } => LightKind::Disk { diameter: metres },
+                other => {
+                    return Err(PyValueError::new_err(format!("size: a {} light is not a rect or disk", other.name())));
+                }
+            };
+            Ok(())
+        })
+    }
+
+    /// A rect light's width over its height (EXT_lights_area's `rect.aspect`); None for
+    /// other lights.
+    #[getter]
+    fn aspect(&self) -> Option<f32> {
+        self.with(|l| match l.kind {
+            LightKind::Rect { width, height } => Some(width / height),
+            _ => None,
+        })
+    }
+
+    /// Sets a rect's width to `aspect` times its height.
+    #[setter]
+    fn set_aspect(&self, aspect: f32) -> PyResult<()> {
+        if !(aspect.is_finite() && aspect > 0.0) {
+            return Err(PyValueError::new_err(format!("aspect: {aspect} must be a positive number")));
+        }
+        self.edit(|l| match l.kind {
+            LightKind::Rect { height, .. } => {
+                l.kind = LightKind::Rect { width: aspect * height, height };
+                Ok(())
+            }
+            other => Err(PyValueError::new_err(format!("aspect: a {} light is not a rect", other.name()))),
+        })
     }
 
     /// Linear RGB colour, each channel 0 or more.
