@@ -3,11 +3,12 @@
 (scripts/compare_cycles.py): a row of UV spheres over a grey floor, one material
 parameter spanned across the row, lit by a sun, a point light or an environment.
 
-    python3 scripts/cycles_scenes.py OUT.gltf --light sun|point|environment
+    python3 scripts/cycles_scenes.py OUT.gltf --light sun|point|environment|rect|disk
         [--base-color R,G,B] [--metallic M] [--roughness R]
         [--param NAME VALUES]... [--extension NAME] [--ext-param KEY VALUES]...
         [--ext-fixed JSON] [--extra-extension NAME JSON]... [--materials FILE.json]
         [--sun-lux E] [--point-cd I] [--env-nits L] [--env-kind uniform|gradient]
+        [--area-nits L] [--area-size S] [--area-aspect A] [--area-tilt-deg T] [--area-shadows MODE]
         [--aspect W/H] [--segments 48] [--rings 24] [--no-floor] [--sphere-shadows off]
 
 Materials. Every sphere starts from the plain metallic-roughness material the
@@ -29,6 +30,13 @@ Lights (KHR_lights_punctual, no `range`):
 - `sun`: a directional light of --sun-lux (default 3) from above, left and in front;
 - `point`: a point light of --point-cd candela (default 60) 3.5 m up and 1.5 m in front
   of the middle of the row;
+- `rect`, `disk`: an EXT_lights_area light of --area-nits (default 400) luminance,
+  --area-size metres (default 1: a rect's height, a disk's diameter) and, for a rect,
+  --area-aspect (default 2, width over height, along the row), 3 m up and 1.5 m in front
+  of the middle of the row, shining down and tilted --area-tilt-deg (default 30) towards
+  the camera; `extras.shadows` --area-shadows (default none: compare with
+  `--cycles-arg=--unshadowed`). Cycles renders it through scripts/cycles_area_render.py
+  (compare_cycles.py --cycles-script scripts/cycles_area_render.py);
 - `environment`: no punctual light; an equirectangular Radiance image
   `OUT-stem.environment.hdr` is written beside the scene, `uniform` (--env-nits
   everywhere, a white furnace) or `gradient` (--env-nits overhead, falling linearly to a
@@ -319,6 +327,23 @@ def write_environment(path: Path, kind: str, nits: float, width: int = 64) -> No
 # ---------------------------------------------------------------- the scene
 
 
+AREA_POSITION: Vec3 = (0.0, 3.0, 1.5)
+
+
+def area_light_nodes(kind: str, nits: float, size: float, aspect: float, tilt_deg: float,
+                     shadows: str) -> tuple[list[Json], list[Json]]:
+    """An EXT_lights_area light and its node: shining down, tilted towards the camera (+z)."""
+    light: Json = {"name": kind, "type": kind, "color": [1.0, 1.0, 1.0], "intensity": nits, "size": size,
+                   "extras": {"shadows": shadows}}
+    if kind == "rect":
+        light["rect"] = {"aspect": aspect}
+    tilt = math.radians(tilt_deg)
+    forward = normalize([0.0, -math.cos(tilt), math.sin(tilt)])
+    node = {"name": kind, "translation": list(AREA_POSITION), "rotation": looking_along(forward),
+            "extensions": {"EXT_lights_area": {"light": 0}}}
+    return [light], [node]
+
+
 def light_nodes(kind: str, sun_lux: float, point_cd: float) -> tuple[list[Json], list[Json]]:
     """KHR_lights_punctual lights and their nodes (none for the environment)."""
     if kind == "sun":
@@ -335,7 +360,8 @@ def light_nodes(kind: str, sun_lux: float, point_cd: float) -> tuple[list[Json],
 
 
 def build_scene(materials: list[Json], light: str, sun_lux: float, point_cd: float, aspect: float,
-                segments: int, rings: int, with_floor: bool = True, sphere_shadows: bool = True) -> Json:
+                segments: int, rings: int, with_floor: bool = True, sphere_shadows: bool = True,
+                area: tuple[float, float, float, float, str] = (400.0, 1.0, 2.0, 30.0, "none")) -> Json:
     """The glTF document, its buffer embedded as a data URI."""
     buf = Buffer()
     sphere = buf.primitive(*uv_sphere(SPHERE_RADIUS_M, segments, rings), material=0)
@@ -356,9 +382,11 @@ def build_scene(materials: list[Json], light: str, sun_lux: float, point_cd: flo
     forward = normalize([t - p for t, p in zip(CAMERA_TARGET, CAMERA_POSITION)])
     nodes.append({"name": "camera", "camera": 0, "translation": list(CAMERA_POSITION),
                   "rotation": looking_along(forward)})
-    lights, lnodes = light_nodes(light, sun_lux, point_cd)
+    is_area = light in ("rect", "disk")
+    lights, lnodes = area_light_nodes(light, *area) if is_area else light_nodes(light, sun_lux, point_cd)
     nodes += lnodes
-    used = sorted({e for m in materials for e in m.get("extensions", {})} | ({"KHR_lights_punctual"} if lights else set()))
+    light_extension = "EXT_lights_area" if is_area else "KHR_lights_punctual"
+    used = sorted({e for m in materials for e in m.get("extensions", {})} | ({light_extension} if lights else set()))
     doc: Json = {
         "asset": {"version": "2.0", "generator": "chiaro scripts/cycles_scenes.py"},
         "scene": 0,
@@ -376,7 +404,7 @@ def build_scene(materials: list[Json], light: str, sun_lux: float, point_cd: flo
     if used:
         doc["extensionsUsed"] = used
     if lights:
-        doc["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
+        doc["extensions"] = {light_extension: {"lights": lights}}
     return doc
 
 
@@ -388,7 +416,7 @@ def parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0] if __doc__ else None,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("out", help="the .gltf file to write")
-    ap.add_argument("--light", choices=("sun", "point", "environment"), required=True)
+    ap.add_argument("--light", choices=("sun", "point", "environment", "rect", "disk"), required=True)
     ap.add_argument("--base-color", type=parse_floats, default=[0.8, 0.8, 0.8], help="R,G,B (linear)")
     ap.add_argument("--metallic", type=float, default=0.0)
     ap.add_argument("--roughness", type=float, default=0.5)
@@ -400,6 +428,11 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--sun-lux", type=float, default=3.0)
     ap.add_argument("--point-cd", type=float, default=60.0)
     ap.add_argument("--env-nits", type=float, default=1.0)
+    ap.add_argument("--area-nits", type=float, default=400.0)
+    ap.add_argument("--area-size", type=float, default=1.0)
+    ap.add_argument("--area-aspect", type=float, default=2.0)
+    ap.add_argument("--area-tilt-deg", type=float, default=30.0)
+    ap.add_argument("--area-shadows", choices=("none", "hard", "soft", "pcss"), default="none")
     ap.add_argument("--env-kind", choices=("uniform", "gradient"), default="uniform")
     ap.add_argument("--aspect", type=float, default=1.0, help="the camera's width / height")
     ap.add_argument("--segments", type=int, default=48)
@@ -422,7 +455,9 @@ def main(argv: list[str] | None = None) -> int:
             raise SceneError("--segments/--rings: need at least 3 x 2 and at most 20000 quads (16-bit indices)")
         doc = build_scene(spanned_materials(args), args.light, args.sun_lux, args.point_cd, args.aspect,
                           args.segments, args.rings, with_floor=not args.no_floor,
-                          sphere_shadows=args.sphere_shadows == "on")
+                          sphere_shadows=args.sphere_shadows == "on",
+                          area=(args.area_nits, args.area_size, args.area_aspect, args.area_tilt_deg,
+                                args.area_shadows))
         out.write_text(json.dumps(doc, indent=1))
         print(f"cycles_scenes: wrote {out} ({len(doc['meshes']) - (0 if args.no_floor else 1)} spheres, {args.light})")
         if args.light == "environment":

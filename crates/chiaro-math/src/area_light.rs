@@ -159,40 +159,6 @@ pub fn projected_solid_angle(points: &[Vec3], normal: Vec3) -> f32 {
     vector_irradiance(&clipped).dot(normal).abs()
 }
 
-/// The projected solid angle of a spherical cap of half-angle `sigma` whose axis makes
-/// the angle `omega` with the normal, clipped to the horizon (Snyder 1996, as Heitz and
-/// Hill's horizon clipping uses it): what the renderer takes for a polygon whose vector
-/// irradiance has the cap's (the cap's is `pi sin^2 sigma` along its axis).
-pub fn clipped_cap(omega: f32, sigma: f32) -> f32 {
-    let sin2_sigma = sigma.sin().powi(2);
-    if omega <= FRAC_PI_2 - sigma {
-        return PI * omega.cos() * sin2_sigma;
-    }
-    if omega >= FRAC_PI_2 + sigma {
-        return 0.0;
-    }
-    let gamma = (sigma.cos() / omega.sin()).clamp(-1.0, 1.0).asin();
-    let (sin_gamma, cos_gamma) = gamma.sin_cos();
-    let g = -2.0 * omega.sin() * sigma.cos() * cos_gamma + FRAC_PI_2 - gamma + sin_gamma * cos_gamma;
-    let h = omega.cos()
-        * (cos_gamma * (sin2_sigma - cos_gamma * cos_gamma).max(0.0).sqrt()
-            + sin2_sigma * (cos_gamma / sigma.sin()).clamp(-1.0, 1.0).asin());
-    if omega < FRAC_PI_2 { PI * omega.cos() * sin2_sigma + g - h } else { g + h }
-}
-
-/// The horizon-clipped projected solid angle the renderer gives a polygon of vector
-/// irradiance `vector` (in a frame whose Z is the normal): the cap with the same vector,
-/// clipped (`clipped_cap`). Exact for polygons wholly above the horizon.
-pub fn clipped_from_vector(vector: Vec3) -> f32 {
-    let length = vector.length();
-    if length <= 0.0 {
-        return 0.0;
-    }
-    let sin2_sigma = (length / PI).min(1.0);
-    let omega = (vector.z / length).clamp(-1.0, 1.0).acos();
-    clipped_cap(omega, sin2_sigma.sqrt().asin())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -262,27 +228,6 @@ mod tests {
     #[test]
     fn a_light_behind_the_receiver_gives_nothing() {
         assert_eq!(projected_solid_angle(&rect_points(Vec3::new(0.0, 0.0, -1.0), 1.0, 1.0), Vec3::Z), 0.0);
-    }
-
-    #[test]
-    fn the_clipped_cap_is_continuous_and_exact_above_the_horizon() {
-        let sigma = 0.4f32;
-        assert!((clipped_cap(0.2, sigma) - PI * 0.2f32.cos() * sigma.sin().powi(2)).abs() < 1e-6);
-        // Continuous where the cap touches the horizon, and where its axis crosses it.
-        for omega in [FRAC_PI_2 - sigma, FRAC_PI_2, FRAC_PI_2 + sigma] {
-            let (below, above) = (clipped_cap(omega - 1e-3, sigma), clipped_cap(omega + 1e-3, sigma));
-            assert!((below - above).abs() < 3e-3, "{omega}: {below} vs {above}");
-        }
-        // Half a cap whose axis lies in the horizon: half its unclipped disc seen edge-on
-        // is a vertical half disk; compare with the polygon formula.
-        let cap_points: Vec<Vec3> =
-            regular_polygon(sigma.tan(), 256).iter().map(|p| Vec3::new(p.x, 1.0, p.y)).collect();
-        let polygon = projected_solid_angle(&cap_points, Vec3::Z);
-        assert!(
-            (clipped_cap(FRAC_PI_2, sigma) - polygon).abs() < 2e-3,
-            "{} vs {polygon}",
-            clipped_cap(FRAC_PI_2, sigma)
-        );
     }
 
     #[test]

@@ -69,8 +69,14 @@ fn floor_with(light: Light, roughness: f32, metallic: f32) -> chiaro_scene::Scen
 #[test]
 fn a_rough_floor_under_a_tilted_rect_and_a_disk_gets_the_integrated_light() {
     let tilt = Vec3::new(0.5, -1.0, 0.2).normalize();
-    for kind in [LightKind::Rect { width: 1.2, height: 0.4 }, LightKind::Disk { diameter: 0.8 }] {
-        let light = area_light(kind, Vec3::new(0.3, 1.2, 0.0), tilt, 40.0);
+    // Last, a rect standing half below the floor, facing along it: the floor sees it
+    // across its horizon.
+    for (kind, position, direction) in [
+        (LightKind::Rect { width: 1.2, height: 0.4 }, Vec3::new(0.3, 1.2, 0.0), tilt),
+        (LightKind::Disk { diameter: 0.8 }, Vec3::new(0.3, 1.2, 0.0), tilt),
+        (LightKind::Rect { width: 1.0, height: 1.0 }, Vec3::new(-1.5, 0.0, 0.0), Vec3::new(1.0, -0.2, 0.0).normalize()),
+    ] {
+        let light = area_light(kind, position, direction, 40.0);
         let scene = floor_with(light.clone(), 1.0, 0.0);
         let mut renderer = renderer();
         let forward = render(&mut renderer, &scene, &unlit_settings(), 160);
