@@ -124,7 +124,9 @@ pub fn compare_rendered(
             };
             let verdicts = classify_pixels(&judged);
             let comparison = LightComparison::from_verdicts(&verdicts);
-            if light.shadow.mode == ShadowMode::Pcss {
+            // Area lights are judged by visibility whatever their mode: the reference sees
+            // the share of their shape.
+            if light.shadow.mode == ShadowMode::Pcss || light.is_area() {
                 let (visibility, difference) = soft_shadow_report(&judged);
                 return LightReport { light: i, comparison, visibility: Some(visibility), difference };
             }

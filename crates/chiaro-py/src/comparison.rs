@@ -19,9 +19,10 @@ pub struct LightVerdict {
     compared: usize,
     /// Disagreement, false and missed shadow, percent of compared pixels.
     percents: Option<[f64; 3]>,
-    /// A contact-hardening light's visibility error: mean and 95th percentile of
-    /// |rendered - reference|, and the percent of pixels off by more than 0.1.
-    visibility: Option<[f64; 3]>,
+    /// A contact-hardening or area light's visibility error: mean and 95th percentile of
+    /// |rendered - reference|, the percent of pixels off by more than 0.1, and the mean
+    /// and that percent over the reference's penumbra alone.
+    visibility: Option<[f64; 5]>,
 }
 
 impl LightVerdict {
@@ -47,10 +48,9 @@ impl LightVerdict {
                     percents: not_compared
                         .is_none()
                         .then(|| [c.disagreement(), c.false_share(), c.missed_share()].map(|share| 100.0 * share)),
-                    visibility: report
-                        .visibility
-                        .filter(|v| not_compared.is_none() && v.compared > 0)
-                        .map(|v| [v.mean_abs, v.p95_abs, 100.0 * v.far_off]),
+                    visibility: report.visibility.filter(|v| not_compared.is_none() && v.compared > 0).map(|v| {
+                        [v.mean_abs, v.p95_abs, 100.0 * v.far_off, v.penumbra_mean_abs, 100.0 * v.penumbra_far_off]
+                    }),
                 }
             })
             .collect()
@@ -71,6 +71,8 @@ impl LightVerdict {
         d.set_item("visibility_mean_abs", self.visibility.map(|v| v[0]))?;
         d.set_item("visibility_p95_abs", self.visibility.map(|v| v[1]))?;
         d.set_item("visibility_far_off_percent", self.visibility.map(|v| v[2]))?;
+        d.set_item("penumbra_mean_abs", self.visibility.map(|v| v[3]))?;
+        d.set_item("penumbra_far_off_percent", self.visibility.map(|v| v[4]))?;
         Ok(d)
     }
 }

@@ -71,9 +71,21 @@ pub fn run(args: CompareArgs) -> Result<()> {
             _ => "",
         };
         // Contact-hardening lights: how far the soft visibility is from the traced disc's.
+        // Area lights also by their penumbra alone (docs/shadows.md).
         let soft = report.visibility.map_or(String::new(), |v| {
+            let penumbra = if light.is_area() {
+                format!(
+                    "; area: penumbra mean |dv| {:.4}, penumbra |dv| > {FAR_OFF} {:.3}% ({} px)",
+                    v.penumbra_mean_abs,
+                    100.0 * v.penumbra_far_off,
+                    v.penumbra_compared
+                )
+            } else {
+                String::new()
+            };
             format!(
-                "  pcss: mean |dv| {:.4}, p95 |dv| {:.4}, |dv| > {FAR_OFF} {:.3}%",
+                "  {}: mean |dv| {:.4}, p95 |dv| {:.4}, |dv| > {FAR_OFF} {:.3}%{penumbra}",
+                if light.is_area() { "soft" } else { "pcss" },
                 v.mean_abs,
                 v.p95_abs,
                 100.0 * v.far_off

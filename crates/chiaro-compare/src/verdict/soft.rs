@@ -10,6 +10,10 @@ use super::{JudgedLight, compared_pairs};
 /// A pixel whose visibility is off by more than this counts in `VisibilityError::far_off`.
 pub const FAR_OFF: f32 = 0.1;
 
+/// A pixel is in the reference's penumbra where the traced visibility is strictly between
+/// these: neither lit nor shadowed by the whole light.
+pub const PENUMBRA: (f32, f32) = (0.02, 0.98);
+
 /// How far one light's rendered visibility is from the reference's.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct VisibilityError {
@@ -21,6 +25,13 @@ pub struct VisibilityError {
     pub p95_abs: f64,
     /// Share of compared pixels with |rendered - reference| > FAR_OFF.
     pub far_off: f64,
+    /// Compared pixels in the reference's penumbra (`PENUMBRA`): what an area light's
+    /// shadow is judged by, since most pixels are wholly lit or shadowed.
+    pub penumbra_compared: usize,
+    /// Mean of |rendered - reference| over the penumbra's pixels.
+    pub penumbra_mean_abs: f64,
+    /// Share of the penumbra's pixels with |rendered - reference| > FAR_OFF.
+    pub penumbra_far_off: f64,
 }
 
 /// The visibility error of the judged light's rendered shadow, over the fairly compared
@@ -42,13 +53,23 @@ fn error_of(pairs: &[Option<(f32, f32)>]) -> VisibilityError {
     if errors.is_empty() {
         return VisibilityError::default();
     }
+    let penumbra: Vec<f32> = pairs
+        .iter()
+        .flatten()
+        .filter(|&&(_, expected)| expected > PENUMBRA.0 && expected < PENUMBRA.1)
+        .map(|&(rendered, expected)| (rendered - expected).abs())
+        .collect();
+    let share = |values: &[f32], of: usize| values.iter().filter(|&&e| e > FAR_OFF).count() as f64 / of.max(1) as f64;
     errors.sort_by(f32::total_cmp);
     let n = errors.len();
     VisibilityError {
         compared: n,
         mean_abs: errors.iter().map(|&e| e as f64).sum::<f64>() / n as f64,
         p95_abs: errors[((n as f64 * 0.95).ceil() as usize).clamp(1, n) - 1] as f64,
-        far_off: errors.iter().filter(|&&e| e > FAR_OFF).count() as f64 / n as f64,
+        far_off: share(&errors, n),
+        penumbra_compared: penumbra.len(),
+        penumbra_mean_abs: penumbra.iter().map(|&e| e as f64).sum::<f64>() / penumbra.len().max(1) as f64,
+        penumbra_far_off: share(&penumbra, penumbra.len()),
     }
 }
 
@@ -74,6 +95,15 @@ pub fn signed_difference_image(judged: &JudgedLight) -> Vec<[u8; 4]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_penumbra_columns_see_only_the_references_partial_pixels() {
+        let pairs = [Some((1.0, 1.0)), Some((0.0, 0.0)), Some((0.5, 0.3)), Some((0.6, 0.62)), None, Some((0.2, 0.99))];
+        let e = error_of(&pairs);
+        assert_eq!((e.compared, e.penumbra_compared), (5, 2));
+        assert!((e.penumbra_mean_abs - 0.11).abs() < 1e-6, "{e:?}");
+        assert!((e.penumbra_far_off - 0.5).abs() < 1e-9 && (e.far_off - 0.4).abs() < 1e-9, "{e:?}");
+    }
 
     #[test]
     fn signed_colours_run_from_grey_to_red_and_blue() {
