@@ -215,9 +215,11 @@ def compare(scene: Scene, camera: CameraArg = None, width: int = 256, height: in
     light (its name), kind, compared (pixels judged), disagree_percent, false_percent
     (shadow where the reference has light: acne), missed_percent (light where it has
     shadow: peter-panning, leaks), not_compared (why a light was not judged, else None)
-    and shadow_mask_only; for a light with "pcss" shadows, visibility_mean_abs,
-    visibility_p95_abs and visibility_far_off_percent (its rendered visibility against the
-    share of its disc the reference sees; None for other lights).
+    and shadow_mask_only; for a light with "pcss" shadows and for rect and disk lights,
+    visibility_mean_abs, visibility_p95_abs and visibility_far_off_percent (its rendered
+    visibility against the share of its disc or shape the reference sees), and
+    penumbra_mean_abs and penumbra_far_off_percent (the same over the reference's
+    penumbra alone); None for other lights.
     time: seconds into the scene's animations to pose it at first (None: as it is)."""
     if renderer is None:
         renderer = Renderer(device=device, settings=settings)

@@ -142,3 +142,8 @@ class LightComparison(TypedDict):
     """For a "pcss" light: 95th percentile of |rendered - reference| visibility; else None."""
     visibility_far_off_percent: Optional[float]
     """For a "pcss" light: pixels whose visibility is off by more than 0.1, percent; else None."""
+    penumbra_mean_abs: Optional[float]
+    """For a "pcss" or area light: mean |rendered - reference| visibility over the pixels the
+    reference sees partly lit (0.02 to 0.98); else None."""
+    penumbra_far_off_percent: Optional[float]
+    """For a "pcss" or area light: those pixels off by more than 0.1, percent; else None."""

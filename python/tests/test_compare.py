@@ -30,3 +30,5 @@ def test_a_pcss_light_reports_its_visibility_against_the_traced_disc(renderer, s
     assert 0.0 <= row["visibility_mean_abs"] < 0.03
     assert row["visibility_mean_abs"] <= row["visibility_p95_abs"] or row["visibility_p95_abs"] == 0.0
     assert 0.0 <= row["visibility_far_off_percent"] < 10.0
+    assert hard["penumbra_mean_abs"] is None
+    assert 0.0 <= row["penumbra_mean_abs"] <= 1.0 and 0.0 <= row["penumbra_far_off_percent"] <= 100.0
