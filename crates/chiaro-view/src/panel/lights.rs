@@ -76,12 +76,28 @@ fn switch_and_select(ui: &mut Ui, i: usize, state: &LightsState) -> Vec<Action> 
     actions
 }
 
+/// A rect's width and height or a disk's diameter, metres; whether one changed.
+fn area_rows(ui: &mut Ui, kind: &mut LightKind) -> bool {
+    let size = |ui: &mut Ui, value: &mut f32, label: &str| {
+        ui.add(Slider::new(value, 0.01..=20.0).logarithmic(true).text(label).clamping(EDITS_ONLY)).changed()
+    };
+    match kind {
+        LightKind::Rect { width, height } => size(ui, width, "width (m)") | size(ui, height, "height (m)"),
+        LightKind::Disk { diameter } => size(ui, diameter, "diameter (m)"),
+        _ => false,
+    }
+}
+
 /// The light's values below its first row as widgets, editing `light`; returns whether
 /// one changed.
 fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &LightsState) -> bool {
     let mut changed = false;
     if !state.switched_off.contains_key(&i) {
-        let unit = if light.kind == LightKind::Directional { "intensity (lux)" } else { "intensity (cd)" };
+        let unit = match light.kind {
+            LightKind::Directional => "intensity (lux)",
+            LightKind::Rect { .. } | LightKind::Disk { .. } => "intensity (nits)",
+            _ => "intensity (cd)",
+        };
         changed |= ui
             .add(Slider::new(&mut light.intensity, 0.0..=1.0e5).logarithmic(true).text(unit).clamping(EDITS_ONLY))
             .changed();
@@ -121,13 +137,16 @@ fn light_rows(ui: &mut Ui, i: usize, light: &mut Light, state: &LightsState) -> 
             changed = true;
         }
     }
+    changed |= area_rows(ui, &mut light.kind);
+    let is_area = light.is_area();
     let shadow = &mut light.shadow;
     ComboBox::new(("shadows", i), "shadows").selected_text(shadow.mode.name()).show_ui(ui, |ui| {
         for m in [ShadowMode::None, ShadowMode::Hard, ShadowMode::Soft, ShadowMode::Pcss] {
             changed |= ui.selectable_value(&mut shadow.mode, m, m.name()).changed();
         }
     });
-    if shadow.mode == ShadowMode::Pcss {
+    // An area light's penumbra comes from its shape.
+    if shadow.mode == ShadowMode::Pcss && !is_area {
         changed |= match light.kind {
             LightKind::Directional => ui.add(
                 Slider::new(&mut shadow.angular_diameter_deg, 0.0..=10.0)

@@ -203,6 +203,34 @@ fn camera_buttons_ask_for_their_camera() {
 }
 
 #[test]
+fn an_area_lights_row_edits_its_size_in_nits_and_metres() {
+    let mut rect = chiaro_scene::Light::new(
+        chiaro_scene::LightKind::Rect { width: 1.0, height: 0.5 },
+        glam::Vec3::new(0.0, 3.0, 0.0),
+        glam::Vec3::NEG_Y,
+    );
+    rect.name = "panel".into();
+    rect.intensity = 500.0;
+    rect.shadow.mode = chiaro_scene::ShadowMode::Pcss;
+    let scene = Scene { lights: vec![rect], ..chiaro_scene::demo::demo_scene(0) };
+    let mut harness = lights_harness(scene, egui::vec2(330.0, 400.0), Vec::new(), false);
+    harness.get_all_by_label_contains("(rect)").next().expect("the rect's row").click();
+    harness.run();
+    assert!(harness.query_by_role_and_label(Role::Slider, "intensity (nits)").is_some());
+    assert!(
+        harness.query_by_role_and_label(Role::Slider, "light radius (m)").is_none(),
+        "its shape sizes its penumbra"
+    );
+    harness.get_by_role_and_label(Role::Slider, "width (m)").set_value_accesskit(2.0);
+    harness.run();
+    harness.get_by_role_and_label(Role::Slider, "height (m)").set_value_accesskit(0.25);
+    harness.run();
+    let light = &harness.state().state.scene.scene.lights[0];
+    assert_eq!(light.kind, chiaro_scene::LightKind::Rect { width: 2.0, height: 0.25 });
+    assert_eq!(light.intensity, 500.0);
+}
+
+#[test]
 fn the_light_list_edits_the_scene_lights() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets/ShadowsSpot/glTF/shadows-spot.gltf");
     let scene = chiaro_scene::load_gltf(std::path::Path::new(path)).unwrap();
