@@ -1,6 +1,8 @@
 //! The baker end to end on small scenes: energy conservation in a closed box,
 //! determinism for a seed, cancelling, and bake directories that know their scene.
 
+mod common;
+
 use chiaro_bake::bake::probe_layout;
 use chiaro_bake::{BakeError, Silent, apply_bake_dir, bake, read_bake_dir, write_bake_dir};
 use chiaro_scene::{CastShadows, LightMode, Material, Mesh, MeshInstance, Scene, Settings, shapes};
@@ -344,4 +346,51 @@ fn writing_replaces_an_old_bake_and_an_interrupt_leaves_nothing() {
     write_bake_dir(&out, &scene, &s, &result, &AtomicBool::new(false)).unwrap();
     assert!(!out.join("stale").exists());
     assert_eq!(names(dir.path()), vec!["out.bake", "shadows-spot.bin", "shadows-spot.gltf"]);
+}
+
+/// Irradiance under a corner of a w x h rect of unit luminance parallel to the receiver
+/// at height d: the textbook form factor times pi.
+fn corner_rect(w: f32, h: f32, d: f32) -> f32 {
+    let (a, b) = (w / d, h / d);
+    let (sa, sb) = ((1.0 + a * a).sqrt(), (1.0 + b * b).sqrt());
+    0.5 * (a / sa * (b / sa).atan() + b / sb * (a / sb).atan())
+}
+
+#[test]
+fn a_baked_rect_light_lights_the_floor_as_the_form_factor_says_texel_by_texel() {
+    // A 1 x 0.5 m rect of 100 nits 1 m above the floor, facing down, baked.
+    let (width, depth, height, nits) = (1.0f32, 0.5f32, 1.0f32, 100.0f32);
+    let mut light = chiaro_scene::Light::new(
+        chiaro_scene::LightKind::Rect { width, height: depth },
+        Vec3::new(0.0, height, 0.0),
+        Vec3::NEG_Y,
+    );
+    light.intensity = nits;
+    light.mode = LightMode::Baked;
+    let scene = floor_scene(4.0, Vec3::new(0.0, 4.0, 3.0), vec![light.clone()]);
+    let result = bake(&scene, &settings(16, 0, 16.0), &Silent, &AtomicBool::new(false)).unwrap();
+    let places = common::texel_places(&scene, &result);
+    // The rect's local X and Y on the floor (its frame may be rolled).
+    let (axis_x, axis_y) = (light.world_from_light.x_axis.truncate(), light.world_from_light.y_axis.truncate());
+    let mut errors = Vec::new();
+    for (map, layer) in result.lighting.lightmaps.iter().zip(&places) {
+        for (texel, place) in map.texels.iter().zip(layer) {
+            let Some((_, 0, p)) = *place else { continue };
+            if texel[3] < 0.999 || p.length() > 1.5 {
+                continue;
+            }
+            // Superpose the four rects that meet under the receiver.
+            let (u, v) = (p.dot(axis_x), p.dot(axis_y));
+            let (x0, x1) = (width / 2.0 + u, width / 2.0 - u);
+            let (y0, y1) = (depth / 2.0 + v, depth / 2.0 - v);
+            let part = |a: f32, b: f32| a.signum() * b.signum() * corner_rect(a.abs(), b.abs(), height);
+            let expected = nits * (part(x0, y0) + part(x1, y0) + part(x0, y1) + part(x1, y1));
+            errors.push((texel[0] - expected).abs() / expected);
+        }
+    }
+    errors.sort_by(f32::total_cmp);
+    let (median, worst) = (errors[errors.len() / 2], errors[errors.len() - 1]);
+    println!("{} texels: median error {:.3}%, worst {:.3}%", errors.len(), 100.0 * median, 100.0 * worst);
+    assert!(errors.len() > 500);
+    assert!(median < 0.005 && worst < 0.02, "median {median}, worst {worst}");
 }
