@@ -2,7 +2,7 @@
 //! the viewer showed.
 //!
 //! "Save scene": the glTF as the viewer shows it. Light edits belong to the glTF (its
-//! KHR_lights_punctual lights and their extras), not to settings.toml, and the camera is
+//! KHR_lights_punctual and EXT_lights_area lights and their extras), not to settings.toml, and the camera is
 //! the viewer's own; so the file is written again beside the original (its buffers and
 //! images stay where its URIs point) with the edited lights and a camera named
 //! "chiaro view", and `chiaro render SAVED --camera "chiaro view" --settings SAVED.toml`
@@ -86,6 +86,7 @@ fn object<'a>(value: &'a mut Value, what: &str) -> Result<&'a mut serde_json::Ma
 /// Each scene light's values, written into the glTF light its node carries (a
 /// KHR_lights_punctual light, or an EXT_lights_area one).
 fn write_lights(root: &mut Value, lights: &[Light]) -> Result<()> {
+    let scale_of = world_scales(root);
     for light in lights {
         let extension = if light.is_area() { "EXT_lights_area" } else { "KHR_lights_punctual" };
         let index = root["nodes"][light.node]["extensions"][extension]["light"]
@@ -101,6 +102,18 @@ fn write_lights(root: &mut Value, lights: &[Light]) -> Result<()> {
         };
         if let LightKind::Spot { inner_cone_rad, outer_cone_rad } = light.kind {
             gltf.insert("spot".into(), json!({ "innerConeAngle": inner_cone_rad, "outerConeAngle": outer_cone_rad }));
+        }
+        // EXT_lights_area sizes are the file's times the node's largest world scale.
+        let size = match light.kind {
+            LightKind::Rect { width, height } => {
+                gltf.insert("rect".into(), json!({ "aspect": width / height }));
+                Some(height)
+            }
+            LightKind::Disk { diameter } => Some(diameter),
+            _ => None,
+        };
+        if let Some(size) = size {
+            gltf.insert("size".into(), json!(size / scale_of[light.node]));
         }
         let extras = object(gltf.entry("extras").or_insert(Value::Null), &format!("light {index} extras"))?;
         extras.insert("shadows".into(), json!(light.shadow.mode.name()));
@@ -121,6 +134,53 @@ fn write_lights(root: &mut Value, lights: &[Light]) -> Result<()> {
         extras.insert("mode".into(), json!(light.mode.name()));
     }
     Ok(())
+}
+
+/// Each node's largest world scale (the length of its longest world axis), from the
+/// file's hierarchy: what an EXT_lights_area light's size is multiplied by.
+fn world_scales(root: &Value) -> Vec<f32> {
+    let nodes = root["nodes"].as_array().cloned().unwrap_or_default();
+    let mut parent = vec![None; nodes.len()];
+    for (i, node) in nodes.iter().enumerate() {
+        for child in node["children"].as_array().into_iter().flatten().filter_map(Value::as_u64) {
+            if let Some(slot) = parent.get_mut(child as usize) {
+                *slot = Some(i);
+            }
+        }
+    }
+    let floats = |v: &Value, n: usize, default: &[f32]| -> Vec<f32> {
+        v.as_array()
+            .filter(|a| a.len() == n)
+            .map(|a| a.iter().map(|x| x.as_f64().unwrap_or(0.0) as f32).collect())
+            .unwrap_or_else(|| default.to_vec())
+    };
+    let local = |node: &Value| -> glam::Mat4 {
+        if node.get("matrix").is_some() {
+            return glam::Mat4::from_cols_slice(&floats(&node["matrix"], 16, &glam::Mat4::IDENTITY.to_cols_array()));
+        }
+        let t = floats(&node["translation"], 3, &[0.0; 3]);
+        let r = floats(&node["rotation"], 4, &[0.0, 0.0, 0.0, 1.0]);
+        let s = floats(&node["scale"], 3, &[1.0; 3]);
+        glam::Mat4::from_scale_rotation_translation(
+            glam::Vec3::from_slice(&s),
+            glam::Quat::from_slice(&r).normalize(),
+            glam::Vec3::from_slice(&t),
+        )
+    };
+    (0..nodes.len())
+        .map(|i| {
+            let (mut world, mut at, mut steps) = (local(&nodes[i]), parent[i], 0);
+            // A cycle is an invalid file the importer refused; stop rather than spin.
+            while let (Some(p), true) = (at, steps < nodes.len()) {
+                world = local(&nodes[p]) * world;
+                at = parent[p];
+                steps += 1;
+            }
+            let scale =
+                [world.x_axis, world.y_axis, world.z_axis].iter().map(|a| a.truncate().length()).fold(0.0, f32::max);
+            if scale.is_finite() && scale > 0.0 { scale } else { 1.0 }
+        })
+        .collect()
 }
 
 /// A camera named VIEW_CAMERA at `view` (perspective or orthographic as it is), on a new
@@ -224,6 +284,40 @@ mod tests {
         assert!(differing * 1000 < shown.len(), "{differing} channels differ");
         // Saving again from the saved file writes the same name, not .chiaro.chiaro.
         assert_eq!(saved_path(&target), target);
+    }
+
+    #[test]
+    fn a_saved_area_light_keeps_its_edited_size_under_a_scaled_node() {
+        let dir = tempfile::tempdir().unwrap();
+        let doc = json!({
+            "asset": { "version": "2.0" },
+            "extensionsUsed": ["EXT_lights_area"],
+            "extensions": { "EXT_lights_area": { "lights": [
+                { "type": "rect", "intensity": 300.0, "size": 0.5, "rect": { "aspect": 2.0 } },
+                { "type": "disk", "size": 0.2 }
+            ] } },
+            "scene": 0,
+            "scenes": [{ "nodes": [0] }],
+            "nodes": [
+                { "scale": [2.0, 2.0, 2.0], "children": [1, 2] },
+                { "translation": [0.0, 3.0, 0.0], "extensions": { "EXT_lights_area": { "light": 0 } } },
+                { "extensions": { "EXT_lights_area": { "light": 1 } } }
+            ]
+        });
+        let source = dir.path().join("area.gltf");
+        std::fs::write(&source, serde_json::to_vec(&doc).unwrap()).unwrap();
+        let mut scene = chiaro_scene::load_gltf(&source).unwrap();
+        assert_eq!(scene.lights[0].kind, LightKind::Rect { width: 2.0, height: 1.0 });
+        scene.lights[0].kind = LightKind::Rect { width: 3.0, height: 0.5 };
+        scene.lights[0].intensity = 450.0;
+        scene.lights[1].kind = LightKind::Disk { diameter: 0.8 };
+        let view = View::framing(&scene, 1.0, 64, 64);
+        let target = saved_path(&source);
+        save_scene(&source, &scene, &view, &target).unwrap();
+        let saved = chiaro_scene::load_gltf(&target).unwrap();
+        assert_eq!(saved.lights[0].kind, LightKind::Rect { width: 3.0, height: 0.5 });
+        assert_eq!(saved.lights[0].intensity, 450.0);
+        assert_eq!(saved.lights[1].kind, LightKind::Disk { diameter: 0.8 });
     }
 
     #[test]
