@@ -13,6 +13,7 @@
 use crate::emitters::{Emitters, power_heuristic};
 use crate::rng::Rng;
 use crate::surface::Surfaces;
+use chiaro_math::area_light::vector_irradiance;
 use chiaro_math::light::{distance_attenuation, range_attenuation, spot_angle_params, spot_attenuation};
 use chiaro_math::sampling::cosine_direction;
 use chiaro_scene::environment::{EnvironmentError, EnvironmentLight};
@@ -143,20 +144,26 @@ impl<'a> Tracer<'a> {
 
     /// Illuminance at normal incidence from light `l` at `p` (before the cosine), and the
     /// unit direction towards it; `None` out of range or cone.
-    /// An area light here is its far-field point: luminance times area times the cosine
-    /// at the light over the distance squared, from its centre (probes take it so; the
-    /// lightmaps' direct light is exact: `area_irradiance`).
+    /// An area light here is its vector irradiance: what a surface facing the way the
+    /// light arrives from on average would get, and that direction (exact for such a
+    /// surface; probes take it so, the lightmaps' direct light is exact for every
+    /// surface: `area_irradiance`).
     fn arriving(&self, l: &BakeLight, p: Vec3) -> Option<(Vec3, Vec3)> {
         match l.light.kind {
             LightKind::Directional => Some((l.color, -l.light.direction())),
             LightKind::Rect { .. } | LightKind::Disk { .. } => {
                 let to_light = l.light.position() - p;
-                let d2 = to_light.length_squared();
-                let dir = to_light.try_normalize()?;
-                let area = l.light.kind.area_shape().map_or(0.0, |s| s.area());
-                let facing = l.light.direction().dot(-dir).max(0.0);
-                let e = l.color * (area * facing * distance_attenuation(d2, l.range));
-                (e.max_element() > 0.0).then_some((e, dir))
+                // It lights only the side it faces.
+                if to_light.dot(l.light.direction()) >= 0.0 {
+                    return None;
+                }
+                let relative: Vec<Vec3> = l.light.area_outline_ws()?.iter().map(|&q| q - p).collect();
+                let mut vector = vector_irradiance(&relative);
+                if vector.dot(to_light) < 0.0 {
+                    vector = -vector;
+                }
+                let e = l.color * (vector.length() * range_attenuation(to_light.length_squared(), l.range));
+                (e.max_element() > 0.0).then(|| (e, vector.normalize()))
             }
             _ => {
                 let to_light = l.light.position() - p;
@@ -420,4 +427,42 @@ const EMITTER_END_MARGIN: f32 = 1e-3;
 /// BVH and the emitter table both hold what this accepts.
 pub fn bakes_instance(instance: &MeshInstance) -> bool {
     instance.is_static
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use chiaro_scene::{Light, LightKind};
+
+    /// A baked 1 x 1 m panel of 100 nits 2 m up, shining down, alone.
+    fn panel_tracer_parts() -> (Scene, Light) {
+        let mut light = Light::new(LightKind::Rect { width: 1.0, height: 1.0 }, Vec3::new(0.0, 2.0, 0.0), Vec3::NEG_Y);
+        light.intensity = 100.0;
+        light.mode = LightMode::Baked;
+        (Scene { lights: vec![light.clone()], ..Scene::default() }, light)
+    }
+
+    #[test]
+    fn a_probe_takes_an_area_light_as_the_irradiance_facing_it_gets() {
+        let (scene, light) = panel_tracer_parts();
+        let bvh = SceneBvh::build(&scene);
+        let tracer = Tracer::new(&scene, &[LightMode::Baked], &bvh, Sky::Constant(Vec3::ZERO), 0, 1e-6);
+        let mut rays = 0;
+        // Close under it: bounded by pi L, where a point of L A would give L A / d^2.
+        let near = Vec3::new(0.0, 1.8, 0.0);
+        let deltas = tracer.probe_deltas(near, &mut rays);
+        let (dir, e) = deltas[0];
+        let exact = 100.0 * light.area_projected_solid_angle(near, Vec3::Y);
+        assert!((e.x / exact - 1.0).abs() < 1e-3, "{} vs {exact}", e.x);
+        assert!(e.x < std::f32::consts::PI * 100.0 && dir.distance(Vec3::Y) < 1e-4, "{e} from {dir}");
+        // Far off its axis it is nearly a point of L A candela times the cosine at the light.
+        let far = Vec3::new(6.0, -6.0, 0.0);
+        let (dir, e) = tracer.probe_deltas(far, &mut rays)[0];
+        let to_light = light.position() - far;
+        let point = 100.0 * light.direction().dot(-to_light.normalize()) / to_light.length_squared();
+        assert!((e.x / point - 1.0).abs() < 0.01, "{} vs {point}", e.x);
+        assert!(dir.distance(to_light.normalize()) < 0.01);
+        // Behind it, nothing.
+        assert!(tracer.probe_deltas(Vec3::new(0.0, 3.0, 0.0), &mut rays).is_empty());
+    }
 }

@@ -19,14 +19,19 @@ const SIZE: u32 = 192;
 /// The plank scene under `kind` (rolled so that its local X runs along `along`) with
 /// `mode` shadows: its visibility error against the traced shape.
 fn measure(kind: LightKind, along: Vec3, mode: ShadowMode, atlas_size: u32) -> VisibilityError {
+    measure_from(0.0, kind, along, mode, atlas_size)
+}
+
+/// `measure` with the light at `light_x` along the floor instead of over the origin.
+fn measure_from(light_x: f32, kind: LightKind, along: Vec3, mode: ShadowMode, atlas_size: u32) -> VisibilityError {
     // The shadow of the plank's edge falls about here on the floor.
-    let edge = PLANK_EDGE_X * PLANK_LIGHT_HEIGHT / (PLANK_LIGHT_HEIGHT - PLANK_HEIGHT);
+    let edge = light_x + (PLANK_EDGE_X - light_x) * PLANK_LIGHT_HEIGHT / (PLANK_LIGHT_HEIGHT - PLANK_HEIGHT);
     let mut scene = plank_scene(PlankLight::Point, 0.2, 2.0, edge);
     let mut light = Light {
         name: "area".into(),
         node: 10,
         intensity: 2000.0,
-        ..Light::new(kind, Vec3::new(0.0, PLANK_LIGHT_HEIGHT, 0.0), Vec3::NEG_Y)
+        ..Light::new(kind, Vec3::new(light_x, PLANK_LIGHT_HEIGHT, 0.0), Vec3::NEG_Y)
     };
     // Local X along `along`, shining down.
     light.world_from_light = glam::Mat4::from_cols(
@@ -75,6 +80,22 @@ fn wide_area_light_penumbrae_follow_the_traced_shape() {
         assert!(pcss.penumbra_mean_abs < 0.05 && pcss.penumbra_far_off < 0.05, "{name}: {pcss:?}");
         assert!(soft.penumbra_mean_abs > 2.0 * pcss.penumbra_mean_abs, "{name}: soft {soft:?}, pcss {pcss:?}");
     }
+}
+
+#[test]
+fn a_penumbra_seen_through_a_side_face_of_the_cube_beats_the_filtered_one() {
+    // The light 2.4 m to the side: the edge's shadow falls at x = 1.8, in the cube's +X
+    // face, whose axis the strip's long side runs along, so the light's points lie at
+    // depths of their own there.
+    let strip = LightKind::Rect { width: 1.0, height: 0.1 };
+    let pcss = measure_from(-2.4, strip, Vec3::X, ShadowMode::Pcss, DEFAULT_ATLAS);
+    let soft = measure_from(-2.4, strip, Vec3::X, ShadowMode::Soft, DEFAULT_ATLAS);
+    report("strip across the edge, side face", "pcss", &pcss);
+    report("strip across the edge, side face", "soft", &soft);
+    // Measured 0.070 here against 0.023 under the light (docs/lights.md): the side face
+    // still follows the shape far better than a filter around the centre's shadow.
+    assert!(pcss.penumbra_compared > 3000, "{} penumbra pixels", pcss.penumbra_compared);
+    assert!(soft.penumbra_mean_abs > 3.0 * pcss.penumbra_mean_abs, "soft {soft:?}, pcss {pcss:?}");
 }
 
 #[test]

@@ -239,7 +239,10 @@ mod tests {
             let u = Vec2::new((k % 17) as f32 / 16.0, (k % 13) as f32 / 12.0);
             assert!(disk.point(u).length() <= 1.0 + 1e-5);
         }
-        assert!((regular_polygon(1.0, 8).len() as f32 - 8.0).abs() < 0.5);
+        // A regular polygon keeps the circle's area (shoelace formula).
+        let octagon = regular_polygon(1.0, 8);
+        let area: f32 = (0..8).map(|k| octagon[k].perp_dot(octagon[(k + 1) % 8])).sum::<f32>() * 0.5;
+        assert!((area - PI).abs() < 1e-5, "{area}");
         assert!((AreaShape::Disk { diameter: 1.0 }.bounding_radius() - 0.5).abs() < 1e-6);
         assert!((AreaShape::Rect { width: 3.0, height: 4.0 }.bounding_radius() - 2.5).abs() < 1e-6);
     }

@@ -84,13 +84,16 @@ impl Light {
             return Err(PyValueError::new_err(format!("size: {metres} must be a positive number of metres")));
         }
         self.edit(|l| {
-            l.kind = match l.kind {
+            let kind = match l.kind {
                 LightKind::Rect { width, height } => LightKind::Rect { width: width / height * metres, height: metres },
                 LightKind::Disk { .. } => LightKind::Disk { diameter: metres },
                 other => {
                     return Err(PyValueError::new_err(format!("size: a {} light is not a rect or disk", other.name())));
                 }
             };
+            // Luminance times area is the light's peak intensity.
+            check_brightness(l.intensity * kind.area_shape().map_or(1.0, |s| s.area().max(1.0)), l.color)?;
+            l.kind = kind;
             Ok(())
         })
     }
@@ -151,7 +154,8 @@ impl Light {
             return Err(PyValueError::new_err(format!("intensity: {intensity} is negative or not finite")));
         }
         self.edit(|l| {
-            check_brightness(intensity, l.color)?;
+            // An area light's peak is its luminance times its area.
+            check_brightness(intensity * l.kind.area_shape().map_or(1.0, |s| s.area().max(1.0)), l.color)?;
             l.intensity = intensity;
             Ok(())
         })
@@ -340,7 +344,11 @@ impl Light {
                 l.node,
                 l.kind.name(),
                 l.intensity,
-                if l.kind == LightKind::Directional { "lx" } else { "cd" },
+                match l.kind {
+                    LightKind::Directional => "lx",
+                    LightKind::Rect { .. } | LightKind::Disk { .. } => "nits",
+                    _ => "cd",
+                },
                 l.shadow.mode.name()
             )
         })

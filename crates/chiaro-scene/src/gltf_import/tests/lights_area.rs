@@ -67,6 +67,7 @@ fn rect_and_disk_lights_load_with_their_sizes_and_defaults() {
     assert_eq!(default.kind.name(), "rect");
     // Far away it is a point of luminance times area.
     assert!((panel.peak_intensity_cd() - 250.0).abs() < 1e-3);
+    assert!((disk.peak_intensity_cd() - 1000.0 * std::f32::consts::PI * 0.09).abs() < 1e-2);
 }
 
 #[test]
