@@ -44,10 +44,10 @@ impl AreaShape {
 
     /// Distance from the centre to the farthest point of the shape.
     pub fn bounding_radius(self) -> f32 {
-        self.half_extents().length().min(match self {
-            AreaShape::Rect { .. } => f32::INFINITY,
+        match self {
+            AreaShape::Rect { .. } => self.half_extents().length(),
             AreaShape::Disk { diameter } => diameter * 0.5,
-        })
+        }
     }
 
     /// The shape's outline in its local X/Y plane, counter-clockwise seen from +Z: a
