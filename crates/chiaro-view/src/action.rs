@@ -22,6 +22,8 @@ pub enum Action {
     SwitchLight { index: usize, on: bool },
     /// What "frame selected" looks at.
     Select(Option<Selection>),
+    /// Draw the outlines of rect and disk lights over the view, or not.
+    ShowLightShapes(bool),
     /// Pose the scene at this time of its animations (`None`: the rest pose).
     SetTime(Option<f32>),
     /// Run the animations in real time (looping), or stop them where they are.

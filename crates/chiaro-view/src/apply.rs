@@ -34,6 +34,7 @@ impl Viewer {
             Action::EditLight { index, light } => self.edit_light(index, *light),
             Action::SwitchLight { index, on } => self.switch_light(index, on),
             Action::Select(selection) => self.state.panel.lights.selected = selection,
+            Action::ShowLightShapes(shown) => self.state.panel.lights.shapes_hidden = !shown,
             Action::SetDebugView(debug) => self.state.debug = debug,
             Action::SetTime(time) => self.set_time(time),
             Action::Play(playing) => {

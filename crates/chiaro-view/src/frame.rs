@@ -6,8 +6,9 @@ use crate::action::{Action, FrameReport};
 use crate::apply::FRAME_FAILED;
 use crate::debug_images::{frame_images, shows_view};
 use crate::gpu::Gpu;
+use crate::light_shapes::area_light_lines;
 use crate::panel::{self, ViewArea};
-use crate::state::{FrameSample, ViewerState};
+use crate::state::{FrameSample, Selection, ViewerState};
 use crate::viewer::Viewer;
 use anyhow::Result;
 use chiaro_render::{DebugView, FrameOutput};
@@ -180,12 +181,31 @@ impl Viewer {
     }
 }
 
-/// Renders the current view into the view texture.
+/// Renders the current view into the view texture, and the area lights' outlines over it.
 fn render_view(gpu: &mut Gpu, state: &ViewerState) -> Result<FrameOutput, chiaro_render::RenderError> {
     let target = gpu.view_texture.create_view(&Default::default());
     let view = state.current_view();
     let (scene, settings) = (&state.scene.scene, &state.settings.current);
-    gpu.renderer.render_to(scene, &gpu.prepared, &view, settings, state.frame_options(), &target, gpu.view_format)
+    let frame = gpu.renderer.render_to(
+        scene,
+        &gpu.prepared,
+        &view,
+        settings,
+        state.frame_options(),
+        &target,
+        gpu.view_format,
+    )?;
+    let lights = &state.panel.lights;
+    if !lights.shapes_hidden {
+        let selected = match lights.selected {
+            Some(Selection::Light(i)) => Some(i),
+            _ => None,
+        };
+        let lines = area_light_lines(&scene.lights, &view, selected);
+        let ctx = &gpu.renderer.ctx;
+        gpu.light_overlay.draw(&ctx.device, &ctx.queue, &target, &lines);
+    }
+    Ok(frame)
 }
 
 /// The debug view's images of `frame` as egui textures; returns whether the panel must

@@ -3,6 +3,7 @@
 //! and the compositor. In: the viewer's state (scene, settings, view size). Out: a `Gpu`
 //! that follows the window's size and the view's.
 
+use crate::light_overlay::LightOverlay;
 use crate::present::{self, Compositor};
 use crate::state::ViewerState;
 use anyhow::{Context, Result, anyhow};
@@ -32,6 +33,8 @@ pub struct Gpu {
     /// surface as it is.
     pub view_texture: wgpu::Texture,
     pub view_format: wgpu::TextureFormat,
+    /// Draws the area lights' outlines over the view.
+    pub light_overlay: LightOverlay,
     /// The 3D view as egui sees it, where egui draws it (no compositor).
     pub view_texture_id: egui::TextureId,
     /// Copies the panel and the view into the window; `None` where the surface takes no
@@ -109,6 +112,7 @@ impl Gpu {
             None,
             Some(ctx.max_texture_size() as usize),
         );
+        let light_overlay = LightOverlay::new(&ctx.device, view_format);
         let mut renderer = Renderer::new(ctx)?;
         let prepared = renderer.prepare(&state.scene.scene)?;
         Ok(Gpu {
@@ -122,6 +126,7 @@ impl Gpu {
             egui_renderer,
             view_texture,
             view_format,
+            light_overlay,
             view_texture_id,
             compositor,
             debug_textures: Vec::new(),

@@ -16,6 +16,8 @@ mod debug_images;
 mod frame;
 mod gpu;
 mod input;
+mod light_overlay;
+mod light_shapes;
 mod loader;
 mod navigation;
 mod panel;

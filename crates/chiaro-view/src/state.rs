@@ -64,6 +64,8 @@ pub struct LightsState {
     pub selected: Option<Selection>,
     /// Per scene light, the tiles it got this frame, in words.
     pub tiles: Vec<String>,
+    /// The view draws no outlines of rect and disk lights.
+    pub shapes_hidden: bool,
 }
 
 /// What the panel shows besides the settings and the statistics.

@@ -137,6 +137,47 @@ fn a_debug_view_screenshot_equals_chiaro_render_with_the_same_debug_view() {
     assert!(mean_flip(&plain, &shot) > 0.05, "the screenshot is tinted by cascade");
 }
 
+#[test]
+fn the_window_outlines_an_area_light_that_the_screenshot_leaves_out() {
+    // The spot scene with a white 6 x 4 m rect light 3.5 m over its floor, shining down.
+    let dir = tempfile::tempdir().unwrap();
+    let path = copy_scene_folder("ShadowsSpot/glTF/shadows-spot.gltf", dir.path());
+    let mut gltf: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    gltf["extensionsUsed"].as_array_mut().unwrap().push("EXT_lights_area".into());
+    gltf["extensions"]["EXT_lights_area"] =
+        serde_json::json!({"lights": [{"type": "rect", "intensity": 50, "size": 4, "rect": {"aspect": 1.5}}]});
+    // A quarter turn about X (from -Z to -Y): its quaternion has sin 45 and cos 45.
+    let sin_45 = std::f32::consts::FRAC_1_SQRT_2;
+    let nodes = gltf["nodes"].as_array_mut().unwrap();
+    nodes.push(serde_json::json!({"name": "Panel", "translation": [0, 3.5, 0],
+        "rotation": [-sin_45, 0, 0, sin_45], "extensions": {"EXT_lights_area": {"light": 0}}}));
+    let panel = nodes.len() - 1;
+    gltf["scenes"][0]["nodes"].as_array_mut().unwrap().push(panel.into());
+    std::fs::write(&path, gltf.to_string()).unwrap();
+
+    let (w, h) = (WIDTH.to_string(), HEIGHT.to_string());
+    let args = [path.to_str().unwrap(), "--width", &w, "--height", &h];
+    let shot = view_under_xvfb(
+        &[&args[..], &["--screenshot", "shot.png", "--screenshot-window", "window.png", "--exit-after-frames", "2"]]
+            .concat(),
+        dir.path(),
+    );
+    assert_eq!(shot.code, 0, "the viewer failed: {}", shot.stderr);
+    let window = image::open(dir.path().join("window.png")).unwrap().to_rgb8();
+    let view = image::imageops::crop_imm(&window, 0, 0, WIDTH, HEIGHT).to_image().into_raw();
+    let screenshot = rgb(&dir.path().join("shot.png"));
+    // The outline is white lines: pixels white in the window that the render has darker.
+    let outline = view
+        .chunks(3)
+        .zip(screenshot.chunks(3))
+        .filter(|(v, s)| v.iter().all(|&c| c >= 250) && s.iter().any(|&c| c < 200))
+        .count();
+    let changed = view.chunks(3).zip(screenshot.chunks(3)).filter(|(v, s)| v != s).count();
+    println!("area light outline: {outline} white pixels, {changed} pixels differ from the screenshot");
+    assert!(outline >= 60, "the rect's outline is drawn: {outline} pixels");
+    assert!(changed < (WIDTH * HEIGHT / 10) as usize, "only lines are drawn over the view: {changed} pixels");
+}
+
 /// Copies the folder of a shared glTF into `dir`, so that the test can change the file.
 fn copy_scene_folder(name: &str, dir: &Path) -> PathBuf {
     let source = test_scene(name);

@@ -109,6 +109,12 @@ pub fn side_panel(ui: &mut egui::Ui, state: &ViewerState) -> Vec<Action> {
     actions.extend(settings::settings_panel(ui, &state.settings.current, choices));
     ui.separator();
     ui.heading("Lights");
+    if scene.lights.iter().any(chiaro_scene::Light::is_area) {
+        let mut shown = !state.panel.lights.shapes_hidden;
+        if ui.checkbox(&mut shown, "draw rect and disk lights' outlines").changed() {
+            actions.push(Action::ShowLightShapes(shown));
+        }
+    }
     actions.extend(lights::lights_panel(ui, &scene.lights, &state.panel.lights));
     ui.separator();
     ui.label(controls::HELP);

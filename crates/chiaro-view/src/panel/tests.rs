@@ -231,6 +231,36 @@ fn an_area_lights_row_edits_its_size_in_nits_and_metres() {
 }
 
 #[test]
+fn the_side_panel_switches_the_area_lights_outlines_off_and_on() {
+    let rect = chiaro_scene::Light::new(
+        chiaro_scene::LightKind::Rect { width: 1.0, height: 0.5 },
+        glam::Vec3::new(0.0, 3.0, 0.0),
+        glam::Vec3::NEG_Y,
+    );
+    let label = "draw rect and disk lights' outlines";
+    let plain = viewer(chiaro_scene::demo::demo_scene(0), Settings::default());
+    let mut harness = Harness::builder().with_size(egui::vec2(360.0, 6000.0)).build_ui_state(
+        |ui, viewer: &mut Viewer| {
+            let actions = super::side_panel(ui, &viewer.state);
+            viewer.apply_all(actions);
+        },
+        plain,
+    );
+    harness.run();
+    assert!(harness.query_by_label(label).is_none(), "no area light, no switch");
+    let scene = Scene { lights: vec![rect], ..chiaro_scene::demo::demo_scene(0) };
+    harness.state_mut().state.scene.scene = scene;
+    harness.run();
+    assert!(!harness.state().state.panel.lights.shapes_hidden, "drawn by default");
+    harness.get_by_label(label).click();
+    harness.run();
+    assert!(harness.state().state.panel.lights.shapes_hidden);
+    harness.get_by_label(label).click();
+    harness.run();
+    assert!(!harness.state().state.panel.lights.shapes_hidden);
+}
+
+#[test]
 fn the_light_list_edits_the_scene_lights() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/assets/ShadowsSpot/glTF/shadows-spot.gltf");
     let scene = chiaro_scene::load_gltf(std::path::Path::new(path)).unwrap();
