@@ -71,16 +71,6 @@ impl AreaShape {
             AreaShape::Disk { diameter } => concentric_disk(u) * (diameter * 0.5),
         }
     }
-
-    /// Strata along local X and Y for about `total` samples, in proportion to the
-    /// shape's sides (a 1 x 0.1 m strip gets 25 x 2 for 64, not 8 x 8).
-    pub fn strata(self, total: u32) -> (u32, u32) {
-        let h = self.half_extents();
-        let aspect = (h.x / h.y.max(1e-9)).clamp(1.0 / total as f32, total as f32);
-        let nx = ((total as f32 * aspect).sqrt().round() as u32).clamp(1, total);
-        let ny = (total / nx).max(1);
-        (nx, ny)
-    }
 }
 
 /// A regular `edges`-gon with the area of the circle of `radius`, counter-clockwise.
@@ -231,9 +221,10 @@ mod tests {
     }
 
     #[test]
-    fn strata_follow_the_aspect_and_points_stay_inside() {
-        assert_eq!(AreaShape::Rect { width: 1.0, height: 0.1 }.strata(64), (25, 2));
-        assert_eq!(AreaShape::Rect { width: 1.0, height: 1.0 }.strata(64), (8, 8));
+    fn points_stay_inside_and_polygons_keep_the_area() {
+        let rect = AreaShape::Rect { width: 1.0, height: 0.1 };
+        assert_eq!(rect.point(Vec2::ZERO), Vec2::new(-0.5, -0.05));
+        assert_eq!(rect.point(Vec2::ONE), Vec2::new(0.5, 0.05));
         let disk = AreaShape::Disk { diameter: 2.0 };
         for k in 0..200 {
             let u = Vec2::new((k % 17) as f32 / 16.0, (k % 13) as f32 / 12.0);

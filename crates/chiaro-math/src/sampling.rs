@@ -1,8 +1,8 @@
 //! Directions drawn from points of the unit square, for the CPU tracers (the baker and the
-//! reference): cosine-weighted about a normal, or uniform on the sphere, and an
-//! orthonormal basis around a unit vector.
+//! reference): cosine-weighted about a normal, or uniform on the sphere, an orthonormal
+//! basis around a unit vector, and the stratified points of the square they start from.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
 /// Unit vectors perpendicular to unit `n` and to each other (Duff et al. 2017).
@@ -29,9 +29,75 @@ pub fn sphere_direction(u: f32, v: f32) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
+/// Chiu, Shirley and Wang's multi-jittered points of the unit square (1994): `side` x
+/// `side` points, one in each cell of a `side` x `side` grid and at the same time one in
+/// each of `side`^2 columns and `side`^2 rows. A straight edge along either axis thus
+/// splits them `side`^2 ways (a shadow edge along a light's side is judged as finely as
+/// if every sample had a strip of its own), and an edge at any angle at least `side`
+/// ways. `random` gives floats in [0, 1): the jitter and the shuffles.
+pub fn multi_jittered(side: usize, random: &mut impl FnMut() -> f32) -> Vec<Vec2> {
+    let n = side as f32;
+    // The canonical arrangement: point (i, j) in cell (i, j), at sub-column j of column
+    // i and sub-row i of row j.
+    let mut points: Vec<Vec2> = (0..side * side)
+        .map(|k| {
+            let (i, j) = ((k % side) as f32, (k / side) as f32);
+            Vec2::new((i + (j + random()) / n) / n, (j + (i + random()) / n) / n)
+        })
+        .collect();
+    let pick = |from: usize, random: &mut dyn FnMut() -> f32| {
+        from + ((random() * (side - from) as f32) as usize).min(side - from - 1)
+    };
+    // Shuffling the sub-columns within each column (and sub-rows within each row) keeps
+    // every cell, column and row holding one point.
+    for i in 0..side {
+        for j in 0..side {
+            let k = pick(j, random);
+            let (a, b) = (j * side + i, k * side + i);
+            let x = points[a].x;
+            points[a].x = points[b].x;
+            points[b].x = x;
+        }
+    }
+    for j in 0..side {
+        for i in 0..side {
+            let k = pick(i, random);
+            let (a, b) = (j * side + i, j * side + k);
+            let y = points[a].y;
+            points[a].y = points[b].y;
+            points[b].y = y;
+        }
+    }
+    points
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn multi_jittered_points_fill_every_cell_column_and_row_once() {
+        let mut state = 12345u32;
+        let mut random = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let side = 8;
+        let points = multi_jittered(side, &mut random);
+        assert_eq!(points.len(), 64);
+        let fine = |v: f32| (v * 64.0) as usize;
+        let coarse = |v: f32| (v * 8.0) as usize;
+        let mut columns: Vec<usize> = points.iter().map(|p| fine(p.x)).collect();
+        let mut rows: Vec<usize> = points.iter().map(|p| fine(p.y)).collect();
+        let mut cells: Vec<usize> = points.iter().map(|p| coarse(p.y) * side + coarse(p.x)).collect();
+        for list in [&mut columns, &mut rows, &mut cells] {
+            list.sort_unstable();
+            assert_eq!(*list, (0..64).collect::<Vec<_>>());
+        }
+        // Shuffled: not the canonical arrangement, whose sub-column follows the row.
+        let canonical = points.iter().filter(|p| fine(p.x) % side == coarse(p.y)).count();
+        assert!(canonical < 32, "{canonical} points where the canonical arrangement puts them");
+    }
 
     #[test]
     fn cosine_directions_have_the_cosine_mean() {
