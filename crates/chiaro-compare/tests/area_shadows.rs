@@ -9,8 +9,10 @@ mod common;
 
 use chiaro_compare::{VisibilityError, compare_rendered, render_shadows};
 use chiaro_render::View;
-use chiaro_scene::{Light, LightKind, Settings, ShadowMode};
-use chiaro_testkit::{PLANK_EDGE_X, PLANK_HEIGHT, PLANK_LIGHT_HEIGHT, PlankLight, plank_scene};
+use chiaro_scene::{CastShadows, Light, LightKind, Material, Scene, Settings, ShadowMode, shapes};
+use chiaro_testkit::{
+    PLANK_EDGE_X, PLANK_HEIGHT, PLANK_LIGHT_HEIGHT, PlankLight, add_mesh, floor_scene, look_from, plank_scene,
+};
 use common::*;
 use glam::Vec3;
 
@@ -42,13 +44,18 @@ fn measure_from(light_x: f32, kind: LightKind, along: Vec3, mode: ShadowMode, at
     );
     light.shadow.mode = mode;
     scene.lights = vec![light];
+    judge(&scene, atlas_size)
+}
+
+/// The visibility error of `scene`'s one light, rendered with a local atlas of `atlas_size`.
+fn judge(scene: &Scene, atlas_size: u32) -> VisibilityError {
     let mut renderer = renderer();
-    let prepared = renderer.prepare(&scene).expect("prepare");
-    let view = View::from_camera(&scene, 0, SIZE, SIZE);
+    let prepared = renderer.prepare(scene).expect("prepare");
+    let view = View::from_camera(scene, 0, SIZE, SIZE);
     let mut settings = Settings::default();
     settings.shadows.other.atlas_size = atlas_size;
-    let rendered = render_shadows(&mut renderer, &scene, &prepared, &view, &settings).expect("render");
-    let result = compare_rendered(&scene, &view, &settings, rendered);
+    let rendered = render_shadows(&mut renderer, scene, &prepared, &view, &settings).expect("render");
+    let result = compare_rendered(scene, &view, &settings, rendered);
     result.reports[0].visibility.expect("an area light is judged by its visibility")
 }
 
@@ -92,19 +99,19 @@ fn a_penumbra_seen_through_a_side_face_of_the_cube_beats_the_filtered_one() {
     let soft = measure_from(-2.4, strip, Vec3::X, ShadowMode::Soft, DEFAULT_ATLAS);
     report("strip across the edge, side face", "pcss", &pcss);
     report("strip across the edge, side face", "soft", &soft);
-    // Measured 0.060 here against 0.020 under the light (docs/lights.md): the plank seen
-    // from the side spans a metre of depths, which one blocker depth cannot stand for;
-    // still far better than a filter around the centre's shadow (0.248), and better than
-    // rays from the normal-biased position (0.070), which shifted the penumbra.
+    // The plank seen from the side spans a metre of depths: each ray is tested where it
+    // crosses the nearest and the farthest blockers. Measured 0.047 (docs/lights.md); 0.060
+    // with their mean depth alone, 0.070 with rays from the normal-biased position, 0.248
+    // for a filter around the centre's shadow.
     assert!(pcss.penumbra_compared > 3000, "{} penumbra pixels", pcss.penumbra_compared);
-    assert!(pcss.penumbra_mean_abs < 0.065, "{pcss:?}");
+    assert!(pcss.penumbra_mean_abs < 0.05, "{pcss:?}");
     assert!(soft.penumbra_mean_abs > 3.0 * pcss.penumbra_mean_abs, "soft {soft:?}, pcss {pcss:?}");
 }
 
 #[test]
 fn a_narrow_penumbra_is_as_sharp_as_the_shadow_maps_texels_allow() {
     // Along the edge the strip's 0.1 m side makes a 5 cm penumbra: a few texels of the
-    // default atlas's cube faces there (measured 0.057; 0.030 with the atlas twice as
+    // default atlas's cube faces there (measured 0.060; 0.030 with the atlas twice as
     // fine). The contact-hardening shadow beats the filtered one, and its error falls
     // with the texels' size, under 0.05 once they are half as wide.
     let strip = LightKind::Rect { width: 1.0, height: 0.1 };
@@ -118,4 +125,37 @@ fn a_narrow_penumbra_is_as_sharp_as_the_shadow_maps_texels_allow() {
     assert!(soft.penumbra_mean_abs > 2.0 * pcss.penumbra_mean_abs, "soft {soft:?}, pcss {pcss:?}");
     assert!(finer.penumbra_mean_abs < 0.7 * pcss.penumbra_mean_abs, "finer {finer:?}, default {pcss:?}");
     assert!(finer.penumbra_mean_abs < 0.05, "finer {finer:?}");
+}
+
+#[test]
+fn spheres_on_a_floor_cast_the_traced_penumbrae_under_a_tilted_rect() {
+    // Three 0.5 m spheres resting on the floor under a 1 x 0.5 m rect 2 m up and 1.5 m to
+    // the side, tilted towards them: blockers that span a radius of depths, whose outline
+    // lies at their farthest visible depth, not their mean.
+    let run = |mode: ShadowMode| {
+        let at = Vec3::new(-1.5, 2.0, 0.0);
+        let mut light = Light {
+            name: "area".into(),
+            node: 10,
+            intensity: 2000.0,
+            ..Light::new(LightKind::Rect { width: 1.0, height: 0.5 }, at, Vec3::new(1.5, -2.0, 0.0))
+        };
+        light.shadow.mode = mode;
+        let mut scene = floor_scene(6.0, Vec3::new(0.0, 2.5, 3.0), vec![light]);
+        for x in [-0.6, 0.6, 1.8] {
+            let place = glam::Mat4::from_translation(Vec3::new(x, 0.5, 0.0));
+            add_mesh(&mut scene, "sphere", shapes::sphere(0.5, 48, 24), Material::default(), place, CastShadows::On);
+        }
+        look_from(&mut scene, Vec3::new(0.6, 2.2, 2.8), Vec3::new(0.9, 0.2, 0.0));
+        judge(&scene, DEFAULT_ATLAS)
+    };
+    let (pcss, soft) = (run(ShadowMode::Pcss), run(ShadowMode::Soft));
+    report("spheres under a tilted rect", "pcss", &pcss);
+    report("spheres under a tilted rect", "soft", &soft);
+    // Measured 0.053 (0.085 when every ray was tested at the blockers' mean depth alone,
+    // 0.219 for `soft`; 0.048 with 64 filter samples): better, not yet within 0.05 at the
+    // default 16 (docs/lights.md).
+    assert!(pcss.penumbra_compared > 1000, "{} penumbra pixels", pcss.penumbra_compared);
+    assert!(pcss.penumbra_mean_abs < 0.06, "{pcss:?}");
+    assert!(soft.penumbra_mean_abs > 2.0 * pcss.penumbra_mean_abs, "soft {soft:?}, pcss {pcss:?}");
 }
