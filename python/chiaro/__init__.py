@@ -187,10 +187,10 @@ class Renderer:
         return self._core.render_many(scene, cameras, width, height, outputs)
 
     def compare(self, scene: Scene, camera: CameraArg = None, width: int = 256, height: int = 256,
-                time: _Optional[float] = None) -> _List[LightComparison]:
+                time: _Optional[float] = None, edge_band: int = 3) -> _List[LightComparison]:
         """See `chiaro.compare`."""
         _pose(scene, time)
-        return self._core.compare(scene, camera, width, height)
+        return self._core.compare(scene, camera, width, height, edge_band)
 
     def __reduce__(self) -> _NoReturn:
         raise TypeError("a chiaro.Renderer cannot be pickled (it holds a GPU device): make one per process")
@@ -209,7 +209,7 @@ def _pose(scene: Scene, time: _Optional[float]) -> None:
 
 def compare(scene: Scene, camera: CameraArg = None, width: int = 256, height: int = 256,
             renderer: _Optional[Renderer] = None, device: DeviceArg = "auto", settings: SettingsArg = None,
-            time: _Optional[float] = None) -> _List[LightComparison]:
+            time: _Optional[float] = None, edge_band: int = 3) -> _List[LightComparison]:
     """Realtime shadows against a ray-traced reference of the same view, per light, as
     `chiaro compare` prints them: a list of dicts (`chiaro.LightComparison`) with node,
     light (its name), kind, compared (pixels judged), disagree_percent, false_percent
@@ -220,12 +220,14 @@ def compare(scene: Scene, camera: CameraArg = None, width: int = 256, height: in
     visibility against the share of its disc or shape the reference sees), and
     penumbra_mean_abs and penumbra_far_off_percent (the same over the reference's
     penumbra alone); None for other lights.
-    time: seconds into the scene's animations to pose it at first (None: as it is)."""
+    time: seconds into the scene's animations to pose it at first (None: as it is).
+    edge_band: pixels (0 to 64) around the reference's shadow edges left out of the
+    disagreement counts, as `chiaro compare --edge-band`; 0 judges every pixel."""
     if renderer is None:
         renderer = Renderer(device=device, settings=settings)
     elif settings is not None:
         raise ValueError("compare: give settings to the renderer, not beside it")
-    return renderer.compare(scene, camera, width, height, time)
+    return renderer.compare(scene, camera, width, height, time, edge_band)
 
 
 def _job_lines(jobs: JobsArg) -> _Tuple[_List[str], str]:

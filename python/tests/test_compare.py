@@ -12,6 +12,21 @@ def test_compare_reports_each_light_as_the_cli_does(renderer, scene):
         row["disagree_percent"] - row["false_percent"] - row["missed_percent"]) < 1e-9
 
 
+def test_edge_band_narrows_what_is_left_out_beside_traced_edges(renderer, scene):
+    compared = [renderer.compare(scene, camera="overview", width=96, height=72, edge_band=band)[0]["compared"]
+                for band in (3, 1, 0)]
+    assert compared[0] < compared[1] < compared[2], compared
+    (default,) = renderer.compare(scene, camera="overview", width=96, height=72)
+    assert default["compared"] == compared[0]
+    for bad in (-1, 65):
+        try:
+            chiaro.compare(scene, camera="overview", width=32, height=24, renderer=renderer, edge_band=bad)
+        except ValueError as e:
+            assert "edge_band" in str(e)
+        else:
+            raise AssertionError("edge_band %d was taken" % bad)
+
+
 def test_a_light_without_shadows_is_not_compared(renderer, scene):
     scene.lights[0].shadows = False
     (row,) = renderer.compare(scene, camera="overview", width=64, height=48)

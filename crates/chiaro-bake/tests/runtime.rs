@@ -145,6 +145,7 @@ fn baked_shadows_agree_with_the_traced_reference() {
         light_index: 0,
         light,
         range,
+        edge_band_px: chiaro_compare::EDGE_BAND_PX,
     });
     let shadowed = shadow.iter().filter(|&&v| v < 0.5).count();
     println!(

@@ -5,7 +5,7 @@
 
 use crate::environment::{EnvironmentPixels, EnvironmentReport, compare_environment};
 use crate::verdict::{
-    JudgedLight, LightComparison, PixelVerdict, VisibilityError, classify_pixels, soft_shadow_report,
+    EDGE_BAND_PX, JudgedLight, LightComparison, PixelVerdict, VisibilityError, classify_pixels, soft_shadow_report,
 };
 use chiaro_render::{FrameOptions, PreparedScene, RenderError, Renderer, ShadowStatus, View};
 use chiaro_scene::{Scene, Settings, ShadowMode};
@@ -26,8 +26,25 @@ pub struct LightReport {
     pub difference: Vec<[u8; 4]>,
 }
 
+/// How a comparison judges, beyond the scene, view and settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CompareOptions {
+    /// Pixels within this Chebyshev distance of a reference shadow edge are left out of
+    /// the disagreement counts (`compare --edge-band`); 0 judges every pixel. The soft
+    /// visibility errors never leave edges out: a penumbra is all edge.
+    pub edge_band_px: usize,
+}
+
+impl Default for CompareOptions {
+    fn default() -> Self {
+        CompareOptions { edge_band_px: EDGE_BAND_PX }
+    }
+}
+
 pub struct ShadowComparison {
     pub reports: Vec<LightReport>,
+    /// The options it was judged with.
+    pub options: CompareOptions,
     pub reference: ShadowReference,
     /// The rendered shadow AOVs, per scene light.
     pub rendered: Vec<Vec<f32>>,
@@ -94,12 +111,24 @@ pub fn render_shadows(
     })
 }
 
-/// Traces the reference for `view` and judges each light's rendered shadows against it.
+/// Traces the reference for `view` and judges each light's rendered shadows against it,
+/// with the default options.
 pub fn compare_rendered(
     scene: &Scene,
     view: &View,
     settings: &Settings,
     rendered: RenderedShadows,
+) -> ShadowComparison {
+    compare_rendered_with(scene, view, settings, rendered, CompareOptions::default())
+}
+
+/// `compare_rendered` with `options`.
+pub fn compare_rendered_with(
+    scene: &Scene,
+    view: &View,
+    settings: &Settings,
+    rendered: RenderedShadows,
+    options: CompareOptions,
 ) -> ShadowComparison {
     let ranges: Vec<f32> = scene.lights.iter().map(|l| l.shaded_range(settings.lights.range_threshold_lux)).collect();
     let camera = PixelCamera { clip_from_world: view.clip_from_world(), width: view.width, height: view.height };
@@ -121,6 +150,7 @@ pub fn compare_rendered(
                 light_index: i,
                 light,
                 range: ranges[i],
+                edge_band_px: options.edge_band_px,
             };
             let verdicts = classify_pixels(&judged);
             let comparison = LightComparison::from_verdicts(&verdicts);
@@ -147,9 +177,17 @@ pub fn compare_rendered(
             baked_irradiance: &rendered.baked_irradiance,
         },
     );
-    ShadowComparison { reports, reference, rendered: rendered.shadow_aovs, status: rendered.status, environment }
+    ShadowComparison {
+        reports,
+        options,
+        reference,
+        rendered: rendered.shadow_aovs,
+        status: rendered.status,
+        environment,
+    }
 }
 
+/// Renders `view` and judges it against the traced reference, with the default options.
 pub fn compare_shadows(
     renderer: &mut Renderer,
     scene: &Scene,
@@ -157,6 +195,18 @@ pub fn compare_shadows(
     view: &View,
     settings: &Settings,
 ) -> Result<ShadowComparison, RenderError> {
+    compare_shadows_with(renderer, scene, prepared, view, settings, CompareOptions::default())
+}
+
+/// `compare_shadows` with `options`.
+pub fn compare_shadows_with(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    view: &View,
+    settings: &Settings,
+    options: CompareOptions,
+) -> Result<ShadowComparison, RenderError> {
     let rendered = render_shadows(renderer, scene, prepared, view, settings)?;
-    Ok(compare_rendered(scene, view, settings, rendered))
+    Ok(compare_rendered_with(scene, view, settings, rendered, options))
 }

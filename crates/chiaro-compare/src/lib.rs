@@ -11,13 +11,13 @@ mod threshold;
 pub mod verdict;
 
 pub use comparison::{
-    LightReport, RenderedShadows, ShadowComparison, compare_rendered, compare_shadows, not_compared_because,
-    render_shadows,
+    CompareOptions, LightReport, RenderedShadows, ShadowComparison, compare_rendered, compare_rendered_with,
+    compare_shadows, compare_shadows_with, not_compared_because, render_shadows,
 };
 pub use environment::{EnvironmentReport, compare_environment};
 pub use threshold::{MAX_DISAGREEMENT, assert_agrees_with_reference};
 pub use verdict::{
-    DISAGREEMENT_THRESHOLD, EDGE_BAND_PX, FAR_OFF, JudgedLight, LightComparison, POSITION_TOLERANCE_M, PixelVerdict,
-    VisibilityError, classify_pixels, compare_light, difference_image, signed_difference_image, soft_shadow_report,
-    visibility_error,
+    DISAGREEMENT_THRESHOLD, EDGE_BAND_PX, FAR_OFF, JudgedLight, LightComparison, MAX_EDGE_BAND_PX,
+    POSITION_TOLERANCE_M, PixelVerdict, VisibilityError, classify_pixels, compare_light, difference_image,
+    signed_difference_image, soft_shadow_report, visibility_error,
 };

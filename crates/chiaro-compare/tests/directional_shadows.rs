@@ -5,7 +5,9 @@
 
 mod common;
 
-use chiaro_compare::{JudgedLight, PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
+use chiaro_compare::{
+    EDGE_BAND_PX, JudgedLight, PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels,
+};
 use chiaro_render::View;
 use chiaro_scene::{CastShadows, Light, LightKind, Scene};
 use common::*;
@@ -36,6 +38,7 @@ fn verdicts(scene: &Scene, result: &ShadowComparison) -> Vec<PixelVerdict> {
         light_index: 0,
         light: &scene.lights[0],
         range: f32::INFINITY,
+        edge_band_px: EDGE_BAND_PX,
     })
 }
 

@@ -4,7 +4,9 @@
 
 mod common;
 
-use chiaro_compare::{JudgedLight, PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
+use chiaro_compare::{
+    EDGE_BAND_PX, JudgedLight, PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels,
+};
 use chiaro_render::{ShadowStatus, View};
 use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene};
 use common::*;
@@ -34,6 +36,7 @@ fn agreeing_shadowed(scene: &Scene, result: &ShadowComparison) -> usize {
         light_index: 0,
         light,
         range: light.range.unwrap_or(f32::INFINITY),
+        edge_band_px: EDGE_BAND_PX,
     });
     verdicts.iter().filter(|v| **v == PixelVerdict::AgreeShadowed).count()
 }

@@ -4,7 +4,9 @@
 
 mod common;
 
-use chiaro_compare::{JudgedLight, PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels};
+use chiaro_compare::{
+    EDGE_BAND_PX, JudgedLight, PixelVerdict, ShadowComparison, assert_agrees_with_reference, classify_pixels,
+};
 use chiaro_math::shadow::local::cube_face;
 use chiaro_render::ShadowStatus;
 use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, Scene, ShadowMode};
@@ -33,6 +35,7 @@ fn verdicts(scene: &Scene, result: &ShadowComparison) -> Vec<PixelVerdict> {
         light_index: 0,
         light,
         range,
+        edge_band_px: EDGE_BAND_PX,
     })
 }
 

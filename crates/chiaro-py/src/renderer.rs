@@ -9,7 +9,7 @@ use crate::devices::device_type_name;
 use crate::errors::{SettingsError, render_error};
 use crate::outputs::{Output, Outputs, extract_outputs};
 use crate::scene::{Scene, SceneState, SharedScene, read};
-use chiaro_compare::compare_shadows;
+use chiaro_compare::{CompareOptions, EDGE_BAND_PX, MAX_EDGE_BAND_PX, compare_shadows_with};
 use chiaro_render::{GpuContext, PreparedScene, RenderError, Renderer, View};
 use chiaro_scene::Settings;
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -277,7 +277,7 @@ impl RendererCore {
     }
 
     /// Realtime shadows against the ray-traced reference, per light; see `chiaro.compare`.
-    #[pyo3(signature = (scene, camera = None, width = 256, height = 256))]
+    #[pyo3(signature = (scene, camera = None, width = 256, height = 256, edge_band = EDGE_BAND_PX as i64))]
     fn compare<'py>(
         &self,
         py: Python<'py>,
@@ -285,8 +285,14 @@ impl RendererCore {
         camera: Option<&Bound<'py, PyAny>>,
         width: i64,
         height: i64,
+        edge_band: i64,
     ) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let choice = CameraChoice::extract(camera)?;
+        let edge_band_px = usize::try_from(edge_band).ok().filter(|&b| b <= MAX_EDGE_BAND_PX).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "compare: edge_band {edge_band} is not a pixel count from 0 to {MAX_EDGE_BAND_PX}"
+            ))
+        })?;
         let size = (size(Some(width), 0, "width")?, size(Some(height), 0, "height")?);
         let state = scene.get().state.clone();
         let verdicts = py.detach(|| -> Result<Vec<LightVerdict>, Failure> {
@@ -297,7 +303,8 @@ impl RendererCore {
             let Inner { renderer, uploaded } = &mut *inner;
             let gpu = &uploaded.as_ref().expect("uploaded").gpu;
             renderer.forget_history();
-            let result = compare_shadows(renderer, &guard.scene, gpu, &view, &self.settings)?;
+            let options = CompareOptions { edge_band_px };
+            let result = compare_shadows_with(renderer, &guard.scene, gpu, &view, &self.settings, options)?;
             Ok(LightVerdict::all(&guard.scene, &result))
         })?;
         verdicts.into_iter().map(|v| v.into_dict(py)).collect()

@@ -4,7 +4,10 @@
 use crate::output::{Encoded, check_outputs, sibling_path, write_group};
 use crate::scene_input::SceneInput;
 use anyhow::{Result, bail};
-use chiaro_compare::{EnvironmentReport, FAR_OFF, compare_shadows, not_compared_because};
+use chiaro_compare::{
+    CompareOptions, EDGE_BAND_PX, EnvironmentReport, FAR_OFF, MAX_EDGE_BAND_PX, compare_shadows_with,
+    not_compared_because,
+};
 use chiaro_render::{GpuContext, Renderer, ShadowStatus};
 use clap::Args;
 use std::path::PathBuf;
@@ -24,6 +27,21 @@ pub struct CompareArgs {
     /// Exit with an error when any light disagrees on more than this percentage (0 to 100).
     #[arg(long, value_parser = percentage, allow_hyphen_values = true)]
     pub fail_above: Option<f64>,
+    /// Leave out of the disagreement counts the pixels within this many pixels (Chebyshev
+    /// distance) of a traced shadow edge, where a shadow map's texels move an edge
+    /// without being wrong; 0 judges every pixel (0 to 64).
+    #[arg(long, default_value_t = EDGE_BAND_PX, value_parser = edge_band, allow_hyphen_values = true)]
+    pub edge_band: usize,
+}
+
+/// An edge band from 0 to MAX_EDGE_BAND_PX pixels.
+fn edge_band(text: &str) -> Result<usize, String> {
+    let value: usize = text.parse().map_err(|_| format!("'{text}' is not a whole number of pixels"))?;
+    if value <= MAX_EDGE_BAND_PX {
+        Ok(value)
+    } else {
+        Err(format!("{value} pixels is wider than the {MAX_EDGE_BAND_PX} an edge band may be"))
+    }
 }
 
 /// A percentage from 0 to 100 (NaN and infinities are not).
@@ -41,15 +59,17 @@ pub fn run(args: CompareArgs) -> Result<()> {
     check_outputs(&outputs, &args.input.inputs(&scene))?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
-    let result = compare_shadows(&mut renderer, &scene, &prepared, &view, &settings)?;
+    let options = CompareOptions { edge_band_px: args.edge_band };
+    let result = compare_shadows_with(&mut renderer, &scene, &prepared, &view, &settings, options)?;
     println!(
-        "scene: {}; {}x{}; filter {}, {} cascades, max distance {} m",
+        "scene: {}; {}x{}; filter {}, {} cascades, max distance {} m; edge band {} px",
         args.input.name(),
         args.width,
         args.height,
         settings.shadows.directional.filter,
         settings.shadows.directional.cascade_count,
-        settings.shadows.max_distance
+        settings.shadows.max_distance,
+        args.edge_band
     );
     println!(
         "{:<6} {:<24} {:<12} {:>9} {:>12} {:>9} {:>9}",

@@ -516,3 +516,20 @@ fn tone_mapping_flag_and_setting_pick_the_display_curve() {
     assert_ne!(run.code, 0);
     assert!(run.stderr.contains("tone_mapping") && run.stderr.contains("filmic"), "{}", run.stderr);
 }
+
+#[test]
+fn compare_edge_band_narrows_the_pixels_left_out_beside_traced_edges() {
+    let dir = tempfile::tempdir().unwrap();
+    // The sun's row: `node light type compared ...`.
+    let sun_compared = |band: &str| {
+        let args = ["compare", "--width", "96", "--height", "64", "--demo-lights", "0", "--edge-band", band];
+        let run = chiaro(&args, &[], dir.path());
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        assert!(run.stdout.contains(&format!("edge band {band} px")), "{}", run.stdout);
+        let row = run.stdout.lines().find(|l| l.contains("directional")).expect("the sun's row").to_string();
+        row.split_whitespace().nth(3).and_then(|n| n.parse::<usize>().ok()).expect("a pixel count")
+    };
+    let (default, one, none) = (sun_compared("3"), sun_compared("1"), sun_compared("0"));
+    println!("sun pixels compared at edge bands 3, 1, 0: {default}, {one}, {none}");
+    assert!(default < one && one < none, "{default}, {one}, {none}");
+}

@@ -89,6 +89,13 @@ fn fail_above_is_a_percentage() {
 }
 
 #[test]
+fn edge_band_is_a_pixel_count_up_to_64() {
+    for bad in ["-1", "65", "1.5", "wide"] {
+        expect_usage_error(&["compare", "--edge-band", bad], &["--edge-band", bad]);
+    }
+}
+
+#[test]
 fn spec_invalid_gltf_is_refused_with_its_json_path() {
     let triangle = good_triangle();
     let with_material = |material: &str| {

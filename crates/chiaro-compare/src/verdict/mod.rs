@@ -38,9 +38,13 @@ use rayon::prelude::*;
 pub const POSITION_TOLERANCE_M: f32 = 0.01;
 
 /// Pixels within this Chebyshev distance of a change in reference visibility are not
-/// compared. Too narrow and filtered or texel-snapped edges count as errors; too wide and
-/// thin shadows (and the acne or leaks inside them) are never judged.
+/// compared, by default (`compare --edge-band` changes it). Too narrow and filtered or
+/// texel-snapped edges count as errors; too wide and thin shadows (and the acne or leaks
+/// inside them) are never judged.
 pub const EDGE_BAND_PX: usize = 3;
+
+/// The largest edge band `compare --edge-band` takes, pixels.
+pub const MAX_EDGE_BAND_PX: usize = 64;
 
 /// Rendered and reference visibility disagree when they differ by more than this.
 pub const DISAGREEMENT_THRESHOLD: f32 = 0.5;
@@ -90,6 +94,9 @@ pub struct JudgedLight<'a> {
     pub light: &'a Light,
     /// Its shaded range, metres.
     pub range: f32,
+    /// Pixels within this Chebyshev distance of a reference shadow edge are not counted
+    /// by `classify_pixels` (`EDGE_BAND_PX` by default; 0 counts every pixel).
+    pub edge_band_px: usize,
 }
 
 /// Each pixel's verdict, row-major, one per reference pixel. Pixels missing from the
@@ -123,7 +130,8 @@ fn verdict_of(rendered: f32, expected: f32) -> PixelVerdict {
 /// `edge_band`) away from the reference's shadow edges. Nothing is compared where the
 /// reference's arrays do not match its size.
 fn compared_pairs(judged: &JudgedLight, edge_band: bool) -> Vec<Option<(f32, f32)>> {
-    let JudgedLight { rendered_shadow, rendered_position, reference, light_index, light, range } = *judged;
+    let JudgedLight { rendered_shadow, rendered_position, reference, light_index, light, range, edge_band_px } =
+        *judged;
     let (width, height) = (reference.width as usize, reference.height as usize);
     let pixels = width * height;
     let Some(visibility) = reference.visibility.get(light_index) else {
@@ -135,8 +143,8 @@ fn compared_pairs(judged: &JudgedLight, edge_band: bool) -> Vec<Option<(f32, f32
     if !consistent {
         return vec![None; pixels];
     }
-    let near_edge = match edge_band {
-        true => shadow_edge_band(visibility, width, height, EDGE_BAND_PX),
+    let near_edge = match edge_band && edge_band_px > 0 {
+        true => shadow_edge_band(visibility, width, height, edge_band_px),
         false => vec![false; pixels],
     };
     (0..pixels)

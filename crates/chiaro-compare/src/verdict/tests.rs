@@ -31,6 +31,7 @@ fn compare(rendered: &[f32], reference: &ShadowReference, light: &Light, range: 
         light_index: 0,
         light,
         range,
+        edge_band_px: EDGE_BAND_PX,
     })
 }
 
@@ -75,6 +76,7 @@ fn positions_must_agree_within_a_centimetre() {
         light_index: 0,
         light: &sun(),
         range: f32::INFINITY,
+        edge_band_px: EDGE_BAND_PX,
     });
     assert_eq!(result.compared, (0..W * H).filter(|i| i % 3 == 0).count());
     assert_eq!(result.false_shadow, result.compared);
@@ -99,7 +101,8 @@ fn unlit_surfaces_and_non_receivers_are_not_compared() {
             reference: &reference,
             light_index: 1,
             light: &sun(),
-            range: 1.0
+            range: 1.0,
+            edge_band_px: EDGE_BAND_PX,
         })
         .compared,
         0
@@ -172,6 +175,7 @@ fn shadow_edges_are_banded_but_sky_edges_are_not() {
         light_index: 0,
         light: &sun(),
         range: f32::INFINITY,
+        edge_band_px: EDGE_BAND_PX,
     });
     for y in 0..H {
         for x in 0..W {
@@ -206,6 +210,7 @@ fn difference_image_colours() {
         light_index: 0,
         light: &sun(),
         range: 1.0,
+        edge_band_px: EDGE_BAND_PX,
     });
     assert_eq!(image.len(), W * H);
     assert_eq!(image[0], [0, 0, 0, 255]);
@@ -224,7 +229,35 @@ fn difference_image_colours() {
         light_index: 0,
         light: &sun(),
         range: 1.0,
+        edge_band_px: EDGE_BAND_PX,
     });
     assert_eq!(image[3], [0, 0, 255, 255]);
     assert_eq!(image[4], [48, 48, 48, 255]);
+}
+
+#[test]
+fn the_edge_band_leaves_out_the_pixels_that_near_a_traced_edge() {
+    // The reference's shadow covers columns 10 and up; the rendered one starts a column
+    // early (column 9: a false shadow right at the edge) and has a stray false shadow in
+    // column 2, far from it.
+    let mut reference = floor_reference();
+    reference.visibility[0] = (0..W * H).map(|i| if i % W >= 10 { 0.0 } else { 1.0 }).collect();
+    let rendered: Vec<f32> = (0..W * H).map(|i| if i % W >= 9 || i % W == 2 { 0.0 } else { 1.0 }).collect();
+    let judged = |edge_band_px| {
+        compare_light(&JudgedLight {
+            rendered_shadow: &rendered,
+            rendered_position: &reference.position,
+            reference: &reference,
+            light_index: 0,
+            light: &sun(),
+            range: f32::INFINITY,
+            edge_band_px,
+        })
+    };
+    // Band 0: every pixel, both false shadows.
+    assert_eq!(judged(0), LightComparison { compared: W * H, false_shadow: 2 * H, missed_shadow: 0 });
+    // Band 1: columns 9 and 10 left out; the stray one is still judged.
+    assert_eq!(judged(1), LightComparison { compared: (W - 2) * H, false_shadow: H, missed_shadow: 0 });
+    // Band 3 (the default): columns 7 to 12 left out.
+    assert_eq!(judged(EDGE_BAND_PX), LightComparison { compared: (W - 6) * H, false_shadow: H, missed_shadow: 0 });
 }
