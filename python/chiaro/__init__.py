@@ -187,7 +187,7 @@ class Renderer:
         return self._core.render_many(scene, cameras, width, height, outputs)
 
     def compare(self, scene: Scene, camera: CameraArg = None, width: int = 256, height: int = 256,
-                time: _Optional[float] = None, edge_band: int = 3) -> _List[LightComparison]:
+                time: _Optional[float] = None, edge_band: _Optional[int] = None) -> _List[LightComparison]:
         """See `chiaro.compare`."""
         _pose(scene, time)
         return self._core.compare(scene, camera, width, height, edge_band)
@@ -209,7 +209,7 @@ def _pose(scene: Scene, time: _Optional[float]) -> None:
 
 def compare(scene: Scene, camera: CameraArg = None, width: int = 256, height: int = 256,
             renderer: _Optional[Renderer] = None, device: DeviceArg = "auto", settings: SettingsArg = None,
-            time: _Optional[float] = None, edge_band: int = 3) -> _List[LightComparison]:
+            time: _Optional[float] = None, edge_band: _Optional[int] = None) -> _List[LightComparison]:
     """Realtime shadows against a ray-traced reference of the same view, per light, as
     `chiaro compare` prints them: a list of dicts (`chiaro.LightComparison`) with node,
     light (its name), kind, compared (pixels judged), disagree_percent, false_percent
@@ -222,7 +222,8 @@ def compare(scene: Scene, camera: CameraArg = None, width: int = 256, height: in
     penumbra alone); None for other lights.
     time: seconds into the scene's animations to pose it at first (None: as it is).
     edge_band: pixels (0 to 64) around the reference's shadow edges left out of the
-    disagreement counts, as `chiaro compare --edge-band`; 0 judges every pixel."""
+    disagreement counts, as `chiaro compare --edge-band`; 0 judges every pixel; None:
+    the CLI's default, 3."""
     if renderer is None:
         renderer = Renderer(device=device, settings=settings)
     elif settings is not None:

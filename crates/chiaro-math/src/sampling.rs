@@ -36,15 +36,11 @@ pub fn sphere_direction(u: f32, v: f32) -> Vec3 {
 /// if every sample had a strip of its own), and an edge at any angle at least `side`
 /// ways. `random` gives floats in [0, 1): the jitter and the shuffles.
 pub fn multi_jittered(side: usize, random: &mut impl FnMut() -> f32) -> Vec<Vec2> {
-    let n = side as f32;
-    // The canonical arrangement: point (i, j) in cell (i, j), at sub-column j of column
-    // i and sub-row i of row j.
-    let mut points: Vec<Vec2> = (0..side * side)
-        .map(|k| {
-            let (i, j) = ((k % side) as f32, (k / side) as f32);
-            Vec2::new((i + (j + random()) / n) / n, (j + (i + random()) / n) / n)
-        })
-        .collect();
+    let strips = side * side;
+    // The canonical arrangement, as fine column and row indices: point (i, j) in cell
+    // (i, j), at sub-column j of column i and sub-row i of row j.
+    let mut columns: Vec<usize> = (0..strips).map(|k| (k % side) * side + k / side).collect();
+    let mut rows: Vec<usize> = (0..strips).map(|k| (k / side) * side + k % side).collect();
     let pick = |from: usize, random: &mut dyn FnMut() -> f32| {
         from + ((random() * (side - from) as f32) as usize).min(side - from - 1)
     };
@@ -52,23 +48,19 @@ pub fn multi_jittered(side: usize, random: &mut impl FnMut() -> f32) -> Vec<Vec2
     // every cell, column and row holding one point.
     for i in 0..side {
         for j in 0..side {
-            let k = pick(j, random);
-            let (a, b) = (j * side + i, k * side + i);
-            let x = points[a].x;
-            points[a].x = points[b].x;
-            points[b].x = x;
+            columns.swap(j * side + i, pick(j, random) * side + i);
         }
     }
     for j in 0..side {
         for i in 0..side {
-            let k = pick(i, random);
-            let (a, b) = (j * side + i, j * side + k);
-            let y = points[a].y;
-            points[a].y = points[b].y;
-            points[b].y = y;
+            rows.swap(j * side + i, j * side + pick(i, random));
         }
     }
-    points
+    // Jittered within its strip, and below the strip's end even after rounding.
+    let n = strips as f32;
+    let below_one = 1.0 - n * f32::EPSILON;
+    let mut at = |strip: usize| (strip as f32 + random().min(below_one)) / n;
+    columns.iter().zip(&rows).map(|(&column, &row)| Vec2::new(at(column), at(row))).collect()
 }
 
 #[cfg(test)]
@@ -95,8 +87,16 @@ mod tests {
             assert_eq!(*list, (0..64).collect::<Vec<_>>());
         }
         // Shuffled: not the canonical arrangement, whose sub-column follows the row.
-        let canonical = points.iter().filter(|p| fine(p.x) % side == coarse(p.y)).count();
-        assert!(canonical < 32, "{canonical} points where the canonical arrangement puts them");
+        let canonical_x = points.iter().filter(|p| fine(p.x) % side == coarse(p.y)).count();
+        let canonical_y = points.iter().filter(|p| fine(p.y) % side == coarse(p.x)).count();
+        assert!(canonical_x < 32, "{canonical_x} points where the canonical arrangement puts their x");
+        assert!(canonical_y < 32, "{canonical_y} points where the canonical arrangement puts their y");
+        // The largest float below 1 as every draw: each point stays inside its strip.
+        let edge = multi_jittered(side, &mut || 1.0 - f32::EPSILON / 2.0);
+        let mut strips: Vec<usize> = edge.iter().map(|p| fine(p.x)).collect();
+        strips.sort_unstable();
+        assert_eq!(strips, (0..64).collect::<Vec<_>>());
+        assert!(edge.iter().all(|p| p.x < 1.0 && p.y < 1.0));
     }
 
     #[test]

@@ -277,7 +277,7 @@ impl RendererCore {
     }
 
     /// Realtime shadows against the ray-traced reference, per light; see `chiaro.compare`.
-    #[pyo3(signature = (scene, camera = None, width = 256, height = 256, edge_band = EDGE_BAND_PX as i64))]
+    #[pyo3(signature = (scene, camera = None, width = 256, height = 256, edge_band = None))]
     fn compare<'py>(
         &self,
         py: Python<'py>,
@@ -285,9 +285,10 @@ impl RendererCore {
         camera: Option<&Bound<'py, PyAny>>,
         width: i64,
         height: i64,
-        edge_band: i64,
+        edge_band: Option<i64>,
     ) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let choice = CameraChoice::extract(camera)?;
+        let edge_band = edge_band.unwrap_or(EDGE_BAND_PX as i64);
         let edge_band_px = usize::try_from(edge_band).ok().filter(|&b| b <= MAX_EDGE_BAND_PX).ok_or_else(|| {
             PyValueError::new_err(format!(
                 "compare: edge_band {edge_band} is not a pixel count from 0 to {MAX_EDGE_BAND_PX}"

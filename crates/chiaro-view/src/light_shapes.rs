@@ -32,7 +32,7 @@ pub fn area_light_lines(lights: &[Light], view: &View, selected: Option<usize>) 
         let (Some(outline), Some(shape)) = (light.area_outline_ws(), light.kind.area_shape()) else { continue };
         let color = if selected == Some(index) { SELECTED_COLOR } else { full_brightness(light.color) };
         let centre = light.position();
-        let facing = -light.world_from_light.z_axis.truncate();
+        let facing = light.direction();
         let tick = (centre, centre + facing * (TICK_SHARE * shape.bounding_radius()));
         let edges = outline.iter().zip(outline.iter().cycle().skip(1)).map(|(a, b)| (*a, *b));
         for (a, b) in edges.chain([tick]) {
