@@ -43,8 +43,6 @@ impl Default for CompareOptions {
 
 pub struct ShadowComparison {
     pub reports: Vec<LightReport>,
-    /// The options it was judged with.
-    pub options: CompareOptions,
     pub reference: ShadowReference,
     /// The rendered shadow AOVs, per scene light.
     pub rendered: Vec<Vec<f32>>,
@@ -177,14 +175,7 @@ pub fn compare_rendered_with(
             baked_irradiance: &rendered.baked_irradiance,
         },
     );
-    ShadowComparison {
-        reports,
-        options,
-        reference,
-        rendered: rendered.shadow_aovs,
-        status: rendered.status,
-        environment,
-    }
+    ShadowComparison { reports, reference, rendered: rendered.shadow_aovs, status: rendered.status, environment }
 }
 
 /// Renders `view` and judges it against the traced reference, with the default options.

@@ -23,8 +23,10 @@ fn floor_reference() -> ShadowReference {
     }
 }
 
-fn compare(rendered: &[f32], reference: &ShadowReference, light: &Light, range: f32) -> LightComparison {
-    compare_light(&JudgedLight {
+/// Light 0 of `reference` rendered as `rendered` at the reference's own positions, with
+/// the default edge band.
+fn judged<'a>(rendered: &'a [f32], reference: &'a ShadowReference, light: &'a Light, range: f32) -> JudgedLight<'a> {
+    JudgedLight {
         rendered_shadow: rendered,
         rendered_position: &reference.position,
         reference,
@@ -32,7 +34,11 @@ fn compare(rendered: &[f32], reference: &ShadowReference, light: &Light, range: 
         light,
         range,
         edge_band_px: EDGE_BAND_PX,
-    })
+    }
+}
+
+fn compare(rendered: &[f32], reference: &ShadowReference, light: &Light, range: f32) -> LightComparison {
+    compare_light(&judged(rendered, reference, light, range))
 }
 
 #[test]
@@ -70,13 +76,8 @@ fn positions_must_agree_within_a_centimetre() {
         *p = if offset.is_nan() { None } else { p.map(|p| p + Vec3::Y * offset) };
     }
     let result = compare_light(&JudgedLight {
-        rendered_shadow: &rendered,
         rendered_position: &positions,
-        reference: &reference,
-        light_index: 0,
-        light: &sun(),
-        range: f32::INFINITY,
-        edge_band_px: EDGE_BAND_PX,
+        ..judged(&rendered, &reference, &sun(), f32::INFINITY)
     });
     assert_eq!(result.compared, (0..W * H).filter(|i| i % 3 == 0).count());
     assert_eq!(result.false_shadow, result.compared);
@@ -95,16 +96,7 @@ fn unlit_surfaces_and_non_receivers_are_not_compared() {
     assert_eq!(compare(&rendered, &reference, &sun(), f32::INFINITY).compared, W * (H - 1) - 1);
     // Out of range: the light index, and short rendered arrays.
     assert_eq!(
-        compare_light(&JudgedLight {
-            rendered_shadow: &rendered,
-            rendered_position: &reference.position,
-            reference: &reference,
-            light_index: 1,
-            light: &sun(),
-            range: 1.0,
-            edge_band_px: EDGE_BAND_PX,
-        })
-        .compared,
+        compare_light(&JudgedLight { light_index: 1, ..judged(&rendered, &reference, &sun(), 1.0) }).compared,
         0
     );
     // Row 0 does not receive and pixel W is sky: W - 1 of the first two rows count.
@@ -168,15 +160,7 @@ fn shadow_edges_are_banded_but_sky_edges_are_not() {
     }
     // Everything rendered wrong, so every compared pixel counts.
     let rendered: Vec<f32> = reference.visibility[0].iter().map(|v| 1.0 - v).collect();
-    let verdicts = classify_pixels(&JudgedLight {
-        rendered_shadow: &rendered,
-        rendered_position: &reference.position,
-        reference: &reference,
-        light_index: 0,
-        light: &sun(),
-        range: f32::INFINITY,
-        edge_band_px: EDGE_BAND_PX,
-    });
+    let verdicts = classify_pixels(&judged(&rendered, &reference, &sun(), f32::INFINITY));
     for y in 0..H {
         for x in 0..W {
             let verdict = verdicts[y * W + x];
@@ -203,15 +187,7 @@ fn difference_image_colours() {
     let mut rendered = vec![1.0; W * H];
     rendered[W * 6 + 10] = 0.0;
     rendered[W * H - 1] = 0.0;
-    let image = difference_image(&JudgedLight {
-        rendered_shadow: &rendered,
-        rendered_position: &reference.position,
-        reference: &reference,
-        light_index: 0,
-        light: &sun(),
-        range: 1.0,
-        edge_band_px: EDGE_BAND_PX,
-    });
+    let image = difference_image(&judged(&rendered, &reference, &sun(), 1.0));
     assert_eq!(image.len(), W * H);
     assert_eq!(image[0], [0, 0, 0, 255]);
     assert_eq!(image[W * 6 + 10], [255, 0, 0, 255]);
@@ -222,15 +198,7 @@ fn difference_image_colours() {
     dark.visibility[0].fill(0.0);
     rendered.fill(0.0);
     rendered[3] = 1.0;
-    let image = difference_image(&JudgedLight {
-        rendered_shadow: &rendered,
-        rendered_position: &dark.position,
-        reference: &dark,
-        light_index: 0,
-        light: &sun(),
-        range: 1.0,
-        edge_band_px: EDGE_BAND_PX,
-    });
+    let image = difference_image(&judged(&rendered, &dark, &sun(), 1.0));
     assert_eq!(image[3], [0, 0, 255, 255]);
     assert_eq!(image[4], [48, 48, 48, 255]);
 }
@@ -243,21 +211,13 @@ fn the_edge_band_leaves_out_the_pixels_that_near_a_traced_edge() {
     let mut reference = floor_reference();
     reference.visibility[0] = (0..W * H).map(|i| if i % W >= 10 { 0.0 } else { 1.0 }).collect();
     let rendered: Vec<f32> = (0..W * H).map(|i| if i % W >= 9 || i % W == 2 { 0.0 } else { 1.0 }).collect();
-    let judged = |edge_band_px| {
-        compare_light(&JudgedLight {
-            rendered_shadow: &rendered,
-            rendered_position: &reference.position,
-            reference: &reference,
-            light_index: 0,
-            light: &sun(),
-            range: f32::INFINITY,
-            edge_band_px,
-        })
+    let counted = |edge_band_px| {
+        compare_light(&JudgedLight { edge_band_px, ..judged(&rendered, &reference, &sun(), f32::INFINITY) })
     };
     // Band 0: every pixel, both false shadows.
-    assert_eq!(judged(0), LightComparison { compared: W * H, false_shadow: 2 * H, missed_shadow: 0 });
+    assert_eq!(counted(0), LightComparison { compared: W * H, false_shadow: 2 * H, missed_shadow: 0 });
     // Band 1: columns 9 and 10 left out; the stray one is still judged.
-    assert_eq!(judged(1), LightComparison { compared: (W - 2) * H, false_shadow: H, missed_shadow: 0 });
+    assert_eq!(counted(1), LightComparison { compared: (W - 2) * H, false_shadow: H, missed_shadow: 0 });
     // Band 3 (the default): columns 7 to 12 left out.
-    assert_eq!(judged(EDGE_BAND_PX), LightComparison { compared: (W - 6) * H, false_shadow: H, missed_shadow: 0 });
+    assert_eq!(counted(EDGE_BAND_PX), LightComparison { compared: (W - 6) * H, false_shadow: H, missed_shadow: 0 });
 }
