@@ -72,6 +72,7 @@ pub enum Resource {
     EnvironmentSpecular,
     EnvironmentBrdf,
     ShadowTints,
+    ViewDepths,
 }
 
 /// One binding of group 0.
@@ -92,7 +93,7 @@ const fn fragment(resource: Resource, name: &'static str, kind: Kind) -> FrameBi
 }
 
 /// Group 0's bindings; a binding's number is its place here.
-pub const FRAME_BINDINGS: [FrameBinding; 22] = [
+pub const FRAME_BINDINGS: [FrameBinding; 23] = [
     // The frame uniform (common/frame.wesl): the camera, exposure, light counts.
     FrameBinding { resource: Resource::Frame, name: "FRAME", stages: Stages::VertexFragment, kind: Kind::Uniform },
     // The first MAX_UNIFORM_LIGHTS lights and the light lists (lighting/light.wesl).
@@ -129,6 +130,11 @@ pub const FRAME_BINDINGS: [FrameBinding; 22] = [
     // reads, is bound by the background pipeline instead, so that a forward shader and
     // its material stay within the 16 sampled textures a stage is sure to have.
     fragment(Resource::ShadowTints, "SHADOW_TINTS", Kind::FloatTexture(Dimension::D2Array)),
+    // The scene depth of each pixel, row by row, for contact shadows' march
+    // (shadows/contact.wesl): a storage buffer the contact depth pass fills, so that the
+    // passes that read it may keep the depth target attached and stay within 16 sampled
+    // textures.
+    fragment(Resource::ViewDepths, "VIEW_DEPTHS", Kind::Storage),
 ];
 
 /// The binding number of the binding named `name`.

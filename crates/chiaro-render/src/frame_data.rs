@@ -4,7 +4,8 @@
 //! cookie sampler: one mip, bilinear), the light probes and the shadow mask array, and
 //! the culled light lists: past the uniform's 512, every light in a texel table
 //! (`texel_table`), and the list records and the lists' light indices in storage buffers;
-//! then the environment's uniform, prefiltered cube, BRDF table and image (`environment`).
+//! then the environment's uniform, prefiltered cube, BRDF table and image (`environment`),
+//! the shadow tints, and each pixel's scene depth for contact shadows.
 //! A frame plan flows in and is uploaded; a bind group over this frame's buffers and
 //! atlases flows out.
 
@@ -36,6 +37,9 @@ pub struct FrameData {
     all_lights: TexelTable,
     list_starts: GrowingBuffer,
     list_indices: GrowingBuffer,
+    /// Each pixel's scene depth for contact shadows (`passes::contact_depth` writes it);
+    /// one float where the frame has none.
+    view_depths: GrowingBuffer,
     /// The frame's lights as uploaded, kept from frame to frame: thousands of lights
     /// written into fresh memory each frame cost more in page faults than in writing.
     gpu_lights: Vec<GpuLight>,
@@ -68,6 +72,7 @@ struct BoundResources {
     environment_specular: wgpu::TextureView,
     environment_brdf_table: wgpu::TextureView,
     shadow_tints: wgpu::TextureView,
+    view_depths: wgpu::Buffer,
 }
 
 /// A storage buffer that is made again, twice as large, when a frame needs more.
@@ -90,11 +95,15 @@ impl GrowingBuffer {
         })
     }
 
-    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) {
-        let needed = bytes.len() as u64;
+    /// Makes the buffer again, twice as large as `needed` rounded up, where it is smaller.
+    fn reserve(&mut self, device: &wgpu::Device, needed: u64) {
         if needed > self.buffer.size() {
             self.buffer = Self::make(device, self.label, needed.next_power_of_two());
         }
+    }
+
+    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) {
+        self.reserve(device, bytes.len() as u64);
         if !bytes.is_empty() {
             queue.write_buffer(&self.buffer, 0, bytes);
         }
@@ -174,6 +183,7 @@ impl FrameData {
             all_lights: TexelTable::new(device, "frame lights"),
             list_starts: GrowingBuffer::new(device, "light list starts", 4 * 64),
             list_indices: GrowingBuffer::new(device, "light list indices", 4 * 1024),
+            view_depths: GrowingBuffer::new(device, "view depths", 4),
             gpu_lights: Vec::new(),
             shadow_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("shadow comparison sampler"),
@@ -222,7 +232,16 @@ impl FrameData {
             queue.write_buffer(&self.light_list, 0, bytemuck::cast_slice(&list));
         }
         queue.write_buffer(&self.shadows, 0, bytemuck::bytes_of(&plan.shadows.gpu));
+        if plan.features.contact_shadows {
+            let pixels = plan.view.width as u64 * plan.view.height as u64;
+            self.view_depths.reserve(device, pixels * size_of::<f32>() as u64);
+        }
         Ok(())
+    }
+
+    /// The buffer the contact depth pass writes each pixel's scene depth into.
+    pub fn view_depths(&self) -> &wgpu::Buffer {
+        &self.view_depths.buffer
     }
 
     /// The bind group over this frame's buffers, the scene's objects, cookies and bakes, and
@@ -250,6 +269,7 @@ impl FrameData {
             environment_specular: environment.specular.clone(),
             environment_brdf_table: environment.brdf_table.clone(),
             shadow_tints: targets.view(SHADOW_TINTS).clone(),
+            view_depths: self.view_depths.buffer.clone(),
         };
         if let Some((last, group)) = &self.last_bind_group
             && *last == bound
@@ -292,6 +312,7 @@ impl FrameData {
                     Resource::EnvironmentSpecular => view(&bound.environment_specular),
                     Resource::EnvironmentBrdf => view(&bound.environment_brdf_table),
                     Resource::ShadowTints => view(&bound.shadow_tints),
+                    Resource::ViewDepths => bound.view_depths.as_entire_binding(),
                 };
                 wgpu::BindGroupEntry { binding: binding as u32, resource }
             })

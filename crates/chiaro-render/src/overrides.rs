@@ -74,11 +74,31 @@ overrides! {
     MATERIAL_LAYERED = 19;
     /// Shadows are tinted by casters that let light through (the shadow tints).
     TINTED_SHADOWS = 20;
+    /// Screen-space contact shadows march the view's depths (`[shadows] contact`).
+    CONTACT_SHADOWS = 21;
+}
+
+/// Of `constants`, those whose override the composed WGSL `source` declares (as
+/// `@id(..OVERRIDE_<NAME>)`): wgpu refuses a constant its shader lacks, and a module keeps
+/// only the overrides it reads.
+pub fn declared_in(source: &str, constants: impl IntoIterator<Item = (&'static str, f64)>) -> Vec<(&'static str, f64)> {
+    constants
+        .into_iter()
+        .filter(|(key, _)| ALL.iter().any(|o| o.key == *key && source.contains(&format!("OVERRIDE_{})", o.name))))
+        .collect()
 }
 
 #[cfg(test)]
 mod tests {
-    use super::ALL;
+    use super::*;
+
+    #[test]
+    fn the_shadow_aov_declares_the_shadow_overrides_and_not_the_shading_ones() {
+        let source = crate::wgsl!("shadow_aov");
+        let all = [CONTACT_SHADOWS, PCSS_SHADOWS, COOKIES_ENABLED, ENVIRONMENT_ENABLED].map(|o| o.flag(true));
+        let keys: Vec<&str> = declared_in(source, all).into_iter().map(|(key, _)| key).collect();
+        assert_eq!(keys, [CONTACT_SHADOWS.key, PCSS_SHADOWS.key]);
+    }
 
     #[test]
     fn ids_are_distinct_and_keys_spell_them() {

@@ -388,6 +388,7 @@ impl Renderer {
                 scene,
                 frame_bind_group,
                 targets: &self.targets,
+                view_depths: self.frame_data.view_depths(),
                 timestamps: self.timer.as_mut().and_then(|t| t.pass(name)),
                 stats: &mut stats,
             };

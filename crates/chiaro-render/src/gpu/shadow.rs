@@ -119,6 +119,22 @@ pub struct GpuShadows {
     pub pcss_blocker_samples: u32,
     /// Comparison samples filtering a contact-hardening shadow's penumbra.
     pub pcss_filter_samples: u32,
+    /// The screen-space contact shadows' march.
+    pub contact: GpuContactShadows,
+}
+
+/// The contact shadows' march (`shaders/shadows/contact.wesl`); `steps` 0 turns them off.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuContactShadows {
+    /// Metres the march reaches towards the light.
+    pub length_m: f32,
+    /// Metres behind a depth-buffer surface that still count as inside its caster.
+    pub thickness_m: f32,
+    /// Depth samples along the march; 0: no contact shadows.
+    pub steps: u32,
+    /// Pads the march to 16 bytes.
+    pub _pad: u32,
 }
 
 impl Default for GpuShadows {
@@ -134,6 +150,7 @@ impl Default for GpuShadows {
             cascade_blend: 0,
             pcss_blocker_samples: 16,
             pcss_filter_samples: 16,
+            contact: GpuContactShadows::default(),
         }
     }
 }

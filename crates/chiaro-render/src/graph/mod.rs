@@ -73,6 +73,8 @@ pub struct PassContext<'a> {
     pub frame_bind_group: &'a wgpu::BindGroup,
     /// The frame's targets, by name.
     pub targets: &'a Targets,
+    /// Group 0's buffer of each pixel's scene depth, which the contact depth pass fills.
+    pub view_depths: &'a wgpu::Buffer,
     /// Where to write the pass's timestamps, when the frame is timed.
     pub timestamps: Option<PassTimestamps<'a>>,
     /// Counts the pass adds to (shadow tiles, caster draws).

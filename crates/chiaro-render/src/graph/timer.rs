@@ -27,6 +27,15 @@ impl<'a> PassTimestamps<'a> {
             end_of_pass_write_index: last.then_some(self.begin + 1),
         })
     }
+
+    /// Writes for a pass recorded as one compute pass.
+    pub fn compute_writes(&self) -> wgpu::ComputePassTimestampWrites<'a> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: self.query_set,
+            beginning_of_pass_write_index: Some(self.begin),
+            end_of_pass_write_index: Some(self.begin + 1),
+        }
+    }
 }
 
 struct Pending {

@@ -8,6 +8,7 @@ macro_rules! frame_passes {
             shadows: ShadowPass ["shadow_caster"],
             depth_prepass: DepthPrepassPass ["forward"],
             gbuffer: GBufferPass ["gbuffer", "background"],
+            contact_depth: ContactDepthPass ["contact_depth"],
             deferred_lights: DeferredLightsPass ["deferred_light"],
             ldr_decode: LdrDecodePass ["ldr_decode"],
             forward: ForwardPass ["forward", "background", "opaque_copy"],

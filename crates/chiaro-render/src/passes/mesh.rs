@@ -23,7 +23,9 @@ pub fn forward_depth(plan: &FramePlan) -> Target {
 
 /// A scene depth target of `samples` per pixel in the device's `format`.
 pub fn depth_desc(format: wgpu::TextureFormat, samples: u32) -> TargetDesc {
-    TargetDesc::view_sized(format, wgpu::TextureUsages::RENDER_ATTACHMENT).with_samples(samples)
+    // Sampled too, by the contact depth pass.
+    TargetDesc::view_sized(format, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING)
+        .with_samples(samples)
 }
 
 /// What picks one pipeline of a mesh pass: culling, winding, blending, depth test, alpha

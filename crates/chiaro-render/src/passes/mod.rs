@@ -1,8 +1,8 @@
 //! One module per pass, each owning its pipelines and bind group layouts and declaring,
 //! in its `setup`, the targets it makes, reads and writes: the shadow atlases, the depth
-//! prepass, forward lighting, the deferred path's G-buffer, light volumes, LDR decoding
-//! and debug views, the deferred path's FXAA, the AOVs, the per-light shadow AOV and tone
-//! mapping. `list.rs` names them all; `fullscreen` and `mesh` are helpers they share.
+//! prepass, the contact shadows' depth copy, forward lighting, the deferred path's
+//! G-buffer, light volumes, LDR decoding and debug views, the deferred path's FXAA, the
+//! AOVs, the per-light shadow AOV and tone mapping. `list.rs` names them all; `fullscreen` and `mesh` are helpers they share.
 
 use crate::graph::{FramePass, PassDeclaration, PassInit, PassType};
 

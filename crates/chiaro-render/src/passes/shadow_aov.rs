@@ -8,7 +8,10 @@ use super::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS, SHADOW_TINTS};
 use crate::gpu::GpuAovLight;
 use crate::graph::target::ATTACHMENT_COPY;
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext, Target, TargetDesc};
+use crate::overrides;
 use crate::plan::FramePlan;
+use crate::plan::features::ShaderFeatures;
+use std::collections::HashMap;
 use crate::plan::lights::LightId;
 use crate::shader_constants::{MAX_UNIFORM_LIGHTS, NO_LIGHT};
 use crate::shaders;
@@ -20,7 +23,13 @@ pub const SHADOW: Target = Target("aov shadow");
 
 /// Writes each scene light's shadow term into its layer of the shadow AOV array.
 pub struct ShadowAovPass {
-    pipelines: MeshPipelines,
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    depth_format: wgpu::TextureFormat,
+    /// One set per shader specialisation (the frame's features, as the forward pass's),
+    /// made when first used: with every feature compiled in, llvmpipe took seconds and
+    /// gigabytes to build each pipeline of the benchmark scene.
+    pipelines: HashMap<ShaderFeatures, MeshPipelines>,
     light_layout: wgpu::BindGroupLayout,
     /// One `GpuAovLight` per scene light, each at a multiple of `stride`.
     lights: Option<(wgpu::Buffer, wgpu::BindGroup)>,
@@ -71,27 +80,34 @@ impl ShadowAovPass {
         });
         let alignment = device.limits().min_uniform_buffer_offset_alignment as u64;
         ShadowAovPass {
-            pipelines: MeshPipelines::new(MeshPipelinesDesc {
-                label: "shadow aov",
-                module: shaders::module(device, "shadow aov", crate::wgsl!("shadow_aov")),
-                fragment_entry: Some("fs_shadow_aov"),
-                layout,
-                color_formats: vec![SHADOW_AOV_FORMAT],
-                blends: false,
-                depth_test: DepthTest::SameSurface,
-                depth_format,
-                marks_stencil: false,
-                constants: Vec::new(),
-                alpha_test_override: None,
-                textured_override: None,
-                layered_override: None,
-            }),
+            module: shaders::module(device, "shadow aov", crate::wgsl!("shadow_aov")),
+            layout,
+            depth_format,
+            pipelines: HashMap::new(),
             light_layout,
             lights: None,
             stride: (size_of::<GpuAovLight>() as u64).div_ceil(alignment) * alignment,
         }
     }
 
+    /// The pipelines specialised to `features`.
+    fn pipelines_for(&self, features: ShaderFeatures) -> MeshPipelines {
+        MeshPipelines::new(MeshPipelinesDesc {
+            label: "shadow aov",
+            module: self.module.clone(),
+            fragment_entry: Some("fs_shadow_aov"),
+            layout: self.layout.clone(),
+            color_formats: vec![SHADOW_AOV_FORMAT],
+            blends: false,
+            depth_test: DepthTest::SameSurface,
+            depth_format: self.depth_format,
+            marks_stencil: false,
+            constants: overrides::declared_in(crate::wgsl!("shadow_aov"), features.constants()),
+            alpha_test_override: None,
+            textured_override: None,
+            layered_override: None,
+        })
+    }
 }
 
 impl FramePass for ShadowAovPass {
@@ -107,7 +123,13 @@ impl FramePass for ShadowAovPass {
                     .map_or(NO_LIGHT, |k| k as u32)
             })
             .collect();
-        self.pipelines.prepare(device, &cx.scene.draws, &plan.camera_draws, 1);
+        let features = plan.features;
+        if !self.pipelines.contains_key(&features) {
+            let made = self.pipelines_for(features);
+            self.pipelines.insert(features, made);
+        }
+        let pipelines = self.pipelines.get_mut(&features).expect("made above");
+        pipelines.prepare(device, &cx.scene.draws, &plan.camera_draws, 1);
         let size = self.stride * light_indices.len().max(1) as u64;
         if self.lights.as_ref().is_none_or(|(buffer, _)| buffer.size() < size) {
             let buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -158,7 +180,7 @@ impl FramePass for ShadowAovPass {
             });
             pass.set_bind_group(0, cx.frame_bind_group, &[]);
             pass.set_bind_group(2, light_bind_group, &[(k as u64 * self.stride) as u32]);
-            self.pipelines.draw(&mut pass, cx.scene, &cx.plan.camera_draws);
+            self.pipelines[&cx.plan.features].draw(&mut pass, cx.scene, &cx.plan.camera_draws);
         }
     }
 }

@@ -32,6 +32,9 @@ pub struct ShaderFeatures {
     /// A shadow tile of the frame has a caster that lets light through: shadows are
     /// tinted by the shadow tints (`Draw::tints_shadows`).
     pub tinted_shadows: bool,
+    /// Screen-space contact shadows (`[shadows] contact`) darken a realtime shadow the
+    /// frame shades: the contact depth pass runs and the shadow lookups march.
+    pub contact_shadows: bool,
 }
 
 impl ShaderFeatures {
@@ -45,6 +48,7 @@ impl ShaderFeatures {
         environment: true,
         local_shadows: true,
         tinted_shadows: true,
+        contact_shadows: true,
     };
 
     /// The features the frame's `lights`, the scene's bake and the settings call for;
@@ -63,11 +67,13 @@ impl ShaderFeatures {
             local_shadows: local_shadowed.contains(&true),
             // Set by the plan once it knows each tile's casters.
             tinted_shadows: false,
+            contact_shadows: settings.shadows.contact
+                && lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { .. })),
         }
     }
 
     /// The override constants that select this specialisation.
-    pub fn constants(self) -> [(&'static str, f64); 8] {
+    pub fn constants(self) -> [(&'static str, f64); 9] {
         [
             overrides::COOKIES_ENABLED.flag(self.cookies),
             overrides::BAKED_ENABLED.flag(self.baked),
@@ -77,6 +83,7 @@ impl ShaderFeatures {
             overrides::ENVIRONMENT_ENABLED.flag(self.environment),
             overrides::LOCAL_SHADOWS.flag(self.local_shadows),
             overrides::TINTED_SHADOWS.flag(self.tinted_shadows),
+            overrides::CONTACT_SHADOWS.flag(self.contact_shadows),
         ]
     }
 }

@@ -303,6 +303,11 @@ impl FramePlan {
         };
         let mut features = features::ShaderFeatures::of(scene, settings, &lights, &shadowed[lists.directional.len()..]);
         features.tinted_shadows = shadows.tiles.iter().any(|tile| !tile.tint_casters.is_empty());
+        // The light volumes' shaders keep every feature compiled in: without the contact
+        // depth pass they must not march.
+        if !features.contact_shadows {
+            shadows.gpu.contact.steps = 0;
+        }
         FramePlan {
             view: *view,
             request,

@@ -7,7 +7,7 @@
 use super::draws::Draw;
 use super::lights::LightId;
 use super::shadow_cache::TileCache;
-use crate::gpu::{GpuAtlas, GpuCascade, GpuShadowFade, GpuShadowTile, GpuShadows};
+use crate::gpu::{GpuAtlas, GpuCascade, GpuContactShadows, GpuShadowFade, GpuShadowTile, GpuShadows};
 use crate::shader_constants::{
     CASCADE_BLEND_DITHER, CASCADE_BLEND_HARD, CASCADE_BLEND_SOFT, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES,
 };
@@ -192,6 +192,12 @@ pub fn plan_shadows(
             },
             pcss_blocker_samples: settings.shadows.pcss_blocker_samples,
             pcss_filter_samples: settings.shadows.pcss_filter_samples,
+            contact: GpuContactShadows {
+                length_m: settings.shadows.contact_length,
+                thickness_m: settings.shadows.contact_thickness,
+                steps: if settings.shadows.contact { settings.shadows.contact_steps } else { 0 },
+                _pad: 0,
+            },
             ..GpuShadows::default()
         },
         directional_atlas_size: 0,

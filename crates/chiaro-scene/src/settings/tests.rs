@@ -91,6 +91,9 @@ fn shadow_settings_parse_and_validate() {
         ("[shadows.directional]\ncascade_ratios = [0.1, 0.2, 0.3, 0.4]\n", "shadows.directional.cascade_ratios"),
         ("[shadows.directional]\ncascade_count = 3\ncascade_ratios = [0.1]\n", "shadows.directional.cascade_ratios"),
         ("[shadows]\nmax_distance = -1\n", "shadows.max_distance"),
+        ("[shadows]\ncontact_length = 0\n", "shadows.contact_length"),
+        ("[shadows]\ncontact_steps = 65\n", "shadows.contact_steps"),
+        ("[shadows]\ncontact_thickness = 11\n", "shadows.contact_thickness"),
         ("[shadows.other]\natlas_size = 100\n", "shadows.other.atlas_size"),
         ("[shadows.other]\nfilter = \"box\"\n", "shadows.other.filter"),
     ] {

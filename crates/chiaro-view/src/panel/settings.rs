@@ -158,6 +158,13 @@ fn shadows_section(ui: &mut Ui, s: &mut Settings) {
     ui.checkbox(&mut sh.cache, "shadows.cache");
     ui.add(Slider::new(&mut sh.pcss_blocker_samples, 4..=64).text("shadows.pcss_blocker_samples"));
     ui.add(Slider::new(&mut sh.pcss_filter_samples, 4..=64).text("shadows.pcss_filter_samples"));
+    ui.checkbox(&mut sh.contact, "shadows.contact");
+    ui.add_enabled_ui(sh.contact, |ui| {
+        ui.add(Slider::new(&mut sh.contact_length, 0.001..=10.0).logarithmic(true).text("shadows.contact_length"));
+        ui.add(Slider::new(&mut sh.contact_steps, 1..=64).text("shadows.contact_steps"));
+        let thickness = Slider::new(&mut sh.contact_thickness, 0.001..=10.0).logarithmic(true);
+        ui.add(thickness.text("shadows.contact_thickness"));
+    });
     ui.heading("[shadows.directional]");
     let d = &mut sh.directional;
     atlas_combo(ui, "shadows.directional.atlas_size", &mut d.atlas_size);

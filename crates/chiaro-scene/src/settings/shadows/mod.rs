@@ -32,6 +32,18 @@ pub struct ShadowSettings {
     /// Comparison samples a `pcss` light's penumbra is filtered with per pixel (4 to 64):
     /// fewer are cheaper and grainier.
     pub pcss_filter_samples: u32,
+    /// Screen-space contact shadows for every shadowed light (false, the default): a
+    /// short march through the depth buffer towards the light finds the casters, a few
+    /// centimetres from the surface, that a shadow texel is too coarse to resolve.
+    pub contact: bool,
+    /// Metres a contact shadow's march reaches towards the light (0.001 to 10).
+    pub contact_length: f32,
+    /// Depth samples along that march per pixel (1 to 64): fewer miss thin casters.
+    pub contact_steps: u32,
+    /// Metres behind the depth buffer's surface that a march still counts as inside its
+    /// caster (0.001 to 10): the depth buffer sees only fronts, so a thin caster (a pole)
+    /// would shade everything behind it without this limit.
+    pub contact_thickness: f32,
     /// `[shadows.directional]`: the cascaded atlas of directional lights.
     pub directional: DirectionalShadowSettings,
     /// `[shadows.other]`: the atlas of point and spot lights.
@@ -46,6 +58,10 @@ impl Default for ShadowSettings {
             distance_fade: 0.1,
             pcss_blocker_samples: 16,
             pcss_filter_samples: 16,
+            contact: false,
+            contact_length: 0.2,
+            contact_steps: 16,
+            contact_thickness: 0.05,
             directional: DirectionalShadowSettings::default(),
             other: LocalShadowSettings::default(),
         }
@@ -61,13 +77,27 @@ pub const DISTANCE_FADE: Bound = Bound::new("shadows.distance_fade", 0.001, 1.0)
 pub const PCSS_BLOCKER_SAMPLES: Bound = Bound::new("shadows.pcss_blocker_samples", 4.0, 64.0);
 /// The interval of `shadows.pcss_filter_samples`.
 pub const PCSS_FILTER_SAMPLES: Bound = Bound::new("shadows.pcss_filter_samples", 4.0, 64.0);
+/// The interval of `shadows.contact_length`, metres.
+pub const CONTACT_LENGTH: Bound = Bound::new("shadows.contact_length", 0.001, 10.0);
+/// The interval of `shadows.contact_steps`.
+pub const CONTACT_STEPS: Bound = Bound::new("shadows.contact_steps", 1.0, 64.0);
+/// The interval of `shadows.contact_thickness`, metres.
+pub const CONTACT_THICKNESS: Bound = Bound::new("shadows.contact_thickness", 0.001, 10.0);
 
 /// Every interval of the section and its subsections.
 pub(super) fn bounds() -> impl Iterator<Item = Bound> {
-    [MAX_DISTANCE, DISTANCE_FADE, PCSS_BLOCKER_SAMPLES, PCSS_FILTER_SAMPLES]
-        .into_iter()
-        .chain(directional::BOUNDS.iter().copied())
-        .chain(other::BOUNDS.iter().copied())
+    [
+        MAX_DISTANCE,
+        DISTANCE_FADE,
+        PCSS_BLOCKER_SAMPLES,
+        PCSS_FILTER_SAMPLES,
+        CONTACT_LENGTH,
+        CONTACT_STEPS,
+        CONTACT_THICKNESS,
+    ]
+    .into_iter()
+    .chain(directional::BOUNDS.iter().copied())
+    .chain(other::BOUNDS.iter().copied())
 }
 
 /// The interval of an atlas side for `key`, texels: both atlases take the same.
@@ -83,6 +113,9 @@ impl ShadowSettings {
         DISTANCE_FADE.check(self.distance_fade)?;
         PCSS_BLOCKER_SAMPLES.check(self.pcss_blocker_samples as f32)?;
         PCSS_FILTER_SAMPLES.check(self.pcss_filter_samples as f32)?;
+        CONTACT_LENGTH.check(self.contact_length)?;
+        CONTACT_STEPS.check(self.contact_steps as f32)?;
+        CONTACT_THICKNESS.check(self.contact_thickness)?;
         self.directional.validate()?;
         self.other.validate()
     }

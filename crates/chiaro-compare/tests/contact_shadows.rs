@@ -1,0 +1,151 @@
+//! Screen-space contact shadows (`[shadows] contact`) against the ray-traced reference on
+//! the software device: low boxes and a cube on a floor seen from close by, lit in turn by
+//! a sun, a point light and a spot. Where a large normal bias lets light leak under the
+//! casters' feet, contact shadows close the leak; with the default bias they cost no
+//! agreement; and the lit image of both paths (the forward one multisampled) darkens where
+//! the shadow AOV does.
+
+mod common;
+
+use chiaro_compare::{CompareOptions, LightComparison, compare_shadows_with};
+use chiaro_render::{FrameOptions, FrameOutput, View};
+use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, RenderPath, Scene, Settings};
+use common::*;
+use glam::Vec3;
+
+const SIZE: u32 = 192;
+
+fn sun() -> Light {
+    let (e, a) = (30f32.to_radians(), -50f32.to_radians());
+    let direction = -Vec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
+    Light { name: "sun".into(), node: 7, intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, direction) }
+}
+
+fn point() -> Light {
+    Light { shadow: LightShadow::default(), ..point_light(Vec3::new(1.2, 1.0, 1.0), 20.0, Some(10.0)) }
+}
+
+fn spot() -> Light {
+    let cone = LightKind::Spot { inner_cone_rad: 0.6, outer_cone_rad: 0.9 };
+    let position = Vec3::new(1.2, 1.0, 1.0);
+    let direction = (Vec3::new(0.5, 0.0, 0.7) - position).normalize();
+    Light { name: "spot".into(), intensity: 20.0, range: Some(10.0), ..Light::new(cone, position, direction) }
+}
+
+/// A 1 m cube and boxes 4 and 8 cm tall on a floor, seen from 2 m, lit by `light` with
+/// `normal_bias` (texels).
+fn low_boxes(light: Light, normal_bias: f32) -> Scene {
+    let mut scene = floor_scene(40.0, Vec3::ZERO, vec![light]);
+    scene.lights[0].shadow.normal_bias = normal_bias;
+    add_box(&mut scene, Vec3::new(0.0, 0.5, 0.0), Vec3::new(1.0, 1.0, 1.0), 0.4, CastShadows::On);
+    add_box(&mut scene, Vec3::new(0.9, 0.02, 0.6), Vec3::new(0.3, 0.04, 0.2), 0.2, CastShadows::On);
+    add_box(&mut scene, Vec3::new(0.2, 0.04, 1.0), Vec3::new(0.15, 0.08, 0.4), -0.3, CastShadows::On);
+    look_from(&mut scene, Vec3::new(1.6, 0.6, 1.8), Vec3::new(0.3, 0.0, 0.4));
+    scene
+}
+
+fn settings(contact: bool) -> Settings {
+    let mut settings = unlit_settings();
+    settings.shadows.contact = contact;
+    settings
+}
+
+/// The light's comparison with the reference at `edge_band_px`.
+fn judged(scene: &Scene, settings: &Settings, edge_band_px: usize) -> LightComparison {
+    let mut renderer = renderer();
+    let prepared = renderer.prepare(scene).unwrap();
+    let view = View::from_camera(scene, 0, SIZE, SIZE);
+    let options = CompareOptions { edge_band_px };
+    let result = compare_shadows_with(&mut renderer, scene, &prepared, &view, settings, options).unwrap();
+    result.reports[0].comparison
+}
+
+fn disagreeing(c: &LightComparison) -> usize {
+    c.false_shadow + c.missed_shadow
+}
+
+fn share(c: &LightComparison) -> f64 {
+    disagreeing(c) as f64 / c.compared.max(1) as f64
+}
+
+#[test]
+fn contact_shadows_close_the_leak_a_large_normal_bias_opens() {
+    for light in [sun(), point(), spot()] {
+        let name = light.name.clone();
+        let scene = low_boxes(light, 4.0);
+        for band in [1, 0] {
+            let (off, on) = (judged(&scene, &settings(false), band), judged(&scene, &settings(true), band));
+            eprintln!("{name}, band {band}: without {off:?}, with {on:?}");
+            if name == "sun" {
+                // The leak under the boxes' sunward sides: 66 pixels at band 1, 154 at 0.
+                assert!(off.missed_shadow >= 40, "{name}, band {band}: the bias leaks only {off:?}");
+                assert!(on.missed_shadow * 3 <= off.missed_shadow, "{name}, band {band}: {off:?} -> {on:?}");
+                assert!(disagreeing(&on) < disagreeing(&off), "{name}, band {band}: {off:?} -> {on:?}");
+            }
+            // At band 0 the pixels a shadow edge crosses count too, where a march's samples
+            // and the reference's rays fall either way (spot: 4 -> 5 pixels of 23,125).
+            if band == 1 {
+                assert!(disagreeing(&on) <= disagreeing(&off), "{name}: {off:?} -> {on:?}");
+                assert!(share(&on) < 0.001, "{name}: {on:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn with_the_default_bias_contact_shadows_cost_no_agreement() {
+    for light in [sun(), point(), spot()] {
+        let name = light.name.clone();
+        let scene = low_boxes(light, LightShadow::default().normal_bias);
+        let (off, on) = (judged(&scene, &settings(false), 1), judged(&scene, &settings(true), 1));
+        eprintln!("{name}, band 1: without {off:?}, with {on:?}");
+        assert!(disagreeing(&on) <= disagreeing(&off), "{name}: {off:?} -> {on:?}");
+        assert!(share(&on) < 0.0005, "{name}: {on:?}");
+        // Band 0, for docs/shadows.md: edge pixels fall either way (see above).
+        let (off, on) = (judged(&scene, &settings(false), 0), judged(&scene, &settings(true), 0));
+        eprintln!("{name}, band 0: without {off:?}, with {on:?}");
+    }
+}
+
+fn render(scene: &Scene, settings: &Settings, shadow_aovs: bool) -> FrameOutput {
+    let mut renderer = renderer();
+    let prepared = renderer.prepare(scene).unwrap();
+    let view = View::from_camera(scene, 0, SIZE, SIZE);
+    let options = FrameOptions { readback: true, shadow_aovs, ..Default::default() };
+    renderer.render(scene, &prepared, &view, settings, options).unwrap()
+}
+
+/// Pixels whose radiance contact shadows more than halve, of `off` and `on`.
+fn darkened(off: &FrameOutput, on: &FrameOutput) -> Vec<bool> {
+    off.hdr.iter().zip(&on.hdr).map(|(a, b)| b[1] < 0.5 * a[1]).collect()
+}
+
+#[test]
+fn the_lit_image_of_both_paths_darkens_where_the_shadow_aov_does() {
+    let scene = low_boxes(sun(), 4.0);
+    let aov = |contact| render(&scene, &settings(contact), true).shadow_aovs.remove(0);
+    let (aov_off, aov_on) = (aov(false), aov(true));
+    let in_aov: Vec<bool> = aov_off.iter().zip(&aov_on).map(|(a, b)| *b < 0.5 * *a).collect();
+    let aov_count = in_aov.iter().filter(|&&d| d).count();
+    assert!(aov_count > 40, "contact shadows darken {aov_count} pixels of the shadow AOV");
+    for (path, msaa) in [(RenderPath::Forward, 4), (RenderPath::Forward, 1), (RenderPath::Deferred, 1)] {
+        let lit = |contact| {
+            let mut s = settings(contact);
+            s.render.path = path;
+            s.render.msaa = msaa;
+            render(&scene, &s, false)
+        };
+        let (off, on) = (lit(false), lit(true));
+        assert!(!off.graph.passes.contains(&"contact depth"), "{path:?}: {:?}", off.graph.passes);
+        assert!(on.graph.passes.contains(&"contact depth"), "{path:?}: {:?}", on.graph.passes);
+        let in_image = darkened(&off, &on);
+        let image_count = in_image.iter().filter(|&&d| d).count();
+        let both = in_image.iter().zip(&in_aov).filter(|(a, b)| **a && **b).count();
+        eprintln!("{path:?}: {image_count} darkened, {aov_count} in the AOV, {both} in both");
+        // Multisampled, pixels on silhouettes mix lit and shadowed samples (124 of 141).
+        assert!(
+            both as f64 >= 0.8 * aov_count.max(image_count) as f64,
+            "{path:?}: {image_count} / {aov_count} / {both}"
+        );
+    }
+}
