@@ -233,8 +233,17 @@ impl FrameData {
         }
         queue.write_buffer(&self.shadows, 0, bytemuck::bytes_of(&plan.shadows.gpu));
         if plan.features.contact_shadows {
-            let pixels = plan.view.width as u64 * plan.view.height as u64;
-            self.view_depths.reserve(device, pixels * size_of::<f32>() as u64);
+            let (width, height) = (plan.view.width, plan.view.height);
+            let bytes = width as u64 * height as u64 * size_of::<f32>() as u64;
+            let largest = device.limits().max_storage_buffer_binding_size;
+            if bytes > largest {
+                let reason = format!(
+                    "contact shadows ([shadows] contact) keep each pixel's depth in one storage buffer of \
+                     {bytes} bytes, more than the device binds ({largest}); render smaller or turn them off"
+                );
+                return Err(RenderError::OutputSize { width, height, reason });
+            }
+            self.view_depths.reserve(device, bytes);
         }
         Ok(())
     }

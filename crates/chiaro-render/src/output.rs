@@ -140,6 +140,10 @@ pub struct FrameOutput {
     /// Per scene light (by index in `Scene::lights`): the shadow attenuation the shading
     /// used, 1 where no shadow map covers the pixel, NaN where no surface is.
     pub shadow_aovs: Vec<Vec<f32>>,
+    /// Per scene light, with `shadow_aovs`: how many shadow-map texels a step of one
+    /// pixel crosses where that light's map was sampled (the larger of the two screen
+    /// axes; 1 is a texel a pixel), NaN where no map was or no surface is.
+    pub shadow_texels_per_pixel: Vec<Vec<f32>>,
     /// The shadow atlases in use, if asked for.
     pub shadow_atlases: Vec<AtlasImage>,
     /// Shadow tiles rendered and caster draws issued into them.
@@ -174,6 +178,7 @@ impl FrameOutput {
             ids: None,
             timings,
             shadow_aovs: Vec::new(),
+            shadow_texels_per_pixel: Vec::new(),
             shadow_atlases: Vec::new(),
             shadow_tiles: stats.shadow_tiles_rendered,
             shadow_caster_draws: stats.shadow_caster_draws,
@@ -181,6 +186,19 @@ impl FrameOutput {
             plan,
             graph,
         }
+    }
+
+    /// The 10th, 50th and 90th percentiles of shadow texels per pixel over every pixel
+    /// and light a realtime map was sampled for (`shadow_texels_per_pixel`); `None` where
+    /// none was (or the shadow AOVs were not asked for).
+    pub fn shadow_texel_ratio_percentiles(&self) -> Option<[f32; 3]> {
+        let mut ratios: Vec<f32> =
+            self.shadow_texels_per_pixel.iter().flatten().copied().filter(|r| r.is_finite()).collect();
+        if ratios.is_empty() {
+            return None;
+        }
+        ratios.sort_by(f32::total_cmp);
+        Some([0.1, 0.5, 0.9].map(|q| ratios[((ratios.len() - 1) as f32 * q).round() as usize]))
     }
 
     /// Point and spot lights shaded.

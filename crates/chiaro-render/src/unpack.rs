@@ -23,7 +23,9 @@ pub fn unpack_images(out: &mut FrameOutput, read: Vec<(Target, Vec<u8>)>, exposu
             aov::BAKED => baked = Some(bytes),
             aov::VIEW_DEPTH => out.aovs = Some(view_depth(&bytes)),
             id::IDS => out.ids = Some(ids(&bytes)),
-            shadow_aov::SHADOW => out.shadow_aovs = shadow_layers(&bytes, out.width, out.height),
+            shadow_aov::SHADOW => {
+                (out.shadow_aovs, out.shadow_texels_per_pixel) = shadow_layers(&bytes, out.width, out.height);
+            }
             DIRECTIONAL_ATLAS => {
                 let size = out.plan.shadows.directional_atlas_size;
                 out.shadow_atlases.push(AtlasImage { name: "directional", size, depths: depths(&bytes) });
@@ -62,12 +64,20 @@ fn hdr_image(bytes: &[u8], exposure: f32) -> Vec<[f32; 4]> {
     linear.chunks_exact(4).map(|c| [c[0] / exposure, c[1] / exposure, c[2] / exposure, c[3]]).collect()
 }
 
-fn shadow_layers(bytes: &[u8], width: u32, height: u32) -> Vec<Vec<f32>> {
-    let pairs: &[[f32; 2]] = bytemuck::cast_slice(bytes);
-    pairs
+/// Per light layer: the shadow term and the texels per pixel, NaN where no surface is
+/// (and, for the texels, where no map was sampled). The second channel is 0 where no
+/// surface is, else 1 + texels per pixel.
+fn shadow_layers(bytes: &[u8], width: u32, height: u32) -> (Vec<Vec<f32>>, Vec<Vec<f32>>) {
+    let texels: &[[f32; 2]] = bytemuck::cast_slice(bytes);
+    texels
         .chunks_exact((width * height) as usize)
-        .map(|layer| layer.iter().map(|p| if p[1] > 0.5 { p[0] } else { f32::NAN }).collect())
-        .collect()
+        .map(|layer| {
+            let covered = |p: &[f32; 2]| p[1] > 0.5;
+            let shadow = layer.iter().map(|p| if covered(p) { p[0] } else { f32::NAN }).collect();
+            let ratio = layer.iter().map(|p| if p[1] > 1.0 { p[1] - 1.0 } else { f32::NAN }).collect();
+            (shadow, ratio)
+        })
+        .unzip()
 }
 
 fn depths(bytes: &[u8]) -> Vec<f32> {

@@ -4,7 +4,8 @@
 
 use crate::scene_input::SceneInput;
 use anyhow::Result;
-use chiaro_render::{FrameOptions, FrameOutput, FrameTimings, GpuContext, GpuFrameTimes, Renderer};
+use chiaro_render::{FrameOptions, FrameOutput, FrameTimings, GpuContext, GpuFrameTimes, Renderer, View};
+use chiaro_scene::{Scene, Settings};
 use clap::Args;
 use std::time::Instant;
 
@@ -144,11 +145,17 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let first = first.expect("at least one timed frame");
     let gpu: Vec<GpuFrameTimes> =
         renderer.gpu_times(true)?.into_iter().filter(|t| t.frame >= first.timings.frame).collect();
+    let texel_ratios = shadow_texel_ratios(&mut renderer, &scene, &view, &settings)?;
     let info = &renderer.ctx.adapter_info;
     if args.json {
         let mut report = json_report(&args, &settings, &first, &frames, &intervals, &gpu, &info.name);
         report["environment"] = settings.environment.describe(&scene).into();
         report["environment_setup_ms"] = environment_setup_ms.into();
+        for (k, key) in
+            ["shadow_texel_ratio_p10", "shadow_texel_ratio_p50", "shadow_texel_ratio_p90"].iter().enumerate()
+        {
+            report[*key] = texel_ratios.map(|r| r[k]).into();
+        }
         println!("{report}");
         return Ok(());
     }
@@ -179,6 +186,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
         "shadows: {} tiles in a {} atlas ({} cascades, {}), {} caster draws",
         first.shadow_tiles, ds.atlas_size, ds.cascade_count, ds.filter, first.shadow_caster_draws
     );
+    if let Some([p10, p50, p90]) = texel_ratios {
+        println!("shadow texels per pixel: p10 {p10:.3}, p50 {p50:.3}, p90 {p90:.3}");
+    }
     if let Some(ms) = environment_setup_ms {
         println!("environment: {} made in {ms:.1} ms (once, before the frames)", settings.environment.describe(&scene));
     }
@@ -188,6 +198,26 @@ pub fn run(args: BenchArgs) -> Result<()> {
         println!("{label:<28} {:>10.3} {:>10.3} {:>10.3}", s.median, s.min, s.max);
     }
     Ok(())
+}
+
+/// Shadow texels per pixel (10th, 50th, 90th percentiles), from one more frame after
+/// the timed ones with the shadow AOVs, of the scene with only the lights that cast
+/// shadows: the AOVs keep a layer per light, which for a scene of thousands of lights at
+/// a large size would not fit.
+fn shadow_texel_ratios(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    view: &View,
+    settings: &Settings,
+) -> Result<Option<[f32; 3]>> {
+    let mut shadowed = scene.clone();
+    shadowed.lights.retain(|light| light.shadow.casts());
+    if shadowed.lights.is_empty() {
+        return Ok(None);
+    }
+    let prepared = renderer.prepare(&shadowed)?;
+    let options = FrameOptions { shadow_aovs: true, ..Default::default() };
+    Ok(renderer.render(&shadowed, &prepared, view, settings, options)?.shadow_texel_ratio_percentiles())
 }
 
 /// The table's rows: the frame interval, GPU times per pass where the device has

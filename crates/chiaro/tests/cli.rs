@@ -384,6 +384,13 @@ fn bench_json_is_one_object_with_the_named_keys() {
     let tiles = report["shadow_tiles_rendered"].as_array().expect("tiles per frame");
     assert!(tiles.iter().all(|t| t.as_u64() == Some(0)), "{report}");
     assert!(!passes.contains_key("shadows"), "{report}");
+    // Shadow texels per pixel over the shaded pixels: a 64x48 view of the demo samples
+    // its maps several texels a pixel, in order.
+    let ratios: Vec<f64> = ["shadow_texel_ratio_p10", "shadow_texel_ratio_p50", "shadow_texel_ratio_p90"]
+        .iter()
+        .map(|key| report[key].as_f64().unwrap_or_else(|| panic!("{key}: {report}")))
+        .collect();
+    assert!(ratios[0] > 0.0 && ratios[0] <= ratios[1] && ratios[1] <= ratios[2], "{ratios:?}");
     std::fs::write(dir.path().join("uncached.toml"), "[shadows]\ncache = false\n").unwrap();
     let run = chiaro(&[&args[..], &["--json", "--settings", "uncached.toml"]].concat(), &[], dir.path());
     let report: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();

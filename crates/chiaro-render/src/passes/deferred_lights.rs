@@ -299,6 +299,7 @@ impl DeferredLightsPass {
             overrides::TENT_FILTERS.flag(f.tent_filters),
             overrides::SOFT_CASCADES.flag(f.soft_cascades),
             overrides::TINTED_SHADOWS.flag(f.tinted_shadows),
+            overrides::CONTACT_SHADOWS.flag(f.contact_shadows),
         ];
         let buffers = [Some(vertex_layout)];
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -21,11 +21,12 @@ pub fn forward_depth(plan: &FramePlan) -> Target {
     if plan.msaa > 1 { DEPTH_MULTISAMPLED } else { DEPTH }
 }
 
-/// A scene depth target of `samples` per pixel in the device's `format`.
-pub fn depth_desc(format: wgpu::TextureFormat, samples: u32) -> TargetDesc {
-    // Sampled too, by the contact depth pass.
-    TargetDesc::view_sized(format, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING)
-        .with_samples(samples)
+/// A scene depth target of `samples` per pixel in the device's `format`; `sampled` where
+/// the contact depth pass reads it (else a GPU may keep it compressed).
+pub fn depth_desc(format: wgpu::TextureFormat, samples: u32, sampled: bool) -> TargetDesc {
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
+    let usage = if sampled { usage | wgpu::TextureUsages::TEXTURE_BINDING } else { usage };
+    TargetDesc::view_sized(format, usage).with_samples(samples)
 }
 
 /// What picks one pipeline of a mesh pass: culling, winding, blending, depth test, alpha

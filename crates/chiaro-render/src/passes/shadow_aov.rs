@@ -16,7 +16,8 @@ use crate::plan::lights::LightId;
 use crate::shader_constants::{MAX_UNIFORM_LIGHTS, NO_LIGHT};
 use crate::shaders;
 
-/// Shadow term, coverage.
+/// Shadow term; 0 where no surface is, else 1 + the shadow map's texels per pixel (1: no
+/// map sampled). Two channels: a scene of many lights at a large size makes many layers.
 pub const SHADOW_AOV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// One layer per scene light, in scene order.
 pub const SHADOW: Target = Target("aov shadow");
@@ -26,14 +27,24 @@ pub struct ShadowAovPass {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     depth_format: wgpu::TextureFormat,
-    /// One set per shader specialisation (the frame's features, as the forward pass's),
-    /// made when first used: with every feature compiled in, llvmpipe took seconds and
-    /// gigabytes to build each pipeline of the benchmark scene.
-    pipelines: HashMap<ShaderFeatures, MeshPipelines>,
+    /// One set per shader specialisation (the override constants of the frame's features
+    /// that the shader declares), made when first used: with every feature compiled in,
+    /// llvmpipe took seconds and gigabytes to build each pipeline of the benchmark scene.
+    pipelines: HashMap<Specialisation, MeshPipelines>,
     light_layout: wgpu::BindGroupLayout,
     /// One `GpuAovLight` per scene light, each at a multiple of `stride`.
     lights: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     stride: u64,
+}
+
+/// The override constants of a frame's features that the shadow AOV shader declares, as
+/// (key, value bits): frames whose features differ only in what it does not read share
+/// pipelines.
+type Specialisation = Vec<(&'static str, u64)>;
+
+fn specialisation(features: ShaderFeatures) -> Specialisation {
+    let declared = overrides::declared_in(crate::wgsl!("shadow_aov"), features.constants());
+    declared.into_iter().map(|(name, value)| (name, value.to_bits())).collect()
 }
 
 impl PassType for ShadowAovPass {
@@ -90,8 +101,8 @@ impl ShadowAovPass {
         }
     }
 
-    /// The pipelines specialised to `features`.
-    fn pipelines_for(&self, features: ShaderFeatures) -> MeshPipelines {
+    /// The pipelines specialised to `key`.
+    fn pipelines_for(&self, key: &Specialisation) -> MeshPipelines {
         MeshPipelines::new(MeshPipelinesDesc {
             label: "shadow aov",
             module: self.module.clone(),
@@ -102,7 +113,7 @@ impl ShadowAovPass {
             depth_test: DepthTest::SameSurface,
             depth_format: self.depth_format,
             marks_stencil: false,
-            constants: overrides::declared_in(crate::wgsl!("shadow_aov"), features.constants()),
+            constants: key.iter().map(|&(name, bits)| (name, f64::from_bits(bits))).collect(),
             alpha_test_override: None,
             textured_override: None,
             layered_override: None,
@@ -123,12 +134,12 @@ impl FramePass for ShadowAovPass {
                     .map_or(NO_LIGHT, |k| k as u32)
             })
             .collect();
-        let features = plan.features;
-        if !self.pipelines.contains_key(&features) {
-            let made = self.pipelines_for(features);
-            self.pipelines.insert(features, made);
+        let key = specialisation(plan.features);
+        if !self.pipelines.contains_key(&key) {
+            let made = self.pipelines_for(&key);
+            self.pipelines.insert(key.clone(), made);
         }
-        let pipelines = self.pipelines.get_mut(&features).expect("made above");
+        let pipelines = self.pipelines.get_mut(&key).expect("made above");
         pipelines.prepare(device, &cx.scene.draws, &plan.camera_draws, 1);
         let size = self.stride * light_indices.len().max(1) as u64;
         if self.lights.as_ref().is_none_or(|(buffer, _)| buffer.size() < size) {
@@ -180,7 +191,7 @@ impl FramePass for ShadowAovPass {
             });
             pass.set_bind_group(0, cx.frame_bind_group, &[]);
             pass.set_bind_group(2, light_bind_group, &[(k as u64 * self.stride) as u32]);
-            self.pipelines[&cx.plan.features].draw(&mut pass, cx.scene, &cx.plan.camera_draws);
+            self.pipelines[&specialisation(cx.plan.features)].draw(&mut pass, cx.scene, &cx.plan.camera_draws);
         }
     }
 }

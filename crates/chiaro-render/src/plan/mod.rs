@@ -303,8 +303,8 @@ impl FramePlan {
         };
         let mut features = features::ShaderFeatures::of(scene, settings, &lights, &shadowed[lists.directional.len()..]);
         features.tinted_shadows = shadows.tiles.iter().any(|tile| !tile.tint_casters.is_empty());
-        // The light volumes' shaders keep every feature compiled in: without the contact
-        // depth pass they must not march.
+        // Without the contact depth pass no shader may march (the shadow AOV's and the
+        // light volumes' are specialised to the features too; this guards any that is not).
         if !features.contact_shadows {
             shadows.gpu.contact.steps = 0;
         }
