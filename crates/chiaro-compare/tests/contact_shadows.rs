@@ -128,6 +128,16 @@ fn render(scene: &Scene, settings: &Settings, shadow_aovs: bool) -> FrameOutput 
     renderer.render(scene, &prepared, &view, settings, options).unwrap()
 }
 
+/// How many pixels set in `a` have a pixel set in `b` at most one pixel away.
+fn near(a: &[bool], b: &[bool]) -> usize {
+    let size = SIZE as i32;
+    let set = |x: i32, y: i32| (0..size).contains(&x) && (0..size).contains(&y) && b[(y * size + x) as usize];
+    (0..a.len() as i32)
+        .filter(|&i| a[i as usize])
+        .filter(|&i| (-1..=1).any(|dy| (-1..=1).any(|dx| set(i % size + dx, i / size + dy))))
+        .count()
+}
+
 /// Pixels whose radiance contact shadows more than halve, of `off` and `on`.
 fn darkened(off: &FrameOutput, on: &FrameOutput) -> Vec<bool> {
     off.hdr.iter().zip(&on.hdr).map(|(a, b)| b[1] < 0.5 * a[1]).collect()
@@ -153,12 +163,44 @@ fn the_lit_image_of_both_paths_darkens_where_the_shadow_aov_does() {
         assert!(on.graph.passes.contains(&"contact depth"), "{path:?}: {:?}", on.graph.passes);
         let in_image = darkened(&off, &on);
         let image_count = in_image.iter().filter(|&&d| d).count();
-        let both = in_image.iter().zip(&in_aov).filter(|(a, b)| **a && **b).count();
-        eprintln!("{path:?}: {image_count} darkened, {aov_count} in the AOV, {both} in both");
-        // Multisampled, pixels on silhouettes mix lit and shadowed samples (124 of 141).
-        assert!(
-            both as f64 >= 0.8 * aov_count.max(image_count) as f64,
-            "{path:?}: {image_count} / {aov_count} / {both}"
+        // Multisampled, the lit pixels on a contact shadow's edge mix samples either side
+        // of it: a darkened pixel counts where the other image darkens it or a neighbour.
+        let (image_near, aov_near) = (near(&in_image, &in_aov), near(&in_aov, &in_image));
+        eprintln!(
+            "{path:?}: {image_count} darkened, {aov_count} in the AOV; {image_near} and {aov_near} near the other's"
         );
+        assert!(image_near as f64 >= 0.95 * image_count as f64, "{path:?}: {image_near} of {image_count}");
+        assert!(aov_near as f64 >= 0.95 * aov_count as f64, "{path:?}: {aov_near} of {aov_count}");
+    }
+}
+
+#[test]
+fn beside_a_wall_a_point_light_keeps_false_contact_shadow_under_a_tenth_of_a_percent() {
+    // The light 40 cm from the wall and 60 cm up, boxes between, seen from close by: rays
+    // from the wall towards the light pass just behind the boxes' silhouettes, which the
+    // depth buffer cannot tell from rays that enter them.
+    let point = Light { shadow: LightShadow::default(), ..point_light(Vec3::new(0.0, 0.6, -1.6), 10.0, Some(8.0)) };
+    let mut scene = floor_scene(16.0, Vec3::ZERO, vec![point]);
+    let mut wall = scene.instances[0].clone();
+    wall.world_from_local = glam::Mat4::from_rotation_translation(
+        glam::Quat::from_rotation_x(90f32.to_radians()),
+        Vec3::new(0.0, 0.0, -2.0),
+    );
+    scene.instances.push(wall);
+    for (x, side) in [(-0.6, 0.3), (0.5, 0.4), (0.1, 0.2)] {
+        add_box(&mut scene, Vec3::new(x, side / 2.0, -1.75 + side / 2.0), Vec3::splat(side), 0.3, CastShadows::On);
+    }
+    for (eye, target) in [
+        (Vec3::new(0.3, 0.5, -0.6), Vec3::new(0.0, 0.1, -1.8)),
+        (Vec3::new(-0.2, 0.3, -1.0), Vec3::new(0.4, 0.05, -1.7)),
+    ] {
+        look_from(&mut scene, eye, target);
+        for band in [3, 1, 0] {
+            let (off, on) = (judged(&scene, &settings(false), band), judged(&scene, &settings(true), band));
+            eprintln!("wall from {eye}, band {band}: without {off:?}, with {on:?}");
+            if band == 1 {
+                assert!(share(&on) < 0.001, "from {eye}: {on:?}");
+            }
+        }
     }
 }
