@@ -78,14 +78,10 @@ overrides! {
     CONTACT_SHADOWS = 21;
 }
 
-/// Of `constants`, those whose override the composed WGSL `source` declares (as
-/// `@id(..OVERRIDE_<NAME>)`): wgpu refuses a constant its shader lacks, and a module keeps
-/// only the overrides it reads.
-pub fn declared_in(source: &str, constants: impl IntoIterator<Item = (&'static str, f64)>) -> Vec<(&'static str, f64)> {
-    constants
-        .into_iter()
-        .filter(|(key, _)| ALL.iter().any(|o| o.key == *key && source.contains(&format!("OVERRIDE_{})", o.name))))
-        .collect()
+/// The overrides the composed WGSL `source` declares (as `@id(..OVERRIDE_<NAME>)`): a
+/// module keeps only the overrides it reads, and wgpu refuses a constant its shader lacks.
+pub fn declared_in(source: &str) -> Vec<Override> {
+    ALL.iter().copied().filter(|o| source.contains(&format!("OVERRIDE_{})", o.name))).collect()
 }
 
 #[cfg(test)]
@@ -94,10 +90,10 @@ mod tests {
 
     #[test]
     fn the_shadow_aov_declares_the_shadow_overrides_and_not_the_shading_ones() {
-        let source = crate::wgsl!("shadow_aov");
-        let all = [CONTACT_SHADOWS, PCSS_SHADOWS, COOKIES_ENABLED, ENVIRONMENT_ENABLED].map(|o| o.flag(true));
-        let keys: Vec<&str> = declared_in(source, all).into_iter().map(|(key, _)| key).collect();
-        assert_eq!(keys, [CONTACT_SHADOWS.key, PCSS_SHADOWS.key]);
+        let declared = declared_in(crate::wgsl!("shadow_aov"));
+        let asked = [CONTACT_SHADOWS, PCSS_SHADOWS, COOKIES_ENABLED, ENVIRONMENT_ENABLED];
+        let kept: Vec<Override> = asked.into_iter().filter(|o| declared.contains(o)).collect();
+        assert_eq!(kept, [CONTACT_SHADOWS, PCSS_SHADOWS]);
     }
 
     #[test]

@@ -2,7 +2,8 @@
 //! in its `setup`, the targets it makes, reads and writes: the shadow atlases, the depth
 //! prepass, the contact shadows' depth copy, forward lighting, the deferred path's
 //! G-buffer, light volumes, LDR decoding and debug views, the deferred path's FXAA, the
-//! AOVs, the per-light shadow AOV and tone mapping. `list.rs` names them all; `fullscreen` and `mesh` are helpers they share.
+//! AOVs, the per-light shadow AOV and tone mapping. `list.rs` names them all;
+//! `fullscreen` and `mesh` are helpers they share.
 
 use crate::graph::{FramePass, PassDeclaration, PassInit, PassType};
 

@@ -11,10 +11,10 @@ use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, Prepar
 use crate::overrides;
 use crate::plan::FramePlan;
 use crate::plan::features::ShaderFeatures;
-use std::collections::HashMap;
 use crate::plan::lights::LightId;
 use crate::shader_constants::{MAX_UNIFORM_LIGHTS, NO_LIGHT};
 use crate::shaders;
+use std::collections::HashMap;
 
 /// Shadow term; 0 where no surface is, else 1 + the shadow map's texels per pixel (1: no
 /// map sampled). Two channels: a scene of many lights at a large size makes many layers.
@@ -27,6 +27,8 @@ pub struct ShadowAovPass {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     depth_format: wgpu::TextureFormat,
+    /// The keys of the override constants the shader declares, read from its source once.
+    declared: Vec<&'static str>,
     /// One set per shader specialisation (the override constants of the frame's features
     /// that the shader declares), made when first used: with every feature compiled in,
     /// llvmpipe took seconds and gigabytes to build each pipeline of the benchmark scene.
@@ -41,11 +43,6 @@ pub struct ShadowAovPass {
 /// (key, value bits): frames whose features differ only in what it does not read share
 /// pipelines.
 type Specialisation = Vec<(&'static str, u64)>;
-
-fn specialisation(features: ShaderFeatures) -> Specialisation {
-    let declared = overrides::declared_in(crate::wgsl!("shadow_aov"), features.constants());
-    declared.into_iter().map(|(name, value)| (name, value.to_bits())).collect()
-}
 
 impl PassType for ShadowAovPass {
     const NAME: &'static str = "shadow aov";
@@ -94,11 +91,18 @@ impl ShadowAovPass {
             module: shaders::module(device, "shadow aov", crate::wgsl!("shadow_aov")),
             layout,
             depth_format,
+            declared: overrides::declared_in(crate::wgsl!("shadow_aov")).iter().map(|o| o.key).collect(),
             pipelines: HashMap::new(),
             light_layout,
             lights: None,
             stride: (size_of::<GpuAovLight>() as u64).div_ceil(alignment) * alignment,
         }
+    }
+
+    /// The specialisation of the shader to `features`.
+    fn specialisation(&self, features: ShaderFeatures) -> Specialisation {
+        let constants = features.constants().into_iter().filter(|(key, _)| self.declared.contains(key));
+        constants.map(|(key, value)| (key, value.to_bits())).collect()
     }
 
     /// The pipelines specialised to `key`.
@@ -134,7 +138,7 @@ impl FramePass for ShadowAovPass {
                     .map_or(NO_LIGHT, |k| k as u32)
             })
             .collect();
-        let key = specialisation(plan.features);
+        let key = self.specialisation(plan.features);
         if !self.pipelines.contains_key(&key) {
             let made = self.pipelines_for(&key);
             self.pipelines.insert(key.clone(), made);
@@ -191,7 +195,7 @@ impl FramePass for ShadowAovPass {
             });
             pass.set_bind_group(0, cx.frame_bind_group, &[]);
             pass.set_bind_group(2, light_bind_group, &[(k as u64 * self.stride) as u32]);
-            self.pipelines[&specialisation(cx.plan.features)].draw(&mut pass, cx.scene, &cx.plan.camera_draws);
+            self.pipelines[&self.specialisation(cx.plan.features)].draw(&mut pass, cx.scene, &cx.plan.camera_draws);
         }
     }
 }
