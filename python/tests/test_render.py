@@ -2,6 +2,7 @@
 the box, shadows against rays cast towards the sun."""
 
 import json
+import os
 import threading
 
 import numpy as np
@@ -73,7 +74,7 @@ def test_instance_and_label_name_the_node_whose_geometry_holds_the_pixel(rendere
     assert instance[row, col] == scenes.BOX_NODE
 
 
-def test_the_box_shadow_falls_where_rays_to_the_sun_meet_the_box(renderer, scene):
+def assert_the_box_shadow_falls_where_rays_to_the_sun_meet_the_box(renderer, scene):
     out = renderer.render(scene, camera=overview(), width=W, height=H, outputs=("shadow", "instance", "position"))
     on_floor = out["instance"] == scenes.FLOOR_NODE
     position = out["position"]
@@ -90,6 +91,17 @@ def test_the_box_shadow_falls_where_rays_to_the_sun_meet_the_box(renderer, scene
     assert (judged & blocked).sum() > 50, "the test view must see the shadow"
     disagree = (shadowed != blocked) & judged
     assert disagree.sum() <= 0.005 * judged.sum(), "%d of %d floor pixels disagree" % (disagree.sum(), judged.sum())
+
+
+def test_the_box_shadow_falls_where_rays_to_the_sun_meet_the_box(renderer, scene):
+    assert_the_box_shadow_falls_where_rays_to_the_sun_meet_the_box(renderer, scene)
+
+
+def test_virtual_shadow_maps_put_the_box_shadow_where_the_rays_do(scene):
+    virtual = chiaro.Renderer(device=os.environ.get("CHIARO_TEST_DEVICE", "auto"),
+                              settings={"shadows": {"technique": "virtual", "virtual_pool_mb": 32}})
+    assert 'technique = "virtual"' in virtual.settings
+    assert_the_box_shadow_falls_where_rays_to_the_sun_meet_the_box(virtual, scene)
 
 
 def test_the_same_frame_twice_gives_identical_arrays(renderer, scene):

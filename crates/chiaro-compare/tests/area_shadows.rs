@@ -26,6 +26,11 @@ fn measure(kind: LightKind, along: Vec3, mode: ShadowMode, atlas_size: u32) -> V
 
 /// `measure` with the light at `light_x` along the floor instead of over the origin.
 fn measure_from(light_x: f32, kind: LightKind, along: Vec3, mode: ShadowMode, atlas_size: u32) -> VisibilityError {
+    judge(&area_scene(light_x, kind, along, mode), atlas_size)
+}
+
+/// The plank scene under an area light of `kind` at `light_x`, its local X along `along`.
+fn area_scene(light_x: f32, kind: LightKind, along: Vec3, mode: ShadowMode) -> Scene {
     // The shadow of the plank's edge falls about here on the floor.
     let edge = light_x + (PLANK_EDGE_X - light_x) * PLANK_LIGHT_HEIGHT / (PLANK_LIGHT_HEIGHT - PLANK_HEIGHT);
     let mut scene = plank_scene(PlankLight::Point, 0.2, 2.0, edge);
@@ -44,16 +49,22 @@ fn measure_from(light_x: f32, kind: LightKind, along: Vec3, mode: ShadowMode, at
     );
     light.shadow.mode = mode;
     scene.lights = vec![light];
-    judge(&scene, atlas_size)
+    scene
 }
 
 /// The visibility error of `scene`'s one light, rendered with a local atlas of `atlas_size`.
 fn judge(scene: &Scene, atlas_size: u32) -> VisibilityError {
+    let mut settings = Settings::default();
+    settings.shadows.other.atlas_size = atlas_size;
+    judge_with(scene, &settings)
+}
+
+/// The visibility error of `scene`'s one light, rendered with `settings`.
+fn judge_with(scene: &Scene, settings: &Settings) -> VisibilityError {
     let mut renderer = renderer();
     let prepared = renderer.prepare(scene).expect("prepare");
     let view = View::from_camera(scene, 0, SIZE, SIZE);
-    let mut settings = Settings::default();
-    settings.shadows.other.atlas_size = atlas_size;
+    let settings = settings.clone();
     let rendered = render_shadows(&mut renderer, scene, &prepared, &view, &settings).expect("render");
     let result = compare_rendered(scene, &view, &settings, rendered);
     result.reports[0].visibility.expect("an area light is judged by its visibility")
@@ -70,6 +81,33 @@ fn report(name: &str, mode: &str, e: &VisibilityError) {
         100.0 * e.penumbra_far_off,
         e.mean_abs
     );
+}
+
+/// With virtual shadow maps, an area light's pages come from a mip coarse enough that its
+/// blocker search and its rays stay within a page's border: the strip's penumbra keeps its
+/// shape as with the atlas. The disk's comes out at 0.053 (atlas 0.031): the coarse mip
+/// its rays need is too coarse for it (docs/shadows.md, not yet); it still beats the
+/// filtered hard shadow by far.
+#[test]
+fn virtual_maps_keep_wide_area_light_penumbrae() {
+    let mut settings = Settings::default();
+    settings.shadows.technique = chiaro_scene::ShadowTechnique::Virtual;
+    for (name, kind) in [
+        ("strip across the edge", LightKind::Rect { width: 1.0, height: 0.1 }),
+        ("disk", LightKind::Disk { diameter: 0.5 }),
+    ] {
+        let atlas = measure(kind, Vec3::X, ShadowMode::Pcss, DEFAULT_ATLAS);
+        let virt = judge_with(&area_scene(0.0, kind, Vec3::X, ShadowMode::Pcss), &settings);
+        let soft = judge_with(&area_scene(0.0, kind, Vec3::X, ShadowMode::Soft), &settings);
+        report(name, "pcss, atlas", &atlas);
+        report(name, "pcss, virtual", &virt);
+        report(name, "soft, virtual", &soft);
+        assert!(virt.penumbra_compared > 3000, "{name}: {} penumbra pixels", virt.penumbra_compared);
+        assert!(soft.penumbra_mean_abs > 2.0 * virt.penumbra_mean_abs, "{name}: soft {soft:?}, pcss {virt:?}");
+        if name.starts_with("strip") {
+            assert!(virt.penumbra_mean_abs < 0.05 && virt.penumbra_far_off < 0.05, "{name}: {virt:?}");
+        }
+    }
 }
 
 #[test]

@@ -10,7 +10,7 @@ mod common;
 use chiaro_compare::{VisibilityError, compare_rendered, render_shadows};
 use chiaro_math::shadow::pcss::{disc_edge_visibility, penumbra_width};
 use chiaro_render::View;
-use chiaro_scene::{Settings, ShadowMode};
+use chiaro_scene::{Settings, ShadowMode, ShadowTechnique};
 use chiaro_testkit::{PLANK_EDGE_X, PLANK_HEIGHT, PLANK_LIGHT_HEIGHT, PlankLight, plank_scene, pole_and_plank_scene};
 use common::*;
 
@@ -26,8 +26,19 @@ fn scene(kind: PlankLight) -> (chiaro_scene::Scene, f32) {
 /// The visibility error of the plank's shadow rendered with `mode` against the traced
 /// area light, and the traced penumbra's mean distance from the disc light's profile.
 fn measure(kind: PlankLight, mode: ShadowMode, samples: u32) -> (VisibilityError, f32) {
+    measure_with(kind, mode, samples, ShadowTechnique::Atlas)
+}
+
+/// As `measure`, with the shadow maps of `technique`.
+fn measure_with(
+    kind: PlankLight,
+    mode: ShadowMode,
+    samples: u32,
+    technique: ShadowTechnique,
+) -> (VisibilityError, f32) {
     let (scene, edge) = scene(kind);
     let mut settings = Settings::default();
+    settings.shadows.technique = technique;
     settings.shadows.pcss_blocker_samples = samples;
     settings.shadows.pcss_filter_samples = samples;
     let mut renderer = renderer();
@@ -84,6 +95,27 @@ fn pcss_agrees_with_the_traced_area_light() {
             100.0 * hard.far_off
         );
         assert!(hard.mean_abs > 2.0 * pcss.mean_abs && hard.far_off > 2.0 * pcss.far_off, "{kind:?}: {hard:?}");
+    }
+}
+
+/// Virtual shadow maps keep PCSS penumbrae: a contact-hardening light's pages come from a
+/// mip coarse enough that its blocker search stays within a page's border.
+#[test]
+fn virtual_maps_keep_the_traced_penumbra() {
+    for kind in [PlankLight::Point, PlankLight::Spot, PlankLight::Sun] {
+        let (atlas, _) = measure(kind, ShadowMode::Pcss, 16);
+        let (virt, _) = measure_with(kind, ShadowMode::Pcss, 16, ShadowTechnique::Virtual);
+        eprintln!(
+            "{kind:?}: atlas mean |dv| {:.4}, p95 {:.4}, > 0.1 on {:.3}%; virtual {:.4}, {:.4}, {:.3}%",
+            atlas.mean_abs,
+            atlas.p95_abs,
+            100.0 * atlas.far_off,
+            virt.mean_abs,
+            virt.p95_abs,
+            100.0 * virt.far_off
+        );
+        assert!(virt.compared > 10_000, "{kind:?}: {} pixels compared", virt.compared);
+        assert!(virt.mean_abs < 0.012 && virt.p95_abs < 0.1 && virt.far_off < 0.04, "{kind:?}: {virt:?}");
     }
 }
 

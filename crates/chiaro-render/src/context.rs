@@ -101,7 +101,10 @@ impl GpuContext {
         // 2 and 8 MSAA samples need the adapter's format features.
         // BC7 textures: KTX2 (Basis Universal) images transcode to them where the adapter
         // samples them, a quarter of RGBA8's memory.
+        // Shadow casters draw each tile's batches with multi-draw indirect, whose draws
+        // start at their object's instance.
         for optional in [
+            wgpu::Features::INDIRECT_FIRST_INSTANCE,
             wgpu::Features::DEPTH32FLOAT_STENCIL8,
             wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES,
             wgpu::Features::TEXTURE_COMPRESSION_BC,

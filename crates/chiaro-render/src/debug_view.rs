@@ -40,6 +40,8 @@ pub enum DebugView {
     Clusters,
     /// False and missed shadows against the ray-traced reference.
     Reference,
+    /// The virtual shadow maps' page table (`VirtualShadowPlan::page_table_image`).
+    VirtualPages,
 }
 
 impl DebugView {
@@ -56,7 +58,7 @@ impl DebugView {
             DebugView::Aov(AovView::Lightmap),
         ];
         views.extend((0..lights).map(|i| DebugView::Aov(AovView::Shadow(i))));
-        views.extend([DebugView::Clusters, DebugView::ShadowAtlases, DebugView::Reference]);
+        views.extend([DebugView::Clusters, DebugView::ShadowAtlases, DebugView::Reference, DebugView::VirtualPages]);
         views
     }
 
@@ -67,6 +69,7 @@ impl DebugView {
             DebugView::Aov(_) => self.cli_name().expect("named").replace('-', " "),
             DebugView::ShadowAtlases => "shadow atlases".into(),
             DebugView::Reference => "disagreement with the reference".into(),
+            DebugView::VirtualPages => "virtual shadow pages".into(),
             _ => self.cli_name().expect("named").into(),
         }
     }
@@ -86,6 +89,7 @@ impl DebugView {
             DebugView::Clusters => "clusters",
             DebugView::ShadowAtlases => "shadow-atlases",
             DebugView::Reference => "reference",
+            DebugView::VirtualPages => "virtual-pages",
         })
     }
 
@@ -115,8 +119,9 @@ impl DebugView {
             DebugView::Cascades | DebugView::GbufferAlbedo | DebugView::GbufferNormal | DebugView::LightOverdraw => {
                 FrameOptions { debug, ..Default::default() }
             }
-            // The reference is traced apart from the frame, which renders as usual.
-            DebugView::Reference => FrameOptions::default(),
+            // The reference is traced apart from the frame, which renders as usual; the page
+            // table is the frame's plan.
+            DebugView::Reference | DebugView::VirtualPages => FrameOptions::default(),
             DebugView::ShadowAtlases => FrameOptions { readback: true, read_shadow_atlas: true, ..Default::default() },
             DebugView::Aov(aov) => FrameOptions {
                 aovs: true,
@@ -147,7 +152,8 @@ mod tests {
     #[test]
     fn only_the_views_drawn_by_passes_go_to_the_output_without_a_read_back() {
         for d in DebugView::all(2) {
-            let drawn = matches!(d, DebugView::Cascades | DebugView::Reference) || d.is_deferred();
+            let drawn =
+                matches!(d, DebugView::Cascades | DebugView::Reference | DebugView::VirtualPages) || d.is_deferred();
             assert_eq!(!d.frame_options().reads_back(), drawn, "{d:?}");
         }
     }

@@ -73,6 +73,7 @@ pub enum Resource {
     EnvironmentBrdf,
     ShadowTints,
     ViewDepths,
+    VirtualPageTable,
 }
 
 /// One binding of group 0.
@@ -93,7 +94,7 @@ const fn fragment(resource: Resource, name: &'static str, kind: Kind) -> FrameBi
 }
 
 /// Group 0's bindings; a binding's number is its place here.
-pub const FRAME_BINDINGS: [FrameBinding; 23] = [
+pub const FRAME_BINDINGS: [FrameBinding; 24] = [
     // The frame uniform (common/frame.wesl): the camera, exposure, light counts.
     FrameBinding { resource: Resource::Frame, name: "FRAME", stages: Stages::VertexFragment, kind: Kind::Uniform },
     // The first MAX_UNIFORM_LIGHTS lights and the light lists (lighting/light.wesl).
@@ -135,6 +136,9 @@ pub const FRAME_BINDINGS: [FrameBinding; 23] = [
     // passes that read it may keep the depth target attached and stay within 16 sampled
     // textures.
     fragment(Resource::ViewDepths, "VIEW_DEPTHS", Kind::Storage),
+    // The virtual shadow maps' page table (shadows/virtual_map.wesl): which pool slot
+    // holds each page, 0 for none.
+    fragment(Resource::VirtualPageTable, "VIRTUAL_PAGE_TABLE", Kind::Storage),
 ];
 
 /// The binding number of the binding named `name`.

@@ -40,6 +40,12 @@ pub struct FrameData {
     /// Each pixel's scene depth for contact shadows (`passes::contact_depth` writes it);
     /// one float where the frame has none.
     view_depths: GrowingBuffer,
+    /// The virtual shadow maps' page table (`plan::virtual_shadows`); one placeholder
+    /// entry without them.
+    page_table: GrowingBuffer,
+    /// The marking pass's request bits, one per page-table entry (read back by the
+    /// renderer; not bound in group 0).
+    page_requests: GrowingBuffer,
     /// The frame's lights as uploaded, kept from frame to frame: thousands of lights
     /// written into fresh memory each frame cost more in page faults than in writing.
     gpu_lights: Vec<GpuLight>,
@@ -73,6 +79,19 @@ struct BoundResources {
     environment_brdf_table: wgpu::TextureView,
     shadow_tints: wgpu::TextureView,
     view_depths: wgpu::Buffer,
+    page_table: wgpu::Buffer,
+}
+
+/// The buffers of group 0 (and the request bits) that the virtual page marking pass
+/// binds in a group of its own; the maps are in the shadow uniform.
+#[derive(Clone, Copy)]
+pub struct MarkingBuffers<'a> {
+    /// The frame uniform.
+    pub frame: &'a wgpu::Buffer,
+    /// The shadow uniform.
+    pub shadows: &'a wgpu::Buffer,
+    /// One bit per page-table entry.
+    pub page_requests: &'a wgpu::Buffer,
 }
 
 /// A storage buffer that is made again, twice as large, when a frame needs more.
@@ -90,7 +109,7 @@ impl GrowingBuffer {
         device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         })
     }
@@ -184,6 +203,8 @@ impl FrameData {
             list_starts: GrowingBuffer::new(device, "light list starts", 4 * 64),
             list_indices: GrowingBuffer::new(device, "light list indices", 4 * 1024),
             view_depths: GrowingBuffer::new(device, "view depths", 4),
+            page_table: GrowingBuffer::new(device, "virtual page table", 4),
+            page_requests: GrowingBuffer::new(device, "virtual page requests", 4),
             gpu_lights: Vec::new(),
             shadow_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("shadow comparison sampler"),
@@ -232,20 +253,34 @@ impl FrameData {
             queue.write_buffer(&self.light_list, 0, bytemuck::cast_slice(&list));
         }
         queue.write_buffer(&self.shadows, 0, bytemuck::bytes_of(&plan.shadows.gpu));
-        if plan.features.contact_shadows {
+        if plan.features.contact_shadows || plan.marks_pages {
             let (width, height) = (plan.view.width, plan.view.height);
             let bytes = width as u64 * height as u64 * size_of::<f32>() as u64;
             let largest = device.limits().max_storage_buffer_binding_size;
             if bytes > largest {
                 let reason = format!(
-                    "contact shadows ([shadows] contact) keep each pixel's depth in one storage buffer of \
-                     {bytes} bytes, more than the device binds ({largest}); render smaller or turn them off"
+                    "contact shadows ([shadows] contact) and virtual shadow maps' marking keep each pixel's \
+                     depth in one storage buffer of {bytes} bytes, more than the device binds ({largest}); \
+                     render smaller or turn them off"
                 );
                 return Err(RenderError::OutputSize { width, height, reason });
             }
             self.view_depths.reserve(device, bytes);
         }
+        let virtual_maps = &plan.shadows.virtual_maps;
+        if virtual_maps.is_active() {
+            self.page_table.write(device, queue, bytemuck::cast_slice(&virtual_maps.page_table));
+            if plan.marks_pages {
+                self.page_requests.reserve(device, virtual_maps.request_bytes());
+            }
+        }
         Ok(())
+    }
+
+    /// The buffers the virtual page marking pass binds: the frame and shadow uniforms,
+    /// the maps, and the request bits it sets.
+    pub fn marking_buffers(&self) -> MarkingBuffers<'_> {
+        MarkingBuffers { frame: &self.frame, shadows: &self.shadows, page_requests: &self.page_requests.buffer }
     }
 
     /// The buffer the contact depth pass writes each pixel's scene depth into.
@@ -279,6 +314,7 @@ impl FrameData {
             environment_brdf_table: environment.brdf_table.clone(),
             shadow_tints: targets.view(SHADOW_TINTS).clone(),
             view_depths: self.view_depths.buffer.clone(),
+            page_table: self.page_table.buffer.clone(),
         };
         if let Some((last, group)) = &self.last_bind_group
             && *last == bound
@@ -322,6 +358,7 @@ impl FrameData {
                     Resource::EnvironmentBrdf => view(&bound.environment_brdf_table),
                     Resource::ShadowTints => view(&bound.shadow_tints),
                     Resource::ViewDepths => bound.view_depths.as_entire_binding(),
+                    Resource::VirtualPageTable => bound.page_table.as_entire_binding(),
                 };
                 wgpu::BindGroupEntry { binding: binding as u32, resource }
             })

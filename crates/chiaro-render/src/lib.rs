@@ -39,5 +39,6 @@ pub use debug_view::{AovView, DebugView};
 pub use error::RenderError;
 pub use output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes, Ids, ShadowStatus};
 pub use plan::FramePlan;
+pub use plan::virtual_shadows::VirtualPageStats;
 pub use renderer::{PendingFrame, PreparedScene, Renderer};
 pub use view::View;

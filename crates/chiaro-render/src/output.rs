@@ -6,6 +6,7 @@ use crate::graph::{FrameGraph, PassStats, Target};
 use crate::plan::FramePlan;
 use crate::plan::lights::LightId;
 use crate::plan::shadows::ShadowSlot;
+use crate::plan::virtual_shadows::VirtualPageStats;
 use chiaro_scene::{LightMode, Scene};
 
 /// What a caller asks of a frame beyond the image: AOVs, read-back, atlases, a debug view.
@@ -199,6 +200,14 @@ impl FrameOutput {
         }
         ratios.sort_by(f32::total_cmp);
         Some([0.1, 0.5, 0.9].map(|q| ratios[((ratios.len() - 1) as f32 * q).round() as usize]))
+    }
+
+    /// The virtual shadow technique's page counts this frame (pages asked for, those the
+    /// pool could not hold, pages resident, the pool's megabytes); `None` with the atlas
+    /// technique or no virtual-shadowed light.
+    pub fn virtual_pages(&self) -> Option<VirtualPageStats> {
+        let maps = &self.plan.shadows.virtual_maps;
+        maps.is_active().then_some(maps.stats)
     }
 
     /// Point and spot lights shaded.

@@ -76,6 +76,8 @@ overrides! {
     TINTED_SHADOWS = 20;
     /// Screen-space contact shadows march the view's depths (`[shadows] contact`).
     CONTACT_SHADOWS = 21;
+    /// A light is shadowed from virtual maps (`[shadows] technique = "virtual"`).
+    VIRTUAL_SHADOWS = 22;
 }
 
 /// The overrides the composed WGSL `source` declares (as `@id(..OVERRIDE_<NAME>)`): a

@@ -11,6 +11,23 @@ pub struct PendingCopy {
     padded_row: u32,
 }
 
+/// Records a copy of the first `bytes` of `source` (a multiple of 4) into `encoder`.
+pub fn copy_buffer(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    source: &wgpu::Buffer,
+    bytes: u32,
+) -> PendingCopy {
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: bytes as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    encoder.copy_buffer_to_buffer(source, 0, &buffer, 0, bytes as u64);
+    PendingCopy { buffer, unpadded_row: bytes, padded_row: bytes }
+}
+
 /// Records a copy of the whole of `texture` (`bytes_per_pixel` each, every layer) into
 /// `encoder`.
 pub fn copy_texture(

@@ -16,7 +16,7 @@ use crate::passes::targets::HDR;
 use crate::passes::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::plan::shadows::{ShadowAtlas, ShadowAtlasTiles};
 use crate::plan::{FramePlan, PlanRequest};
-use crate::readback::{PendingCopy, copy_texture, finish_copies_of};
+use crate::readback::{PendingCopy, copy_buffer, copy_texture, finish_copies_of};
 use crate::scene::{GpuScene, material_layout};
 use crate::thread_clock::thread_cpu_ms;
 use crate::unpack::unpack_images;
@@ -68,6 +68,9 @@ pub struct Renderer {
     in_flight: VecDeque<(u64, wgpu::SubmissionIndex)>,
     next_frame: u64,
     gpu_times: VecDeque<GpuFrameTimes>,
+    /// The last marking frame's key (`FramePlan::marking_key`) and requests: a frame with
+    /// the same key asks for the same pages without marking them again.
+    last_marks: Option<(u64, Vec<u32>)>,
 }
 
 impl Renderer {
@@ -93,10 +96,14 @@ impl Renderer {
             passes,
             targets: Targets::default(),
             timer,
-            atlas_tiles: ShadowAtlasTiles::default(),
+            atlas_tiles: ShadowAtlasTiles {
+                max_texture_side: device.limits().max_texture_dimension_2d,
+                ..ShadowAtlasTiles::default()
+            },
             in_flight: VecDeque::new(),
             next_frame: 0,
             gpu_times: VecDeque::new(),
+            last_marks: None,
             ctx,
         })
     }
@@ -111,7 +118,8 @@ impl Renderer {
     /// tiles where the last one did draws none again.
     pub fn forget_history(&mut self) {
         let cache = std::mem::take(&mut self.atlas_tiles.cache);
-        self.atlas_tiles = ShadowAtlasTiles { cache, ..ShadowAtlasTiles::default() };
+        let max_texture_side = self.atlas_tiles.max_texture_side;
+        self.atlas_tiles = ShadowAtlasTiles { cache, max_texture_side, ..ShadowAtlasTiles::default() };
     }
 
     /// Uploads a scene's geometry, objects, materials and textures.
@@ -274,6 +282,9 @@ impl Renderer {
         self.ctx
             .check_msaa(plan.msaa)
             .map_err(|e| RenderError::Unsupported(format!("render.msaa = {}: {e}", plan.msaa)))?;
+        if plan.wants_pages() {
+            self.place_virtual_pages(scene, prepared, settings, &mut plan)?;
+        }
 
         let graph = FrameGraph::compile(crate::passes::DECLARATIONS, &plan, self.ctx.depth_format)?;
         tracing::debug!("{graph}");
@@ -341,6 +352,70 @@ impl Renderer {
         Ok(PendingFrame { out, copies, submission, start, exposure, reads_back: options.reads_back() })
     }
 
+    /// Before a frame shaded from virtual shadow maps: draws its view's depth, marks the
+    /// pages its pixels want (a frame of its own, `FramePlan::marking_plan`), waits for
+    /// the marks and places the pages in `plan`. The marks are this frame's own, so a
+    /// single still image has every page it needs.
+    fn place_virtual_pages(
+        &mut self,
+        scene: &Scene,
+        prepared: &PreparedScene,
+        settings: &Settings,
+        plan: &mut FramePlan,
+    ) -> Result<(), RenderError> {
+        let _span = tracing::debug_span!("virtual page marking").entered();
+        let draws = &prepared.gpu.draws;
+        // The scene's geometry is the buffers it was uploaded to.
+        let key = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::hash::DefaultHasher::new();
+            (plan.marking_key(draws), &prepared.gpu.vertices, &prepared.gpu.indices).hash(&mut h);
+            h.finish()
+        };
+        if let Some((last, requests)) = &self.last_marks
+            && *last == key
+        {
+            plan.place_virtual_pages(draws, requests);
+            return Ok(());
+        }
+        let marking = plan.marking_plan(draws);
+        let graph = FrameGraph::compile(&crate::passes::marking_declarations(), &marking, self.ctx.depth_format)?;
+        let view = marking.view;
+        self.targets.ensure_for(&self.ctx.device, &graph, (view.width, view.height), None);
+        let (device, queue) = (&self.ctx.device, &self.ctx.queue);
+        self.frame_data.upload(device, queue, &marking, scene, settings)?;
+        let bind_group = self.frame_data.bind_group(device, &prepared.gpu, self.environment.maps(), &self.targets);
+        let prepare = PrepareContext {
+            device,
+            queue,
+            plan: &marking,
+            scene: &prepared.gpu,
+            source: scene,
+            output_format: OUTPUT_FORMAT,
+            environment_image: &self.environment.maps().image,
+        };
+        for &i in &graph.order {
+            self.passes[i].prepare(&prepare);
+        }
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("virtual page marking") });
+        // Untimed: the timer's passes are the frame's own.
+        let timer = self.timer.take();
+        self.record_passes(&mut encoder, &graph, &marking, settings, &prepared.gpu, &bind_group);
+        self.timer = timer;
+        let bytes = marking.shadows.virtual_maps.request_bytes() as u32;
+        let requests = self.frame_data.marking_buffers().page_requests;
+        let copy = copy_buffer(&self.ctx.device, &mut encoder, requests, bytes);
+        let submission = self.ctx.queue.submit([encoder.finish()]);
+        let read = finish_copies_of(&self.ctx, vec![copy], Some(submission))?;
+        let requests: Vec<u32> = bytemuck::pod_collect_to_vec(&read[0]);
+        // Marks of a frame that failed are not kept for the next.
+        self.ctx.take_error()?;
+        plan.place_virtual_pages(draws, &requests);
+        self.last_marks = Some((key, requests));
+        Ok(())
+    }
+
     /// Waits for a submitted frame (and the frames before it, not those after) and reads
     /// it back as `FrameOutput`; a frame that reads nothing back returns at once.
     pub fn finish(&mut self, pending: PendingFrame) -> Result<FrameOutput, RenderError> {
@@ -389,6 +464,7 @@ impl Renderer {
                 frame_bind_group,
                 targets: &self.targets,
                 view_depths: self.frame_data.view_depths(),
+                marking: self.frame_data.marking_buffers(),
                 timestamps: self.timer.as_mut().and_then(|t| t.pass(name)),
                 stats: &mut stats,
             };

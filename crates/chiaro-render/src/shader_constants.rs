@@ -5,7 +5,7 @@
 
 use chiaro_math::light::{MAX_DIRECTIONAL_LIGHTS, MAX_LOCAL_LIGHTS};
 use chiaro_math::shadow::local::MAX_LOCAL_SHADOW_TILES as LOCAL_TILES;
-use chiaro_math::shadow::{MAX_CASCADES as CASCADES, MAX_SHADOWED_DIRECTIONAL_LIGHTS, ShadowFilter};
+use chiaro_math::shadow::{MAX_CASCADES as CASCADES, MAX_SHADOWED_DIRECTIONAL_LIGHTS, ShadowFilter, virtual_map};
 
 /// Cascades per directional light at most.
 pub const MAX_CASCADES: u32 = CASCADES as u32;
@@ -13,6 +13,10 @@ pub const MAX_CASCADES: u32 = CASCADES as u32;
 pub const MAX_DIRECTIONAL_SHADOW_TILES: u32 = (MAX_SHADOWED_DIRECTIONAL_LIGHTS * CASCADES) as u32;
 /// Tiles of the point and spot atlas at most (one per spot, six per point light).
 pub const MAX_LOCAL_SHADOW_TILES: u32 = LOCAL_TILES as u32;
+/// Virtual shadow maps a frame has at most, in the shadow uniform: four directional
+/// lights' clipmaps of up to 16 levels, and `shadows.other.max_tiles` (at most 64) spots
+/// and cube faces.
+pub const MAX_VIRTUAL_MAPS: u32 = 128;
 /// Lights one frame shades: four directional lights and `MAX_LOCAL_LIGHTS` point and
 /// spot lights (the light buffer's length).
 pub const MAX_FRAME_LIGHTS: u32 = (MAX_DIRECTIONAL_LIGHTS + MAX_LOCAL_LIGHTS) as u32;
@@ -41,6 +45,24 @@ pub const SHADOW_SLOT_NONE: u32 = 0;
 pub const SHADOW_SLOT_REALTIME: u32 = 1;
 /// `GpuLight::shadow_slot`: casts shadows but got no tile; only baked shadows apply.
 pub const SHADOW_SLOT_BAKED_ONLY: u32 = 2;
+/// `GpuLight::shadow_slot`: shadowed from its virtual maps (`[shadows] technique =
+/// "virtual"`); its first tile is its first map.
+pub const SHADOW_SLOT_VIRTUAL: u32 = 3;
+
+/// `GpuVirtualMap::kind`: a directional light's clipmap level.
+pub const VIRTUAL_MAP_DIRECTIONAL: u32 = 0;
+/// `GpuVirtualMap::kind`: a spot light's map.
+pub const VIRTUAL_MAP_SPOT: u32 = 1;
+/// `GpuVirtualMap::kind`: a cube face of a point (or area) light.
+pub const VIRTUAL_MAP_CUBE_FACE: u32 = 2;
+/// chiaro_math::shadow::virtual_map's page grid, for the shaders.
+pub const VIRTUAL_PAGE_TEXELS: u32 = virtual_map::PAGE_TEXELS;
+/// See `VIRTUAL_PAGE_TEXELS`.
+pub const VIRTUAL_PAGE_BORDER: u32 = virtual_map::PAGE_BORDER;
+/// See `VIRTUAL_PAGE_TEXELS`.
+pub const VIRTUAL_PAGE_SLOT: u32 = virtual_map::PAGE_SLOT;
+/// See `VIRTUAL_PAGE_TEXELS`.
+pub const VIRTUAL_MAP_PAGES: u32 = virtual_map::MAP_PAGES;
 
 /// `GpuLight::shadow_filter`.
 pub const SHADOW_FILTER_PCF2X2: u32 = ShadowFilter::Pcf2x2.index();
@@ -177,6 +199,7 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("MAX_CASCADES", MAX_CASCADES),
     ("MAX_DIRECTIONAL_SHADOW_TILES", MAX_DIRECTIONAL_SHADOW_TILES),
     ("MAX_LOCAL_SHADOW_TILES", MAX_LOCAL_SHADOW_TILES),
+    ("MAX_VIRTUAL_MAPS", MAX_VIRTUAL_MAPS),
     ("MAX_FRAME_LIGHTS", MAX_FRAME_LIGHTS),
     ("MAX_UNIFORM_LIGHTS", MAX_UNIFORM_LIGHTS),
     ("LIGHT_KIND_DIRECTIONAL", LIGHT_KIND_DIRECTIONAL),
@@ -188,6 +211,14 @@ pub const U32_CONSTANTS: &[(&str, u32)] = &[
     ("SHADOW_SLOT_NONE", SHADOW_SLOT_NONE),
     ("SHADOW_SLOT_REALTIME", SHADOW_SLOT_REALTIME),
     ("SHADOW_SLOT_BAKED_ONLY", SHADOW_SLOT_BAKED_ONLY),
+    ("SHADOW_SLOT_VIRTUAL", SHADOW_SLOT_VIRTUAL),
+    ("VIRTUAL_MAP_DIRECTIONAL", VIRTUAL_MAP_DIRECTIONAL),
+    ("VIRTUAL_MAP_SPOT", VIRTUAL_MAP_SPOT),
+    ("VIRTUAL_MAP_CUBE_FACE", VIRTUAL_MAP_CUBE_FACE),
+    ("VIRTUAL_PAGE_TEXELS", VIRTUAL_PAGE_TEXELS),
+    ("VIRTUAL_PAGE_BORDER", VIRTUAL_PAGE_BORDER),
+    ("VIRTUAL_PAGE_SLOT", VIRTUAL_PAGE_SLOT),
+    ("VIRTUAL_MAP_PAGES", VIRTUAL_MAP_PAGES),
     ("SHADOW_FILTER_PCF2X2", SHADOW_FILTER_PCF2X2),
     ("SHADOW_FILTER_TENT3X3", SHADOW_FILTER_TENT3X3),
     ("SHADOW_FILTER_TENT5X5", SHADOW_FILTER_TENT5X5),

@@ -21,7 +21,7 @@ pub fn shows_view(debug: Option<DebugView>, has_disagreement: bool) -> bool {
             true
         }
         Some(DebugView::Reference) => !has_disagreement,
-        Some(DebugView::Aov(_) | DebugView::Clusters | DebugView::ShadowAtlases) => false,
+        Some(DebugView::Aov(_) | DebugView::Clusters | DebugView::ShadowAtlases | DebugView::VirtualPages) => false,
     }
 }
 
@@ -53,6 +53,10 @@ pub fn frame_images(debug: Option<DebugView>, frame: &FrameOutput, scene: &Scene
                 },
             }
         }
+        Some(DebugView::VirtualPages) => match frame.plan.shadows.virtual_maps.page_table_image() {
+            Some((width, height, pixels)) => vec![([width, height], pixels)],
+            None => Vec::new(),
+        },
         Some(DebugView::Clusters) => match (aovs, &frame.plan.culled.grid) {
             (Some(a), Some(grid)) => {
                 let most = (frame.plan.lights.len() as u32).clamp(1, 32);

@@ -4,7 +4,9 @@
 
 use crate::scene_input::SceneInput;
 use anyhow::Result;
-use chiaro_render::{FrameOptions, FrameOutput, FrameTimings, GpuContext, GpuFrameTimes, Renderer, View};
+use chiaro_render::{
+    FrameOptions, FrameOutput, FrameTimings, GpuContext, GpuFrameTimes, Renderer, View, VirtualPageStats,
+};
 use chiaro_scene::{Scene, Settings};
 use clap::Args;
 use std::time::Instant;
@@ -36,6 +38,7 @@ pub struct BenchArgs {
 struct TimedFrame {
     timings: FrameTimings,
     shadow_tiles: usize,
+    virtual_pages: Option<VirtualPageStats>,
 }
 
 struct Stats {
@@ -56,6 +59,7 @@ fn json_report(
     device: &str,
 ) -> serde_json::Value {
     let median = |v: Vec<f64>| stats(v).median;
+    let last = frames.last().expect("at least one timed frame");
     let passes: serde_json::Map<String, serde_json::Value> =
         pass_times(gpu).into_iter().map(|(pass, times)| (pass.to_string(), median(times).into())).collect();
     serde_json::json!({
@@ -80,7 +84,24 @@ fn json_report(
         "other_lights_shaded": first.local_lights_shaded(),
         "other_lights_dropped": first.local_lights_dropped(),
         "shadow_tiles_rendered": frames.iter().map(|f| f.shadow_tiles).collect::<Vec<_>>(),
+        "shadow_technique": if last.virtual_pages.is_some() { "virtual" } else { "atlas" },
+        "shadow_pages_drawn": last.shadow_tiles,
+        "shadow_pages_resident": last.virtual_pages.map(|p| p.resident),
+        "shadow_pages_dropped": last.virtual_pages.map(|p| p.dropped),
+        "shadow_pool_mb": shadow_map_megabytes(first, last),
     })
+}
+
+/// Megabytes of shadow-map depth: the virtual technique's pool, or both atlases.
+fn shadow_map_megabytes(first: &FrameOutput, last: &TimedFrame) -> f64 {
+    match last.virtual_pages {
+        Some(pages) => pages.pool_mb,
+        None => {
+            let shadows = &first.plan.shadows;
+            let texels = [shadows.directional_atlas_size, shadows.local_atlas_size].map(|s| s as f64 * s as f64);
+            (texels[0] + texels[1]) * 4.0 / (1 << 20) as f64
+        }
+    }
 }
 
 /// Each pass that ran in any of the frames (in the order it first ran), with its time in
@@ -139,7 +160,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
         let now = Instant::now();
         intervals.push((now - last).as_secs_f64() * 1e3);
         last = now;
-        frames.push(TimedFrame { timings: frame.timings.clone(), shadow_tiles: frame.shadow_tiles });
+        frames.push(TimedFrame {
+            timings: frame.timings.clone(),
+            shadow_tiles: frame.shadow_tiles,
+            virtual_pages: frame.virtual_pages(),
+        });
         first.get_or_insert(frame);
     }
     let first = first.expect("at least one timed frame");
@@ -182,10 +207,17 @@ pub fn run(args: BenchArgs) -> Result<()> {
         first.local_lights_shaded()
     );
     let ds = &settings.shadows.directional;
-    println!(
-        "shadows: {} tiles in a {} atlas ({} cascades, {}), {} caster draws",
-        first.shadow_tiles, ds.atlas_size, ds.cascade_count, ds.filter, first.shadow_caster_draws
-    );
+    match frames.last().and_then(|f| f.virtual_pages.map(|p| (f.shadow_tiles, p))) {
+        Some((drawn, pages)) => println!(
+            "shadows: virtual maps, {drawn} pages drawn in the last frame, {} resident in a {:.0} MB pool ({} asked \
+             for, {} left to coarser pages)",
+            pages.resident, pages.pool_mb, pages.requested, pages.dropped
+        ),
+        None => println!(
+            "shadows: {} tiles in a {} atlas ({} cascades, {}), {} caster draws",
+            first.shadow_tiles, ds.atlas_size, ds.cascade_count, ds.filter, first.shadow_caster_draws
+        ),
+    }
     if let Some([p10, p50, p90]) = texel_ratios {
         println!("shadow texels per pixel: p10 {p10:.3}, p50 {p50:.3}, p90 {p90:.3}");
     }

@@ -41,6 +41,11 @@ fn debug_values() -> impl TypedValueParser<Value = DebugView> {
              `<stem>.other-shadow-atlas.png` (point and spot), depth as grey stretched from the \
              nearest caster (black) to the far plane (white)",
         ),
+        PossibleValue::new("virtual-pages").help(
+            "Also write the virtual shadow maps' page table as `<stem>.virtual-pages.png` (with \
+             shadows.technique = \"virtual\"): each map's pages, white where the pool holds the finest, \
+             through yellow and green to blue for coarser mips, grey where none",
+        ),
         PossibleValue::new("gbuffer-albedo").help("The deferred path's G-buffer base colour, instead of the image"),
         PossibleValue::new("gbuffer-normal")
             .help("The deferred path's G-buffer shading normal as n * 0.5 + 0.5, instead of the image"),
@@ -57,7 +62,7 @@ fn debug_values() -> impl TypedValueParser<Value = DebugView> {
 fn drawn_debug_view(debug: &[DebugView]) -> Result<Option<DebugView>> {
     let mut drawn: Vec<DebugView> = Vec::new();
     for &d in debug {
-        if d != DebugView::ShadowAtlases && !drawn.contains(&d) {
+        if !matches!(d, DebugView::ShadowAtlases | DebugView::VirtualPages) && !drawn.contains(&d) {
             drawn.push(d);
         }
     }
@@ -117,6 +122,9 @@ fn planned_outputs(args: &RenderArgs, scene: &chiaro_scene::Scene) -> Vec<PathBu
         for file in ["shadow-atlas.png", "other-shadow-atlas.png"] {
             outputs.push(sibling_path(&args.output, file));
         }
+    }
+    if args.debug.contains(&DebugView::VirtualPages) {
+        outputs.push(sibling_path(&args.output, "virtual-pages.png"));
     }
     outputs
 }
@@ -182,6 +190,20 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     if args.debug.contains(&DebugView::ShadowAtlases) && frame.shadow_atlases.is_empty() {
         tracing::warn!("no light casts a shadow: no atlas to write");
+    }
+    let pages =
+        args.debug.contains(&DebugView::VirtualPages).then(|| frame.plan.shadows.virtual_maps.page_table_image());
+    let page_bytes: Option<(u32, u32, Vec<u8>)> = match pages {
+        Some(Some((w, h, pixels))) => Some((w as u32, h as u32, pixels.concat())),
+        Some(None) => {
+            tracing::warn!("shadows.technique is not \"virtual\" (or no light casts a shadow): no page table to write");
+            None
+        }
+        None => None,
+    };
+    if let Some((w, h, rgba8)) = &page_bytes {
+        let path = sibling_path(&args.output, "virtual-pages.png");
+        files.push((path, Encoded::Png { width: *w, height: *h, rgba8 }));
     }
     write_group(files)?;
     eprintln!(

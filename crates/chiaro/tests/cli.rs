@@ -391,6 +391,21 @@ fn bench_json_is_one_object_with_the_named_keys() {
         .map(|key| report[key].as_f64().unwrap_or_else(|| panic!("{key}: {report}")))
         .collect();
     assert!(ratios[0] > 0.0 && ratios[0] <= ratios[1] && ratios[1] <= ratios[2], "{ratios:?}");
+    // The atlases' memory stands in for a pool; the atlas technique has no pages.
+    assert_eq!(report["shadow_technique"].as_str(), Some("atlas"));
+    assert_eq!(report["shadow_pages_drawn"].as_u64(), Some(0), "{report}");
+    assert!(report["shadow_pages_resident"].is_null(), "{report}");
+    assert!(report["shadow_pool_mb"].as_f64().is_some_and(|mb| mb > 0.0), "{report}");
+    // Virtual maps: the warm-up frame drew the pages; the still timed frames draw none
+    // and keep them resident in the pool.
+    std::fs::write(dir.path().join("virtual.toml"), "[shadows]\ntechnique = \"virtual\"\nvirtual_pool_mb = 32\n")
+        .unwrap();
+    let run = chiaro(&[&args[..], &["--json", "--settings", "virtual.toml"]].concat(), &[], dir.path());
+    let report: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert_eq!(report["shadow_technique"].as_str(), Some("virtual"), "{report}");
+    assert_eq!(report["shadow_pages_drawn"].as_u64(), Some(0), "{report}");
+    assert!(report["shadow_pages_resident"].as_u64().is_some_and(|n| n > 0), "{report}");
+    assert!(report["shadow_pool_mb"].as_f64().is_some_and(|mb| mb > 28.0 && mb <= 32.0), "{report}");
     std::fs::write(dir.path().join("uncached.toml"), "[shadows]\ncache = false\n").unwrap();
     let run = chiaro(&[&args[..], &["--json", "--settings", "uncached.toml"]].concat(), &[], dir.path());
     let report: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();

@@ -14,6 +14,7 @@ pub mod filter;
 pub mod local;
 pub mod pcss;
 pub mod tiers;
+pub mod virtual_map;
 
 pub use allocator::{TileAllocation, TileAllocator, first_fit_tiles};
 pub use atlas::AtlasLayout;

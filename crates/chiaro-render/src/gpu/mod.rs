@@ -14,7 +14,10 @@ pub use environment::{GpuEnvironment, GpuEnvironmentBake};
 pub use frame::{GpuFrame, GpuObject, GpuProbeGridHeader};
 pub use light::{GpuAovLight, GpuLight, GpuLightListEntry, GpuVolumeLight};
 pub use material::{GpuLayerTextureSlot, GpuMaterial, GpuMaterialLayers, GpuTextureTransform};
-pub use shadow::{GpuAtlas, GpuCascade, GpuCasterView, GpuContactShadows, GpuShadowFade, GpuShadowTile, GpuShadows};
+pub use shadow::{
+    GpuAtlas, GpuCascade, GpuCasterView, GpuContactShadows, GpuShadowFade, GpuShadowTile, GpuShadows, GpuVirtualMap,
+    GpuVirtualShadows,
+};
 pub use vertex::GpuVertex;
 
 /// A `Gpu*` struct's size and the byte offset of each named field.
@@ -65,9 +68,15 @@ layouts! {
     GpuShadowFade { inverse_max_distance, inverse_distance_fade, inverse_cascade_fade }
     GpuShadows {
         directional_tiles, local_tiles, cascades, directional_atlas, local_atlas, fade, cascade_count,
-        cascade_blend, pcss_blocker_samples, pcss_filter_samples, contact,
+        cascade_blend, pcss_blocker_samples, pcss_filter_samples, contact, virtual_maps, virtual_map_records,
     }
     GpuContactShadows { length_m, thickness_m, steps }
+    GpuVirtualShadows { map_count }
+    GpuVirtualMap {
+        clip_from_world, light_position_ws, range, table_offset, mips, first_map, map_count, kind, texel_m,
+        normal_bias, lens_near, lens_far, lens_metres_per_uv, reach_size,
+        reach_cap_texels,
+    }
     GpuCasterView { clip_from_world, flags }
     GpuEnvironment { radiance_sh, turn_cos, turn_sin, intensity, specular_last_mip, diffuse_baked }
     GpuEnvironmentBake { size, source_size, roughness, samples }

@@ -2,7 +2,7 @@
 //! bounds and normal bias, the cascades' culling spheres, and the fades; and one caster
 //! view of the shadow-caster pass (`shaders/shadow_caster.wesl`).
 
-use crate::shader_constants::{MAX_CASCADES, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES};
+use crate::shader_constants::{MAX_CASCADES, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES, MAX_VIRTUAL_MAPS};
 use bytemuck::{Pod, Zeroable};
 use chiaro_math::shadow::pcss::TileLens;
 use glam::{Mat4, Vec2, Vec3};
@@ -121,6 +121,70 @@ pub struct GpuShadows {
     pub pcss_filter_samples: u32,
     /// The screen-space contact shadows' march.
     pub contact: GpuContactShadows,
+    /// The virtual shadow maps' count.
+    pub virtual_maps: GpuVirtualShadows,
+    /// The virtual shadow maps, `virtual_maps.map_count` of them: in the uniform, which
+    /// lavapipe reads faster than a storage buffer, once per shadowed light and pixel.
+    pub virtual_map_records: [GpuVirtualMap; MAX_VIRTUAL_MAPS as usize],
+}
+
+/// What the shaders need of the virtual technique besides its maps: how many there are.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuVirtualShadows {
+    /// Maps in the frame's `GpuVirtualMap` buffer (0 with the atlas technique).
+    pub map_count: u32,
+    /// Pads the struct to 16 bytes.
+    pub _pad: [u32; 3],
+}
+
+/// One virtual shadow map (`shaders/shadows/virtual_map.wesl`): a directional light's
+/// clipmap level, a spot light's map or a point light's cube face, with its mip chain of
+/// pages (chiaro_math::shadow::virtual_map).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuVirtualMap {
+    /// World space to the map's clip space (x, y in [-1, 1] over the map, depth 0 to 1;
+    /// perspective maps divide by w).
+    pub clip_from_world: Mat4,
+    /// A point or spot light's position, metres.
+    pub light_position_ws: Vec3,
+    /// Its range, metres: no page is asked for beyond it.
+    pub range: f32,
+    /// Where its mip 0 starts in the page table.
+    pub table_offset: u32,
+    /// Its mips (one for a clipmap level: the next level is the coarser page).
+    pub mips: u32,
+    /// The light's first map (this one or an earlier one).
+    pub first_map: u32,
+    /// The light's maps: its clipmap levels, 1 for a spot, 6 for a point light.
+    pub map_count: u32,
+    /// `VIRTUAL_MAP_*`.
+    pub kind: u32,
+    /// Metres a texel of mip 0 spans: at any depth (directional), or per metre along the
+    /// map's axis (perspective).
+    pub texel_m: f32,
+    /// The normal bias at mip 0, as `GpuShadowTile::normal_bias` (doubling with each mip).
+    pub normal_bias: f32,
+    /// See `GpuShadowTile::lens_near`.
+    pub lens_near: f32,
+    /// See `GpuShadowTile::lens_far`.
+    pub lens_far: f32,
+    /// The metres one unit of the map's texture coordinates spans (perspective: at 1 m).
+    pub lens_metres_per_uv: f32,
+    /// A contact-hardening light's size as its blocker search reads it (0 for the other
+    /// filters): the lookup takes a mip coarse enough that the search stays within the
+    /// page's border.
+    pub reach_size: f32,
+    /// The most mip-0 texels of that search the lookup's mip holds within a page's
+    /// border (`plan::virtual_shadows::reach`).
+    pub reach_cap_texels: f32,
+}
+
+impl Default for GpuVirtualMap {
+    fn default() -> Self {
+        GpuVirtualMap { clip_from_world: Mat4::IDENTITY, ..Zeroable::zeroed() }
+    }
 }
 
 /// The contact shadows' march (`shaders/shadows/contact.wesl`); `steps` 0 turns them off.
@@ -151,6 +215,8 @@ impl Default for GpuShadows {
             pcss_blocker_samples: 16,
             pcss_filter_samples: 16,
             contact: GpuContactShadows::default(),
+            virtual_maps: GpuVirtualShadows::default(),
+            virtual_map_records: [GpuVirtualMap::default(); MAX_VIRTUAL_MAPS as usize],
         }
     }
 }

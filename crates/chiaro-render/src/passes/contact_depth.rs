@@ -27,7 +27,7 @@ impl PassType for ContactDepthPass {
     /// buffer outside the graph, so it declares a side effect (it is listed before the
     /// passes that read the buffer, which run after it).
     fn setup(plan: &FramePlan, pass: &mut PassSetup) {
-        if plan.features.contact_shadows {
+        if plan.features.contact_shadows || plan.marks_pages {
             pass.read(forward_depth(plan)).side_effect();
         }
     }

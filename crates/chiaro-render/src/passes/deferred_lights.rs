@@ -300,6 +300,7 @@ impl DeferredLightsPass {
             overrides::SOFT_CASCADES.flag(f.soft_cascades),
             overrides::TINTED_SHADOWS.flag(f.tinted_shadows),
             overrides::CONTACT_SHADOWS.flag(f.contact_shadows),
+            overrides::VIRTUAL_SHADOWS.flag(f.virtual_shadows),
         ];
         let buffers = [Some(vertex_layout)];
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

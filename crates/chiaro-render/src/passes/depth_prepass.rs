@@ -19,7 +19,7 @@ impl PassType for DepthPrepassPass {
     /// The forward path's depth target is made here.
     fn setup(plan: &FramePlan, pass: &mut PassSetup) {
         if plan.path == RenderPath::Forward {
-            pass.create(forward_depth(plan), depth_desc(pass.depth_format, plan.msaa, plan.features.contact_shadows));
+            pass.create(forward_depth(plan), depth_desc(pass.depth_format, plan.msaa, plan.samples_scene_depth()));
         }
     }
 

@@ -58,7 +58,7 @@ impl PassType for GBufferPass {
             return;
         }
         let gbuffer = |format| TargetDesc::view_sized(format, ATTACHMENT_SAMPLED);
-        let depth = depth_desc(pass.depth_format, 1, plan.features.contact_shadows);
+        let depth = depth_desc(pass.depth_format, 1, plan.samples_scene_depth());
         pass.create(light_target(plan.light_buffer), light_target_desc(plan.light_buffer))
             .create(GBUFFER_ALBEDO_METALLIC, gbuffer(GBUFFER_ALBEDO_METALLIC_FORMAT))
             .create(GBUFFER_PACKED, gbuffer(GBUFFER_PACKED_FORMAT))

@@ -9,6 +9,7 @@ macro_rules! frame_passes {
             depth_prepass: DepthPrepassPass ["forward"],
             gbuffer: GBufferPass ["gbuffer", "background"],
             contact_depth: ContactDepthPass ["contact_depth"],
+            virtual_marking: VirtualMarkingPass ["virtual_marking"],
             deferred_lights: DeferredLightsPass ["deferred_light"],
             ldr_decode: LdrDecodePass ["ldr_decode"],
             forward: ForwardPass ["forward", "background", "opaque_copy"],

@@ -45,3 +45,20 @@ macro_rules! declare_passes {
 }
 
 frame_passes!(declare_passes);
+
+/// The passes of a frame that marks virtual pages (`FramePlan::marks_pages`): the shadow
+/// pass (whose persistent atlases group 0 binds; it draws nothing), the depth prepass,
+/// the contact depth copy and the marking. Every other pass declares nothing.
+pub fn marking_declarations() -> Vec<PassDeclaration> {
+    const KEPT: [&str; 4] = [
+        shadows::ShadowPass::NAME,
+        depth_prepass::DepthPrepassPass::NAME,
+        contact_depth::ContactDepthPass::NAME,
+        virtual_marking::VirtualMarkingPass::NAME,
+    ];
+    fn nothing(_: &crate::plan::FramePlan, _: &mut crate::graph::PassSetup) {}
+    DECLARATIONS
+        .iter()
+        .map(|d| if KEPT.contains(&d.name) { *d } else { PassDeclaration { name: d.name, setup: nothing } })
+        .collect()
+}

@@ -74,6 +74,50 @@ pub struct ShadowPass {
     clear_tile: wgpu::RenderPipeline,
     /// Tinting casters' pipelines, by `tint_key`.
     tint_pipelines: HashMap<CasterKey, wgpu::RenderPipeline>,
+    /// Per tile of the frame, its depth casters in batches (empty for tiles not drawn).
+    batches: Vec<Vec<CasterBatch>>,
+    /// Every batch's draws (`wgpu::util::DrawIndexedIndirectArgs`), for multi-draw
+    /// indirect; grown when a frame has more.
+    indirect: wgpu::Buffer,
+    /// The device draws a batch with one multi-draw indirect call (it has
+    /// INDIRECT_FIRST_INSTANCE, which the casters' object index needs); else one draw
+    /// call per run.
+    multi_draw: bool,
+}
+
+/// Caster runs of one tile that draw with one pipeline state and one material binding:
+/// one multi-draw indirect call.
+#[derive(Clone, Debug)]
+struct CasterBatch {
+    key: CasterKey,
+    /// The material bound as group 1, for casters that read one.
+    material: Option<usize>,
+    /// The batch's first draw in the indirect buffer, and its draws.
+    first: u32,
+    draws: Vec<wgpu::util::DrawIndexedIndirectArgs>,
+}
+
+/// A tile's depth casters as batches (`instanced_runs`, then runs of the same state and
+/// material together), their draws numbered from `first`.
+fn caster_batches(tile: &CasterTile, draws: &[Draw], mut first: u32) -> Vec<CasterBatch> {
+    let mut batches: Vec<CasterBatch> = Vec::new();
+    for (draw, instances) in instanced_runs(draws, &tile.casters) {
+        let key = caster_key(tile, draw);
+        let material = (key.casting != ShadowCasting::On).then_some(draw.material);
+        let args = wgpu::util::DrawIndexedIndirectArgs {
+            index_count: draw.index_count,
+            instance_count: instances,
+            first_index: draw.first_index,
+            base_vertex: draw.base_vertex,
+            first_instance: draw.object,
+        };
+        match batches.last_mut() {
+            Some(batch) if batch.key == key && batch.material == material => batch.draws.push(args),
+            _ => batches.push(CasterBatch { key, material, first, draws: vec![args] }),
+        }
+        first += 1;
+    }
+    batches
 }
 
 fn caster_key(tile: &CasterTile, draw: &Draw) -> CasterKey {
@@ -81,7 +125,7 @@ fn caster_key(tile: &CasterTile, draw: &Draw) -> CasterKey {
         slope_bias_bits: tile.slope_bias.to_bits(),
         cull_back: draw.cast_shadows != CastShadows::TwoSided && !draw.double_sided,
         front_cw: draw.mirrored,
-        clamp_depth: tile.atlas == ShadowAtlas::Directional,
+        clamp_depth: tile.orthographic,
         casting: draw.shadow_casting,
     }
 }
@@ -194,12 +238,7 @@ impl PassType for ShadowPass {
         ShadowPass {
             module,
             clear_tile,
-            views: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("caster views"),
-                size: stride * TOTAL_TILES,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            views: caster_views(device, stride * TOTAL_TILES),
             stride,
             bind_group: None,
             unclipped_depth: device.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL),
@@ -208,8 +247,34 @@ impl PassType for ShadowPass {
             alpha_pipeline_layout,
             pipelines: HashMap::new(),
             tint_pipelines: HashMap::new(),
+            batches: Vec::new(),
+            indirect: indirect_buffer(device, 64 * INDIRECT_ARGS_BYTES),
+            multi_draw: device.features().contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
         }
     }
+}
+
+/// Bytes of one `DrawIndexedIndirectArgs`.
+const INDIRECT_ARGS_BYTES: u64 = size_of::<wgpu::util::DrawIndexedIndirectArgs>() as u64;
+
+/// The buffer of the casters' indirect draws, `size` bytes.
+fn indirect_buffer(device: &wgpu::Device, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("caster indirect draws"),
+        size,
+        usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// The buffer of one `GpuCasterView` per tile, `size` bytes.
+fn caster_views(device: &wgpu::Device, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("caster views"),
+        size,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 impl ShadowPass {
@@ -382,13 +447,50 @@ fn draw_casters(
     }
 }
 
+impl ShadowPass {
+    /// Draws a tile's depth casters: a multi-draw indirect call per batch where the
+    /// device has what it needs, else a draw call per run. Alpha-tested and dithered
+    /// casters bind their material.
+    fn draw_batches(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        scene: &GpuScene,
+        stats: &mut PassStats,
+        batches: &[CasterBatch],
+    ) {
+        for batch in batches {
+            pass.set_pipeline(&self.pipelines[&batch.key]);
+            if let Some(material) = batch.material {
+                pass.set_bind_group(1, &scene.materials[material], &[]);
+            }
+            if self.multi_draw {
+                pass.multi_draw_indexed_indirect(
+                    &self.indirect,
+                    batch.first as u64 * INDIRECT_ARGS_BYTES,
+                    batch.draws.len() as u32,
+                );
+            } else {
+                for a in &batch.draws {
+                    let instances = a.first_instance..a.first_instance + a.instance_count;
+                    pass.draw_indexed(a.first_index..a.first_index + a.index_count, a.base_vertex, instances);
+                }
+            }
+            stats.shadow_caster_draws += batch.draws.len();
+        }
+    }
+}
+
 impl FramePass for ShadowPass {
     fn prepare(&mut self, cx: &PrepareContext<'_>) {
         let tiles = &cx.plan.shadows.tiles;
-        debug_assert!(tiles.len() as u64 <= TOTAL_TILES);
+        // Atlas tiles fit the buffer made at first; virtual pages (a slot each) may not.
+        let needed = self.stride * tiles.len() as u64;
+        if needed > self.views.size() {
+            self.views = caster_views(cx.device, needed.next_power_of_two());
+        }
         let mut bytes = vec![0u8; (self.stride * tiles.len() as u64) as usize];
         for (i, tile) in tiles.iter().enumerate() {
-            let clamp_in_shader = tile.atlas == ShadowAtlas::Directional && !self.unclipped_depth;
+            let clamp_in_shader = tile.orthographic && !self.unclipped_depth;
             let view = GpuCasterView {
                 clip_from_world: tile.clip_from_world,
                 flags: if clamp_in_shader { CASTER_CLAMP_DEPTH } else { 0 },
@@ -415,6 +517,26 @@ impl FramePass for ShadowPass {
         }
         if !bytes.is_empty() {
             cx.queue.write_buffer(&self.views, 0, &bytes);
+        }
+        // The depth casters of the tiles drawn this frame, batched, their draws in one
+        // indirect buffer.
+        let mut first = 0;
+        self.batches = tiles
+            .iter()
+            .zip(&cx.plan.shadows.redraw)
+            .map(|(tile, &drawn)| {
+                let batches = if drawn { caster_batches(tile, &cx.scene.draws, first) } else { Vec::new() };
+                first += batches.iter().map(|b| b.draws.len() as u32).sum::<u32>();
+                batches
+            })
+            .collect();
+        if self.multi_draw && first > 0 {
+            let args: Vec<u8> =
+                self.batches.iter().flatten().flat_map(|b| &b.draws).flat_map(|a| a.as_bytes().to_vec()).collect();
+            if args.len() as u64 > self.indirect.size() {
+                self.indirect = indirect_buffer(cx.device, (args.len() as u64).next_power_of_two());
+            }
+            cx.queue.write_buffer(&self.indirect, 0, &args);
         }
         self.bind_group = Some(cx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("caster bind group"),
@@ -481,13 +603,7 @@ impl FramePass for ShadowPass {
                     pass.draw(0..3, 0..1);
                 }
                 pass.set_bind_group(0, bind_group, &[(i as u64 * self.stride) as u32]);
-                // Alpha-tested and dithered casters read their material.
-                let casters = TileCasters {
-                    list: &tile.casters,
-                    key_of: caster_key,
-                    reads_material: |key| key.casting != ShadowCasting::On,
-                };
-                draw_casters(&mut pass, cx.scene, cx.stats, tile, &self.pipelines, casters);
+                self.draw_batches(&mut pass, cx.scene, cx.stats, &self.batches[i]);
                 pass.pop_debug_group();
                 cx.stats.shadow_tiles_rendered += 1;
             }

@@ -35,6 +35,9 @@ pub struct ShaderFeatures {
     /// Screen-space contact shadows (`[shadows] contact`) darken a realtime shadow the
     /// frame shades: the contact depth pass runs and the shadow lookups march.
     pub contact_shadows: bool,
+    /// A light the frame shades is shadowed from virtual maps (`[shadows] technique =
+    /// "virtual"`).
+    pub virtual_shadows: bool,
 }
 
 impl ShaderFeatures {
@@ -49,6 +52,7 @@ impl ShaderFeatures {
         local_shadows: true,
         tinted_shadows: true,
         contact_shadows: true,
+        virtual_shadows: true,
     };
 
     /// The features the frame's `lights`, the scene's bake and the settings call for;
@@ -69,11 +73,12 @@ impl ShaderFeatures {
             tinted_shadows: false,
             contact_shadows: settings.shadows.contact
                 && lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { .. })),
+            virtual_shadows: lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { virtual_map: true, .. })),
         }
     }
 
     /// The override constants that select this specialisation.
-    pub fn constants(self) -> [(&'static str, f64); 9] {
+    pub fn constants(self) -> [(&'static str, f64); 10] {
         [
             overrides::COOKIES_ENABLED.flag(self.cookies),
             overrides::BAKED_ENABLED.flag(self.baked),
@@ -84,6 +89,7 @@ impl ShaderFeatures {
             overrides::LOCAL_SHADOWS.flag(self.local_shadows),
             overrides::TINTED_SHADOWS.flag(self.tinted_shadows),
             overrides::CONTACT_SHADOWS.flag(self.contact_shadows),
+            overrides::VIRTUAL_SHADOWS.flag(self.virtual_shadows),
         ]
     }
 }

@@ -7,6 +7,7 @@ use crate::gpu::GpuLight;
 use crate::shader_constants::{
     LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_DISK, LIGHT_KIND_POINT, LIGHT_KIND_RECT, LIGHT_KIND_SPOT, NO_COOKIE,
     NO_MASK_CHANNEL, SHADOW_FILTER_PCSS, SHADOW_SLOT_BAKED_ONLY, SHADOW_SLOT_NONE, SHADOW_SLOT_REALTIME,
+    SHADOW_SLOT_VIRTUAL,
 };
 use crate::view::View;
 use chiaro_math::Frustum;
@@ -133,8 +134,11 @@ pub fn gpu_light(
     };
     let (shadow_slot, shadow_first_tile, shadow_filter) = match frame_light.shadow {
         ShadowSlot::None => (SHADOW_SLOT_NONE, 0, 0),
-        ShadowSlot::Realtime { first_tile, pcss: true, .. } => (SHADOW_SLOT_REALTIME, first_tile, SHADOW_FILTER_PCSS),
-        ShadowSlot::Realtime { first_tile, filter, .. } => (SHADOW_SLOT_REALTIME, first_tile, filter.index()),
+        ShadowSlot::Realtime { first_tile, pcss, filter, virtual_map, .. } => (
+            if virtual_map { SHADOW_SLOT_VIRTUAL } else { SHADOW_SLOT_REALTIME },
+            first_tile,
+            if pcss { SHADOW_FILTER_PCSS } else { filter.index() },
+        ),
         ShadowSlot::BakedOnly => (SHADOW_SLOT_BAKED_ONLY, 0, 0),
     };
     GpuLight {

@@ -14,6 +14,7 @@ pub mod features;
 pub mod lights;
 pub mod shadow_cache;
 pub mod shadows;
+pub mod virtual_shadows;
 pub mod volumes;
 
 use crate::debug_view::DebugView;
@@ -148,6 +149,10 @@ pub struct FramePlan {
     pub features: features::ShaderFeatures,
     /// The environment is drawn behind the scene (`[environment] background`).
     pub environment_background: bool,
+    /// A frame that only marks the virtual pages its pixels want (the depth prepass, the
+    /// contact depth pass and the marking pass run; `Renderer` makes it from the frame's
+    /// plan with `marking_plan`).
+    pub marks_pages: bool,
     /// What the shadow atlases hold once this frame is drawn (tile placement, tiers and
     /// the tile cache): the plan only reads the renderer's, and the renderer keeps this
     /// one (`take_atlas_update`) once the frame is submitted, so that a frame that fails
@@ -335,8 +340,73 @@ impl FramePlan {
             environment_background: settings.environment.enabled_for(scene) && settings.environment.background,
             fxaa,
             features,
+            marks_pages: false,
             atlas_update: atlases,
         }
+    }
+
+    /// Whether the scene depth is copied to the view depth buffer (contact shadows, the
+    /// virtual pages' marking) and so must be sampled; the marking frame and the frame
+    /// it marks for make their depth targets alike, so that neither makes them anew.
+    pub fn samples_scene_depth(&self) -> bool {
+        self.features.contact_shadows || self.shadows.virtual_maps.is_active()
+    }
+
+    /// Whether the frame has virtual pages to place before it is drawn: it shades (a
+    /// G-buffer view does not) from virtual maps.
+    pub fn wants_pages(&self) -> bool {
+        self.shadows.virtual_maps.is_active() && self.request.deferred_view().is_none() && !self.marks_pages
+    }
+
+    /// The frame that marks this one's virtual pages: the same view and draws, its
+    /// opaque surfaces' depth (single-sampled, the forward path's prepass on either path).
+    pub fn marking_plan(&self, draws: &[Draw]) -> FramePlan {
+        let mut plan = self.clone();
+        plan.path = RenderPath::Forward;
+        plan.msaa = 1;
+        plan.marks_pages = true;
+        plan.prepass_draws = self.camera_draws[..self.transmissive_from]
+            .iter()
+            .copied()
+            .filter(|&d| draws[d as usize].alpha_mode == AlphaMode::Opaque)
+            .collect();
+        plan.shadows.redraw = vec![false; plan.shadows.tiles.len()];
+        plan
+    }
+
+    /// What the marking frame's requests depend on: the view, the virtual maps, the shadow
+    /// distance and the opaque surfaces the camera sees. Equal keys, equal requests: a
+    /// still frame need not mark its pages again.
+    pub fn marking_key(&self, draws: &[Draw]) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::hash::DefaultHasher::new();
+        let view = &self.view;
+        (view.width, view.height).hash(&mut h);
+        view.world_from_view.to_cols_array().map(f32::to_bits).hash(&mut h);
+        view.clip_from_view.to_cols_array().map(f32::to_bits).hash(&mut h);
+        bytemuck::cast_slice::<_, u8>(&self.shadows.virtual_maps.maps).hash(&mut h);
+        self.shadows.gpu.fade.inverse_max_distance.to_bits().hash(&mut h);
+        for &d in &self.camera_draws[..self.transmissive_from] {
+            let draw = &draws[d as usize];
+            (draw.alpha_mode == AlphaMode::Opaque, draw.caster_key).hash(&mut h);
+        }
+        h.finish()
+    }
+
+    /// Places the pages the marking frame asked for (`requests`, a bit per page-table
+    /// entry), and decides which are drawn again (the tile cache).
+    pub fn place_virtual_pages(&mut self, draws: &[Draw], requests: &[u32]) {
+        // The surfaces the marking frame's opaque prepass leaves out.
+        let unmarked: Vec<chiaro_math::Aabb> = self
+            .camera_draws
+            .iter()
+            .enumerate()
+            .filter(|&(k, &d)| k >= self.transmissive_from || draws[d as usize].alpha_mode != AlphaMode::Opaque)
+            .map(|(_, &d)| draws[d as usize].bounds_ws)
+            .collect();
+        let pages = &mut self.atlas_update.virtual_pages;
+        virtual_shadows::place_pages(&mut self.shadows, draws, requests, &unmarked, pages);
+        self.shadows.redraw = self.atlas_update.cache.redraws(&self.shadows, draws, self.shadow_cache);
     }
 
     /// What the shadow atlases hold once this frame is drawn, for the renderer to keep

@@ -7,6 +7,7 @@
 use super::draws::Draw;
 use super::lights::LightId;
 use super::shadow_cache::TileCache;
+use super::virtual_shadows::{VirtualPages, VirtualShadowPlan, plan_virtual_maps};
 use crate::gpu::{GpuAtlas, GpuCascade, GpuContactShadows, GpuShadowFade, GpuShadowTile, GpuShadows};
 use crate::shader_constants::{
     CASCADE_BLEND_DITHER, CASCADE_BLEND_HARD, CASCADE_BLEND_SOFT, MAX_DIRECTIONAL_SHADOW_TILES, MAX_LOCAL_SHADOW_TILES,
@@ -28,7 +29,7 @@ use chiaro_math::shadow::{
 };
 use chiaro_math::{Frustum, Sphere};
 use chiaro_scene::settings::LocalShadowSettings;
-use chiaro_scene::{CascadeBlend, Light, LightKind, Scene, Settings, ShadowMode};
+use chiaro_scene::{CascadeBlend, Light, LightKind, Scene, Settings, ShadowMode, ShadowTechnique};
 use glam::Mat4;
 
 /// Where a light's realtime shadow comes from this frame.
@@ -48,6 +49,9 @@ pub enum ShadowSlot {
         filter: ShadowFilter,
         /// Contact-hardening (`"shadows": "pcss"`) instead of `filter`.
         pcss: bool,
+        /// From `tile_count` virtual maps from `first_tile` (`[shadows] technique =
+        /// "virtual"`, `plan::virtual_shadows`) instead of atlas tiles.
+        virtual_map: bool,
     },
     /// It casts shadows but found no free atlas tiles: no realtime shadow; baked shadows
     /// (the tutorial's negative strength) are what would apply.
@@ -80,6 +84,10 @@ pub struct CasterTile {
     pub slope_bias: f32,
     /// A point or spot light's range sphere: its tiles draw the casters inside it.
     pub light_range: Option<Sphere>,
+    /// An orthographic projection (cascades, clipmap pages): casters before its near
+    /// plane are flattened onto it (depth clamping); perspective tiles must not flatten
+    /// casters behind the light.
+    pub orthographic: bool,
     /// Indices into the scene's draws of the casters that can reach the tile and write
     /// its depth.
     pub casters: Vec<u32>,
@@ -99,6 +107,10 @@ pub struct ShadowAtlasTiles {
     pub local_tiers: std::collections::HashMap<LightId, u32>,
     /// What the atlases hold, so that unchanged tiles are not drawn again.
     pub cache: TileCache,
+    /// Which pool slot holds which virtual page (`[shadows] technique = "virtual"`).
+    pub virtual_pages: Option<VirtualPages>,
+    /// The device's largest texture side, which bounds the virtual pool.
+    pub max_texture_side: u32,
 }
 
 impl Default for ShadowAtlasTiles {
@@ -108,6 +120,8 @@ impl Default for ShadowAtlasTiles {
             local: TileAllocator::new(MAX_LOCAL_SHADOW_TILES as usize),
             local_tiers: std::collections::HashMap::new(),
             cache: TileCache::default(),
+            virtual_pages: None,
+            max_texture_side: 8192,
         }
     }
 }
@@ -131,6 +145,9 @@ pub struct ShadowPlan {
     /// Per tile, whether this frame draws it (`shadow_cache::TileCache`); the others keep
     /// the depths an earlier frame drew. None are drawn for a frame that shades nothing.
     pub redraw: Vec<bool>,
+    /// The virtual technique's maps, page table and pool (empty with the atlas
+    /// technique); its pages join `tiles` once placed.
+    pub virtual_maps: VirtualShadowPlan,
 }
 
 impl ShadowPlan {
@@ -157,7 +174,7 @@ pub struct ShadowSlots {
 }
 
 /// The light's filter: `hard` lights take the 2x2 one whatever the settings say.
-fn light_filter(light: &Light, settings_filter: ShadowFilter) -> ShadowFilter {
+pub(super) fn light_filter(light: &Light, settings_filter: ShadowFilter) -> ShadowFilter {
     match light.shadow.mode {
         ShadowMode::Hard => ShadowFilter::Pcf2x2,
         _ => settings_filter,
@@ -206,7 +223,14 @@ pub fn plan_shadows(
         cascade_spheres: Vec::new(),
         tiles_kept: true,
         redraw: Vec::new(),
+        virtual_maps: VirtualShadowPlan::default(),
     };
+    if settings.shadows.technique == ShadowTechnique::Virtual {
+        let max_side = atlases.max_texture_side;
+        let slots =
+            plan_virtual_maps(&mut plan, scene, draws, view, settings, max_distance, directional, local, max_side);
+        return (plan, slots);
+    }
     let directional_slots = plan_directional(&mut plan, scene, view, settings, max_distance, directional, atlases);
     let local_slots = plan_local(&mut plan, scene, view, settings, local, atlases);
     for tile in &mut plan.tiles {
@@ -283,11 +307,18 @@ fn plan_directional(
                     viewport: layout.tile_viewport(tile),
                     slope_bias: light.shadow.depth_bias,
                     light_range: None,
+                    orthographic: true,
                     casters: Vec::new(),
                     tint_casters: Vec::new(),
                 });
             }
-            ShadowSlot::Realtime { first_tile: first_tile as u32, tile_count: cascade_count as u32, filter, pcss }
+            ShadowSlot::Realtime {
+                first_tile: first_tile as u32,
+                tile_count: cascade_count as u32,
+                filter,
+                pcss,
+                virtual_map: false,
+            }
         })
         .collect();
     plan.gpu.cascade_count = cascade_count as u32;
@@ -507,6 +538,7 @@ fn plan_local_light_tiles(
             viewport: rect.viewport(),
             slope_bias: light.shadow.depth_bias,
             light_range: Some(Sphere { center: light.position(), radius: range }),
+            orthographic: false,
             casters: Vec::new(),
             tint_casters: Vec::new(),
         });
@@ -516,6 +548,7 @@ fn plan_local_light_tiles(
         tile_count: views.len() as u32,
         filter,
         pcss: light.shadow.mode == ShadowMode::Pcss,
+        virtual_map: false,
     }
 }
 
@@ -526,7 +559,7 @@ fn atlas_params(size: u32) -> GpuAtlas {
 /// The casters that can draw into `tile`: those overlapping a perspective tile's light
 /// range and its pyramid (each cube face of a point light draws only what lies in front
 /// of that face), or a cascade tile's box (with pancaking).
-fn tile_casters(draws: &[Draw], tile: &CasterTile) -> Vec<u32> {
+pub(super) fn tile_casters(draws: &[Draw], tile: &CasterTile) -> Vec<u32> {
     let pyramid = Frustum::from_clip_from_world(&tile.clip_from_world);
     let reaches = |d: &Draw| match &tile.light_range {
         Some(sphere) => caster_in_range(&d.bounds_ws, sphere) && pyramid.sides_hold_aabb(&d.bounds_ws),

@@ -35,6 +35,7 @@ pub use render::{DeferredAntialiasing, LightBuffer, RenderPath, RenderSettings, 
 pub use scene::SceneSettings;
 pub use shadows::{
     CascadeBlend, DEFAULT_CASCADE_RATIOS, DirectionalShadowSettings, LocalShadowSettings, ShadowSettings,
+    ShadowTechnique,
 };
 
 use serde::{Deserialize, Serialize};

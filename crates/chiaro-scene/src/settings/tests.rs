@@ -83,6 +83,9 @@ fn shadow_settings_parse_and_validate() {
     assert_eq!(s.shadows.max_distance, 40.0);
     assert_eq!(s.shadows.directional.shadow_filter(), ShadowFilter::Tent5x5);
     assert_eq!(s.shadows.directional.cascade_blend, CascadeBlend::Dither);
+    assert_eq!(s.shadows.technique, crate::settings::ShadowTechnique::Atlas, "atlas stays the default");
+    let v = Settings::parse("[shadows]\ntechnique = \"virtual\"\nvirtual_pool_mb = 64\n").unwrap();
+    assert_eq!((v.shadows.technique, v.shadows.virtual_pool_mb), (crate::settings::ShadowTechnique::Virtual, 64));
     for (text, key) in [
         ("[shadows.directional]\natlas_size = 3000\n", "shadows.directional.atlas_size"),
         ("[shadows.directional]\nfilter = \"gauss\"\n", "shadows.directional.filter"),
@@ -94,6 +97,7 @@ fn shadow_settings_parse_and_validate() {
         ("[shadows]\ncontact_length = 0\n", "shadows.contact_length"),
         ("[shadows]\ncontact_steps = 65\n", "shadows.contact_steps"),
         ("[shadows]\ncontact_thickness = 11\n", "shadows.contact_thickness"),
+        ("[shadows]\nvirtual_pool_mb = 8\n", "shadows.virtual_pool_mb"),
         ("[shadows.other]\natlas_size = 100\n", "shadows.other.atlas_size"),
         ("[shadows.other]\nfilter = \"box\"\n", "shadows.other.filter"),
     ] {
@@ -102,6 +106,8 @@ fn shadow_settings_parse_and_validate() {
     }
     let e = Settings::parse("[shadows.directional]\ncascade_blend = \"smooth\"\n").unwrap_err();
     assert!(e.contains("smooth"), "{e}");
+    let e = Settings::parse("[shadows]\ntechnique = \"cascades\"\n").unwrap_err();
+    assert!(e.contains("cascades"), "{e}");
 }
 
 #[test]

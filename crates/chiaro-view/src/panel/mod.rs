@@ -162,6 +162,7 @@ fn view_area(ui: &mut egui::Ui, debug: Option<DebugView>, area: &ViewArea, ppp: 
         ui.label(match debug {
             Some(DebugView::ShadowAtlases) => "No light casts a shadow.",
             Some(DebugView::Clusters) => "No clusters: lights.culling is not clustered on this path.",
+            Some(DebugView::VirtualPages) => "No virtual shadow maps: shadows.technique is not \"virtual\".",
             _ => "Nothing to show yet.",
         });
     }

@@ -6,7 +6,8 @@
 use crate::action::Action;
 use chiaro_scene::settings::{BakeQuality, EnvironmentMode, EnvironmentSource};
 use chiaro_scene::{
-    CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings, ToneMapping,
+    CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings, ShadowTechnique,
+    ToneMapping,
 };
 use egui::{ComboBox, DragValue, Slider, Ui};
 
@@ -164,6 +165,16 @@ fn shadows_section(ui: &mut Ui, s: &mut Settings) {
         ui.add(Slider::new(&mut sh.contact_steps, 1..=64).text("shadows.contact_steps"));
         let thickness = Slider::new(&mut sh.contact_thickness, 0.001..=10.0).logarithmic(true);
         ui.add(thickness.text("shadows.contact_thickness"));
+    });
+    combo(
+        ui,
+        "shadows.technique",
+        &mut sh.technique,
+        &[(ShadowTechnique::Atlas, "atlas"), (ShadowTechnique::Virtual, "virtual")],
+    );
+    ui.add_enabled_ui(sh.technique == ShadowTechnique::Virtual, |ui| {
+        let pool = Slider::new(&mut sh.virtual_pool_mb, 16..=2048).logarithmic(true);
+        ui.add(pool.text("shadows.virtual_pool_mb"));
     });
     ui.heading("[shadows.directional]");
     let d = &mut sh.directional;

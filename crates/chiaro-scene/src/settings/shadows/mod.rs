@@ -44,6 +44,14 @@ pub struct ShadowSettings {
     /// caster (0.001 to 10): the depth buffer sees only fronts, so a thin caster (a pole)
     /// would shade everything behind it without this limit.
     pub contact_thickness: f32,
+    /// Where realtime shadow maps live: `atlas` (the default: a tile per cascade, spot and
+    /// cube face in the two atlases) or `virtual` (each light a 16k virtual map of
+    /// 128-texel pages, drawn only where the frame's pixels need them, from a pool of
+    /// `virtual_pool_mb`; docs/shadows.md).
+    pub technique: ShadowTechnique,
+    /// Megabytes of the virtual technique's page pool (16 to 2048): 32-bit depth pages
+    /// with their borders; when it is full, coarser pages serve the pixels that want more.
+    pub virtual_pool_mb: u32,
     /// `[shadows.directional]`: the cascaded atlas of directional lights.
     pub directional: DirectionalShadowSettings,
     /// `[shadows.other]`: the atlas of point and spot lights.
@@ -62,6 +70,8 @@ impl Default for ShadowSettings {
             contact_length: 0.2,
             contact_steps: 16,
             contact_thickness: 0.05,
+            technique: ShadowTechnique::Atlas,
+            virtual_pool_mb: 128,
             directional: DirectionalShadowSettings::default(),
             other: LocalShadowSettings::default(),
         }
@@ -84,6 +94,20 @@ pub const CONTACT_STEPS: Bound = Bound::new("shadows.contact_steps", 1.0, 64.0);
 /// The interval of `shadows.contact_thickness`, metres.
 pub const CONTACT_THICKNESS: Bound = Bound::new("shadows.contact_thickness", 0.001, 10.0);
 
+/// The interval of `shadows.virtual_pool_mb`.
+pub const VIRTUAL_POOL_MB: Bound = Bound::new("shadows.virtual_pool_mb", 16.0, 2048.0);
+
+/// Where realtime shadow maps live (`shadows.technique`).
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum ShadowTechnique {
+    /// Tiles in the two atlases, sized by each light's share of the screen.
+    #[default]
+    Atlas,
+    /// Virtual maps whose pages are drawn where the depth buffer asks for them.
+    Virtual,
+}
+
 /// Every interval of the section and its subsections.
 pub(super) fn bounds() -> impl Iterator<Item = Bound> {
     [
@@ -94,6 +118,7 @@ pub(super) fn bounds() -> impl Iterator<Item = Bound> {
         CONTACT_LENGTH,
         CONTACT_STEPS,
         CONTACT_THICKNESS,
+        VIRTUAL_POOL_MB,
     ]
     .into_iter()
     .chain(directional::BOUNDS.iter().copied())
@@ -116,6 +141,7 @@ impl ShadowSettings {
         CONTACT_LENGTH.check(self.contact_length)?;
         CONTACT_STEPS.check(self.contact_steps as f32)?;
         CONTACT_THICKNESS.check(self.contact_thickness)?;
+        VIRTUAL_POOL_MB.check(self.virtual_pool_mb as f32)?;
         self.directional.validate()?;
         self.other.validate()
     }
