@@ -5,40 +5,13 @@
 
 mod common;
 
-use chiaro_compare::{CompareOptions, LightComparison, compare_shadows_with};
+use chiaro_compare::LightComparison;
 use chiaro_render::{FrameOptions, FrameOutput, Renderer, View};
-use chiaro_scene::{CastShadows, Light, LightKind, LightShadow, RenderPath, Scene, Settings, ShadowTechnique};
+use chiaro_scene::{Light, LightShadow, RenderPath, Scene, Settings, ShadowTechnique};
 use common::*;
 use glam::Vec3;
 
 const SIZE: u32 = 192;
-
-fn sun() -> Light {
-    let (e, a) = (30f32.to_radians(), -50f32.to_radians());
-    let direction = -Vec3::new(e.cos() * a.cos(), e.sin(), e.cos() * a.sin());
-    Light { name: "sun".into(), node: 7, intensity: 3.0, ..Light::new(LightKind::Directional, Vec3::ZERO, direction) }
-}
-
-fn point() -> Light {
-    Light { shadow: LightShadow::default(), ..point_light(Vec3::new(1.2, 1.0, 1.0), 20.0, Some(10.0)) }
-}
-
-fn spot() -> Light {
-    let cone = LightKind::Spot { inner_cone_rad: 0.6, outer_cone_rad: 0.9 };
-    let position = Vec3::new(1.2, 1.0, 1.0);
-    let direction = (Vec3::new(0.5, 0.0, 0.7) - position).normalize();
-    Light { name: "spot".into(), intensity: 20.0, range: Some(10.0), ..Light::new(cone, position, direction) }
-}
-
-/// A 1 m cube and boxes 4 and 8 cm tall on a floor, seen from 2 m, lit by `light`.
-fn low_boxes(light: Light) -> Scene {
-    let mut scene = floor_scene(40.0, Vec3::ZERO, vec![light]);
-    add_box(&mut scene, Vec3::new(0.0, 0.5, 0.0), Vec3::new(1.0, 1.0, 1.0), 0.4, CastShadows::On);
-    add_box(&mut scene, Vec3::new(0.9, 0.02, 0.6), Vec3::new(0.3, 0.04, 0.2), 0.2, CastShadows::On);
-    add_box(&mut scene, Vec3::new(0.2, 0.04, 1.0), Vec3::new(0.15, 0.08, 0.4), -0.3, CastShadows::On);
-    look_from(&mut scene, Vec3::new(1.6, 0.6, 1.8), Vec3::new(0.3, 0.0, 0.4));
-    scene
-}
 
 fn settings(technique: ShadowTechnique) -> Settings {
     let mut settings = unlit_settings();
@@ -51,29 +24,16 @@ fn judged(scene: &Scene, settings: &Settings, edge_band_px: usize) -> LightCompa
     judged_at(scene, settings, edge_band_px, SIZE)
 }
 
-/// As `judged`, on a `size` x `size` image.
-fn judged_at(scene: &Scene, settings: &Settings, edge_band_px: usize, size: u32) -> LightComparison {
-    let mut renderer = renderer();
-    let prepared = renderer.prepare(scene).unwrap();
-    let view = View::from_camera(scene, 0, size, size);
-    let options = CompareOptions { edge_band_px };
-    let result = compare_shadows_with(&mut renderer, scene, &prepared, &view, settings, options).unwrap();
-    result.reports[0].comparison
-}
-
-fn disagreeing(c: &LightComparison) -> usize {
-    c.false_shadow + c.missed_shadow
-}
-
-fn share(c: &LightComparison) -> f64 {
-    disagreeing(c) as f64 / c.compared.max(1) as f64
+/// The cube and low boxes under `light`, at its default normal bias.
+fn boxes(light: Light) -> Scene {
+    low_boxes(light, LightShadow::default().normal_bias)
 }
 
 #[test]
 fn every_light_type_agrees_with_the_reference_at_edge_band_one() {
     for light in [sun(), point(), spot()] {
         let name = light.name.clone();
-        let scene = low_boxes(light);
+        let scene = boxes(light);
         for band in [3, 1, 0] {
             let atlas = judged(&scene, &settings(ShadowTechnique::Atlas), band);
             let virt = judged(&scene, &settings(ShadowTechnique::Virtual), band);
@@ -84,22 +44,6 @@ fn every_light_type_agrees_with_the_reference_at_edge_band_one() {
             }
         }
     }
-}
-
-/// A point light 40 cm from a wall and 60 cm up, boxes at the wall's foot.
-fn point_beside_a_wall() -> Scene {
-    let point = Light { shadow: LightShadow::default(), ..point_light(Vec3::new(0.0, 0.6, -1.6), 10.0, Some(8.0)) };
-    let mut scene = floor_scene(16.0, Vec3::ZERO, vec![point]);
-    let mut wall = scene.instances[0].clone();
-    wall.world_from_local = glam::Mat4::from_rotation_translation(
-        glam::Quat::from_rotation_x(90f32.to_radians()),
-        Vec3::new(0.0, 0.0, -2.0),
-    );
-    scene.instances.push(wall);
-    for (x, side) in [(-0.6, 0.3), (0.5, 0.4), (0.1, 0.2)] {
-        add_box(&mut scene, Vec3::new(x, side / 2.0, -1.75 + side / 2.0), Vec3::splat(side), 0.3, CastShadows::On);
-    }
-    scene
 }
 
 #[test]
@@ -140,7 +84,7 @@ fn render(renderer: &mut Renderer, scene: &Scene, settings: &Settings) -> FrameO
 fn a_still_frame_draws_no_page() {
     for light in [sun(), point(), spot()] {
         for path in [RenderPath::Forward, RenderPath::Deferred] {
-            let scene = low_boxes(light.clone());
+            let scene = boxes(light.clone());
             let mut renderer = renderer();
             let mut settings = settings(ShadowTechnique::Virtual);
             settings.render.path = path;
@@ -169,7 +113,7 @@ fn a_still_frame_draws_no_page() {
 
 #[test]
 fn a_full_pool_serves_coarser_pages_and_leaves_no_hole() {
-    let mut scene = low_boxes(sun());
+    let mut scene = boxes(sun());
     scene.lights.extend([point(), spot()]);
     let size = 512;
     let shadow_aovs = |pool_mb| {

@@ -491,11 +491,7 @@ pub fn place_pages(
 /// of the `unmarked` surfaces (those its opaque-only prepass leaves out: alpha-tested,
 /// transmissive and blended ones), so that no lookup finds no page.
 fn request_fallbacks(plan: &VirtualShadowPlan, unmarked: &[Aabb], requests: &mut [u32]) {
-    let mut set = |entry: u32| {
-        if let Some(word) = requests.get_mut(entry as usize / 32) {
-            *word |= 1 << (entry % 32);
-        }
-    };
+    let mut set = |entry: u32| set_request(requests, entry);
     for (i, map) in plan.maps.iter().enumerate() {
         if map.kind != VIRTUAL_MAP_DIRECTIONAL {
             set(map.table_offset + mip_table_offset(map.mips - 1));
@@ -521,6 +517,13 @@ fn request_fallbacks(plan: &VirtualShadowPlan, unmarked: &[Aabb], requests: &mut
     }
 }
 
+/// Sets the request bit of page-table entry `entry` (as the marking pass does).
+fn set_request(requests: &mut [u32], entry: u32) {
+    if let Some(word) = requests.get_mut(entry as usize / 32) {
+        *word |= 1 << (entry % 32);
+    }
+}
+
 fn page_key(plan: &VirtualShadowPlan, page: &RequestedPage) -> PageKey {
     let source = &plan.sources[page.map];
     match source.projection {
@@ -540,21 +543,32 @@ fn page_key(plan: &VirtualShadowPlan, page: &RequestedPage) -> PageKey {
 mod tests {
     use super::*;
 
-    #[test]
-    fn coarse_pages_come_first() {
-        let mut plan = VirtualShadowPlan::default();
+    /// Adds a spot's map (an identity projection) as map `first`.
+    fn push_spot_map(plan: &mut VirtualShadowPlan, first: u32) {
         let source = MapSource {
-            light: LightId(0),
+            light: LightId(first),
             projection: MapProjection::Perspective { clip_from_world: Mat4::IDENTITY, face: 0 },
             slope_bias: 0.0,
             light_range: None,
         };
-        push_map(&mut plan, GpuVirtualMap { mips: LOCAL_MIPS, ..GpuVirtualMap::default() }, source);
+        let map = GpuVirtualMap {
+            mips: LOCAL_MIPS,
+            first_map: first,
+            map_count: 1,
+            kind: VIRTUAL_MAP_SPOT,
+            ..Default::default()
+        };
+        push_map(plan, map, source);
+    }
+
+    #[test]
+    fn coarse_pages_come_first() {
+        let mut plan = VirtualShadowPlan::default();
+        push_spot_map(&mut plan, 0);
         let mut bits = vec![0u32; plan.request_bytes() as usize / 4];
-        let mut set = |entry: u32| bits[entry as usize / 32] |= 1 << (entry % 32);
         // Page (3, 2) of mip 0 and the one page of the last mip.
-        set(2 * MAP_PAGES + 3);
-        set(mip_table_offset(LOCAL_MIPS - 1));
+        set_request(&mut bits, 2 * MAP_PAGES + 3);
+        set_request(&mut bits, mip_table_offset(LOCAL_MIPS - 1));
         let pages = requested_pages(&plan, &bits);
         assert_eq!(pages.len(), 2);
         assert_eq!((pages[0].mip, pages[0].x, pages[0].y), (LOCAL_MIPS - 1, 0, 0));
@@ -580,20 +594,7 @@ mod tests {
             let source = MapSource { light: LightId(0), projection, slope_bias: 0.0, light_range: None };
             push_map(&mut plan, map, source);
         }
-        let spot = MapSource {
-            light: LightId(1),
-            projection: MapProjection::Perspective { clip_from_world: Mat4::IDENTITY, face: 0 },
-            slope_bias: 0.0,
-            light_range: None,
-        };
-        let spot_map = GpuVirtualMap {
-            mips: LOCAL_MIPS,
-            first_map: 3,
-            map_count: 1,
-            kind: VIRTUAL_MAP_SPOT,
-            ..Default::default()
-        };
-        push_map(&mut plan, spot_map, spot);
+        push_spot_map(&mut plan, 3);
         let mut bits = vec![0u32; plan.request_bytes() as usize / 4];
         // A blended pane 1 m across at the origin: the coarsest level's pages under it.
         let pane = Aabb { min: Vec3::new(-0.5, 0.0, -0.5), max: Vec3::new(0.5, 1.0, 0.5) };
@@ -613,13 +614,7 @@ mod tests {
     #[test]
     fn the_page_table_view_colours_each_page_by_the_finest_mip_held() {
         let mut plan = VirtualShadowPlan::default();
-        let source = MapSource {
-            light: LightId(0),
-            projection: MapProjection::Perspective { clip_from_world: Mat4::IDENTITY, face: 0 },
-            slope_bias: 0.0,
-            light_range: None,
-        };
-        push_map(&mut plan, GpuVirtualMap { mips: LOCAL_MIPS, ..GpuVirtualMap::default() }, source);
+        push_spot_map(&mut plan, 0);
         plan.page_table = vec![0; plan.table_entries as usize];
         // Page (3, 2) of mip 0, and mip 1's page over (0..2, 0..2).
         plan.page_table[(2 * MAP_PAGES + 3) as usize] = 1;
