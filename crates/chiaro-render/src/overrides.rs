@@ -78,6 +78,9 @@ overrides! {
     CONTACT_SHADOWS = 21;
     /// A light is shadowed from virtual maps (`[shadows] technique = "virtual"`).
     VIRTUAL_SHADOWS = 22;
+    /// Rect and disk lights (EXT_lights_area) are compiled in: their LTC shading and
+    /// shape-following shadows.
+    AREA_LIGHTS = 23;
 }
 
 /// The overrides the composed WGSL `source` declares (as `@id(..OVERRIDE_<NAME>)`): a

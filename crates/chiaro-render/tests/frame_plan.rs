@@ -344,3 +344,16 @@ fn shadow_loops_for_point_and_spot_lights_compile_in_only_where_a_light_needs_th
     assert!(!plan.features.local_shadows);
     assert!(plan.lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { .. })), "the sun keeps its shadow");
 }
+
+#[test]
+fn area_light_shading_compiles_in_only_where_a_rect_or_disk_is_shaded() {
+    let scene = demo_scene(8);
+    let view = View::from_camera(&scene, 0, 320, 180);
+    let punctual = plan(&scene, &view, &mut ShadowAtlasTiles::default(), PlanRequest::default());
+    assert!(!punctual.features.area_lights, "the demo has punctual lights only");
+    let mut with_rect = scene.clone();
+    let point = with_rect.lights.iter_mut().find(|l| l.kind == LightKind::Point).expect("the demo has a point light");
+    point.kind = LightKind::Rect { width: 0.5, height: 0.25 };
+    let plan = plan(&with_rect, &view, &mut ShadowAtlasTiles::default(), PlanRequest::default());
+    assert!(plan.features.area_lights);
+}

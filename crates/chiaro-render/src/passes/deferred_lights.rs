@@ -301,6 +301,7 @@ impl DeferredLightsPass {
             overrides::TINTED_SHADOWS.flag(f.tinted_shadows),
             overrides::CONTACT_SHADOWS.flag(f.contact_shadows),
             overrides::VIRTUAL_SHADOWS.flag(f.virtual_shadows),
+            overrides::AREA_LIGHTS.flag(f.area_lights),
         ];
         let buffers = [Some(vertex_layout)];
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -38,6 +38,10 @@ pub struct ShaderFeatures {
     /// A light the frame shades is shadowed from virtual maps (`[shadows] technique =
     /// "virtual"`).
     pub virtual_shadows: bool,
+    /// A light the frame shades is a rect or disk (EXT_lights_area): else their LTC
+    /// shading and area shadows are compiled out, which doubled the benchmark scene's
+    /// forward pass on lavapipe while no area light was in it.
+    pub area_lights: bool,
 }
 
 impl ShaderFeatures {
@@ -53,6 +57,7 @@ impl ShaderFeatures {
         tinted_shadows: true,
         contact_shadows: true,
         virtual_shadows: true,
+        area_lights: true,
     };
 
     /// The features the frame's `lights`, the scene's bake and the settings call for;
@@ -74,11 +79,12 @@ impl ShaderFeatures {
             contact_shadows: settings.shadows.contact
                 && lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { .. })),
             virtual_shadows: lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { virtual_map: true, .. })),
+            area_lights: lights.iter().any(|l| scene.lights[l.id.index()].is_area()),
         }
     }
 
     /// The override constants that select this specialisation.
-    pub fn constants(self) -> [(&'static str, f64); 10] {
+    pub fn constants(self) -> [(&'static str, f64); 11] {
         [
             overrides::COOKIES_ENABLED.flag(self.cookies),
             overrides::BAKED_ENABLED.flag(self.baked),
@@ -90,6 +96,7 @@ impl ShaderFeatures {
             overrides::TINTED_SHADOWS.flag(self.tinted_shadows),
             overrides::CONTACT_SHADOWS.flag(self.contact_shadows),
             overrides::VIRTUAL_SHADOWS.flag(self.virtual_shadows),
+            overrides::AREA_LIGHTS.flag(self.area_lights),
         ]
     }
 }
