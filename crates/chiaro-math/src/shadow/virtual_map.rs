@@ -116,6 +116,14 @@ impl PagePoolLayout {
         let (x, y) = (slot % self.slots_per_side, slot / self.slots_per_side);
         (x * PAGE_SLOT, y * PAGE_SLOT, PAGE_SLOT)
     }
+
+    /// A resident page's page-table entry: 1 + its slot's column + (row << 16), so that
+    /// 0 means no page and the shader finds the slot without an integer division (which
+    /// a CPU rasteriser does lane by lane).
+    pub fn table_entry(&self, slot: u32) -> u32 {
+        let (x, y) = (slot % self.slots_per_side, slot / self.slots_per_side);
+        1 + x + (y << 16)
+    }
 }
 
 /// Which slot holds which page, kept from frame to frame: pages asked for again keep
@@ -341,6 +349,9 @@ mod tests {
         assert_eq!(pool.slots_per_side, 40);
         assert!(pool.megabytes() <= 128.0 && pool.megabytes() > 120.0, "{}", pool.megabytes());
         assert_eq!(pool.slot_viewport(41), (PAGE_SLOT, PAGE_SLOT, PAGE_SLOT));
+        // Slot 41 is column 1 of row 1; entry 0 is kept for "no page".
+        assert_eq!(pool.table_entry(41), 1 + 1 + (1 << 16));
+        assert_eq!(pool.table_entry(0), 1);
         // A small device texture limit caps it.
         assert_eq!(PagePoolLayout::for_megabytes(2048, 8192).slots_per_side, 8192 / PAGE_SLOT);
     }

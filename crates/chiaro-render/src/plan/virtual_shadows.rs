@@ -452,7 +452,8 @@ pub fn place_pages(
         };
         let map = &shadows.virtual_maps.maps[page.map];
         let side = pages_per_side(page.mip);
-        table[(map.table_offset + mip_table_offset(page.mip) + page.y * side + page.x) as usize] = slot + 1;
+        table[(map.table_offset + mip_table_offset(page.mip) + page.y * side + page.x) as usize] =
+            layout.table_entry(slot);
         let source = &shadows.virtual_maps.sources[page.map];
         let clip_from_world = match source.projection {
             MapProjection::Clipmap { direction, level, first_page, depth } => {
