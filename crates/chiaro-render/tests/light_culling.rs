@@ -1,7 +1,9 @@
 //! Light culling on the GPU: with no limit reached, clustered, per-object and no culling
 //! give the same image; a thousand lights under clustered culling add up to the sum of
 //! renders of fifty lights at a time without culling (also with lights far smaller than
-//! their depth slices); per-object lists keep the most important lights of each object.
+//! their depth slices); more than 32 shadowed lights in one cluster (the shader marks them
+//! 32 at a time) shade as without culling; per-object lists keep the most important
+//! lights of each object.
 
 mod common;
 
@@ -117,6 +119,46 @@ fn the_three_culling_modes_give_the_same_image() {
             assert!(worst < 2e-3, "{name}: {culling:?} differs from no culling by {worst}");
         }
     }
+}
+
+/// Forty shadowed spots on a ring, all aimed at the middle of a floor with a box: the
+/// clusters there list more shadowed lights than the shader marks at once (32), so its
+/// second chunk of shadowed entries is shaded too.
+fn ring_of_shadowed_spots() -> Scene {
+    let lights = (0..40)
+        .map(|i| {
+            let angle = i as f32 / 40.0 * std::f32::consts::TAU;
+            let position = Vec3::new(3.0 * angle.cos(), 3.0, 3.0 * angle.sin());
+            chiaro_scene::Light {
+                name: format!("spot {i}"),
+                node: 20 + i,
+                intensity: 2.0,
+                range: Some(8.0),
+                ..chiaro_scene::Light::new(
+                    LightKind::Spot { inner_cone_rad: 0.4, outer_cone_rad: 0.6 },
+                    position,
+                    (Vec3::ZERO - position).normalize(),
+                )
+            }
+        })
+        .collect();
+    let mut scene = floor_scene(8.0, Vec3::new(0.0, 6.0, 4.0), lights);
+    add_box(&mut scene, Vec3::new(0.0, 0.4, 0.0), Vec3::new(0.6, 0.8, 0.6), 0.3, CastShadows::On);
+    scene
+}
+
+#[test]
+fn more_than_32_shadowed_lights_in_a_cluster_shade_as_without_culling() {
+    let mut r = renderer();
+    let scene = ring_of_shadowed_spots();
+    let none = render_hdr(&mut r, &scene, &forward(LightCulling::None));
+    let clustered = render_hdr(&mut r, &scene, &forward(LightCulling::Clustered));
+    let lists = &clustered.plan.culled.lists;
+    let most = (0..lists.len()).map(|k| lists.shadowed(k)).max().unwrap_or(0);
+    assert!(most > 32, "a cluster lists {most} shadowed lights: the test needs more than 32");
+    assert_eq!(clustered.local_lights_shaded(), 40);
+    let worst = worst_relative_difference(&none, &clustered, 1e-3);
+    assert!(worst < 2e-3, "clustered differs from no culling by {worst}");
 }
 
 /// A floor with boxes under `count` small coloured point lights, none casting shadows,

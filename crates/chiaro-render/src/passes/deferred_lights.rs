@@ -289,8 +289,9 @@ impl DeferredLightsPass {
             attributes: &[wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 }],
         };
         let vertex_constants = [overrides::CLAMP_FAR.flag(!self.unclipped_depth)];
-        // The light shaders read no baked light (the G-buffer carries the shadow mask),
-        // so every feature but that one applies.
+        // The light shaders read no baked light (the G-buffer carries the shadow mask);
+        // PCSS, the local shadow loops' switch and the environment keep their defaults
+        // (on) here: these are the features the light volumes specialise on.
         let f = variant.features;
         let fragment_constants = [
             overrides::LDR_EXP2.flag(variant.ldr),

@@ -207,8 +207,9 @@ pub fn plan_shadows(
                 CascadeBlend::Soft => CASCADE_BLEND_SOFT,
                 CascadeBlend::Dither => CASCADE_BLEND_DITHER,
             },
-            pcss_blocker_samples: settings.shadows.pcss_blocker_samples,
-            pcss_filter_samples: settings.shadows.pcss_filter_samples,
+            // At least one: the shaders' sample loops test at their end.
+            pcss_blocker_samples: settings.shadows.pcss_blocker_samples.max(1),
+            pcss_filter_samples: settings.shadows.pcss_filter_samples.max(1),
             contact: GpuContactShadows {
                 length_m: settings.shadows.contact_length,
                 thickness_m: settings.shadows.contact_thickness,

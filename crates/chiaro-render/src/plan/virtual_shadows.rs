@@ -85,7 +85,8 @@ pub struct VirtualShadowPlan {
     sources: Vec<MapSource>,
     /// Page-table entries of all maps.
     pub table_entries: u32,
-    /// Per entry, 1 + the slot holding the page, 0 for none; filled by `place_pages`.
+    /// Per entry, 0 for no page, else the slot holding it as `PagePoolLayout::table_entry`
+    /// writes it (1 + column + row << 16); filled by `place_pages`.
     pub page_table: Vec<u32>,
     /// The pool's layout (None without virtual maps).
     pub pool: Option<PagePoolLayout>,
