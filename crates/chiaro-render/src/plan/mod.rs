@@ -365,10 +365,9 @@ impl FramePlan {
         plan.path = RenderPath::Forward;
         plan.msaa = 1;
         plan.marks_pages = true;
-        plan.prepass_draws = self.camera_draws[..self.transmissive_from]
-            .iter()
-            .copied()
-            .filter(|&d| draws[d as usize].alpha_mode == AlphaMode::Opaque)
+        plan.prepass_draws = (0..self.camera_draws.len())
+            .filter(|&k| self.marked_by_prepass(draws, k))
+            .map(|k| self.camera_draws[k])
             .collect();
         plan.shadows.redraw = vec![false; plan.shadows.tiles.len()];
         plan
@@ -386,23 +385,25 @@ impl FramePlan {
         view.clip_from_view.to_cols_array().map(f32::to_bits).hash(&mut h);
         bytemuck::cast_slice::<_, u8>(&self.shadows.virtual_maps.maps).hash(&mut h);
         self.shadows.gpu.fade.inverse_max_distance.to_bits().hash(&mut h);
-        for &d in &self.camera_draws[..self.transmissive_from] {
-            let draw = &draws[d as usize];
-            (draw.alpha_mode == AlphaMode::Opaque, draw.caster_key).hash(&mut h);
+        for (k, &d) in self.camera_draws[..self.transmissive_from].iter().enumerate() {
+            (self.marked_by_prepass(draws, k), draws[d as usize].caster_key).hash(&mut h);
         }
         h.finish()
+    }
+
+    /// Whether the marking frame's opaque prepass draws `camera_draws[k]`: an opaque
+    /// solid before the transmissive ones. The pixels of the others mark no page.
+    fn marked_by_prepass(&self, draws: &[Draw], k: usize) -> bool {
+        k < self.transmissive_from && draws[self.camera_draws[k] as usize].alpha_mode == AlphaMode::Opaque
     }
 
     /// Places the pages the marking frame asked for (`requests`, a bit per page-table
     /// entry), and decides which are drawn again (the tile cache).
     pub fn place_virtual_pages(&mut self, draws: &[Draw], requests: &[u32]) {
         // The surfaces the marking frame's opaque prepass leaves out.
-        let unmarked: Vec<chiaro_math::Aabb> = self
-            .camera_draws
-            .iter()
-            .enumerate()
-            .filter(|&(k, &d)| k >= self.transmissive_from || draws[d as usize].alpha_mode != AlphaMode::Opaque)
-            .map(|(_, &d)| draws[d as usize].bounds_ws)
+        let unmarked: Vec<chiaro_math::Aabb> = (0..self.camera_draws.len())
+            .filter(|&k| !self.marked_by_prepass(draws, k))
+            .map(|k| draws[self.camera_draws[k] as usize].bounds_ws)
             .collect();
         let pages = &mut self.atlas_update.virtual_pages;
         virtual_shadows::place_pages(&mut self.shadows, draws, requests, &unmarked, pages);

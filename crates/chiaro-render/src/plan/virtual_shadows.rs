@@ -226,6 +226,7 @@ pub fn plan_virtual_maps(
             }
             let filter = light_filter(light, directional_filter);
             let first = out.maps.len() as u32;
+            let (reach_size, reach_cap_texels) = reach(light);
             let depth = depth_range(draws, light.direction());
             for level in 0..levels {
                 let fit = clipmap_level(light.direction(), camera, level, depth);
@@ -241,8 +242,8 @@ pub fn plan_virtual_maps(
                         normal_bias: light.shadow.normal_bias * normal_bias_ws(fit.texel_m, filter),
                         lens_far: depth.far - depth.near,
                         lens_metres_per_uv: clipmap_extent_m(level),
-                        reach_size: reach(light).0,
-                        reach_cap_texels: reach(light).1,
+                        reach_size,
+                        reach_cap_texels,
                         ..GpuVirtualMap::default()
                     },
                     MapSource {
@@ -284,6 +285,7 @@ pub fn plan_virtual_maps(
             local_maps_left -= faces;
             let filter = light_filter(light, local_filter);
             let first = out.maps.len() as u32;
+            let (reach_size, reach_cap_texels) = reach(light);
             for (face, (clip_from_view, clip_from_world)) in local_views(light, range).into_iter().enumerate() {
                 let lens = chiaro_math::shadow::pcss::perspective_lens(&clip_from_view, 1.0);
                 push_map(
@@ -302,8 +304,8 @@ pub fn plan_virtual_maps(
                         lens_near: lens[0],
                         lens_far: lens[1],
                         lens_metres_per_uv: lens[2],
-                        reach_size: reach(light).0,
-                        reach_cap_texels: reach(light).1,
+                        reach_size,
+                        reach_cap_texels,
                         ..GpuVirtualMap::default()
                     },
                     MapSource {
