@@ -43,7 +43,7 @@ impl PixelCamera {
     }
 }
 
-fn primary_ray(world_from_clip: &Mat4, width: u32, height: u32, x: u32, y: u32) -> Option<(Vec3, Vec3)> {
+pub(crate) fn primary_ray(world_from_clip: &Mat4, width: u32, height: u32, x: u32, y: u32) -> Option<(Vec3, Vec3)> {
     let uv = (Vec2::new(x as f32, y as f32) + 0.5) / Vec2::new(width as f32, height as f32);
     let ndc = Vec2::new(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     // Reverse-Z: depth 1 is the near plane; 0.5 is a finite point beyond it even for an

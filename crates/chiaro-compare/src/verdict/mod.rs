@@ -37,6 +37,12 @@ use rayon::prelude::*;
 /// too large and silhouettes, where the two see different objects, are judged.
 pub const POSITION_TOLERANCE_M: f32 = 0.01;
 
+/// Whether a rendered and a reference position are the same surface: within
+/// `POSITION_TOLERANCE_M`. Every comparison with a reference matches pixels by it.
+pub(crate) fn same_surface(rendered_position: Vec3, reference_position: Vec3) -> bool {
+    rendered_position.distance(reference_position) <= POSITION_TOLERANCE_M
+}
+
 /// Pixels within this Chebyshev distance of a change in reference visibility are not
 /// compared, by default (`compare --edge-band` changes it). Too narrow and filtered or
 /// texel-snapped edges count as errors; too wide and thin shadows (and the acne or leaks
@@ -158,7 +164,7 @@ fn compared_pairs(judged: &JudgedLight, edge_band: bool) -> Vec<Option<(f32, f32
             let compared = reference.receives[i]
                 && !near_edge[i]
                 && rendered.is_finite()
-                && rendered_position.distance(position) <= POSITION_TOLERANCE_M
+                && same_surface(*rendered_position, position)
                 && light_reaches(light, range, position, reference.normal[i]);
             compared.then_some((rendered, visibility[i]))
         })
