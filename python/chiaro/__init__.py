@@ -165,6 +165,8 @@ class Renderer:
         shadow    (L, H, W) float32 per light, the realtime shadow attenuation the shading
                   used (1 lit, 0 shadowed, NaN on the sky); "shadow_lights" lists the L
                   lights' nodes
+        ao        (H, W) float32 the ambient occlusion the shading used (1 open, 0
+                  hidden; all 1 without [ambient_occlusion] enabled)
 
         camera: a `Camera`, a glTF camera's name or index, or None (the file's first
         camera, else one framing the scene). width and height default to the settings'.

@@ -65,6 +65,9 @@ class RenderOutputs(TypedDict, total=False):
     shadowed; NaN on the sky."""
     shadow_lights: List[int]
     """The glTF node indices of the L lights of `shadow`, in its order (present with it)."""
+    ao: NDArray[np.float32]
+    """(H, W) the ambient occlusion the shading used: 1 open, 0 hidden; 1 on the sky and
+    everywhere without `[ambient_occlusion] enabled`."""
 
 
 class _CoreDevice(TypedDict):

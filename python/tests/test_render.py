@@ -29,6 +29,7 @@ def test_outputs_have_their_shapes_and_types(renderer, scene):
         assert out[key].shape == (H, W) and out[key].dtype == np.uint32
     assert out["shadow"].shape == (1, H, W) and out["shadow"].dtype == np.float32
     assert out["shadow_lights"] == [scenes.SUN_NODE]
+    assert out["ao"].shape == (H, W) and out["ao"].dtype == np.float32
     # The arrays hold the memory the renderer read back, writable and contiguous.
     assert out["depth"].flags.writeable and out["rgb"].flags.c_contiguous
 

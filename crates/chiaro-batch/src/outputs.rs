@@ -24,13 +24,17 @@ pub enum Output {
     Label,
     /// Per light, the realtime shadow attenuation the shading used: `shadow.<node>.exr`.
     Shadow,
+    /// The ambient occlusion the shading used, 1 open (everywhere without
+    /// `[ambient_occlusion] enabled`): `ao.exr` (one float32 channel).
+    Ao,
 }
 
 impl Output {
     /// Every output's name, in the order of the enum.
-    pub const NAMES: [&'static str; 8] = ["rgb", "hdr", "depth", "normal", "position", "instance", "label", "shadow"];
+    pub const NAMES: [&'static str; 9] =
+        ["rgb", "hdr", "depth", "normal", "position", "instance", "label", "shadow", "ao"];
     /// Every output, in the order of `NAMES`.
-    pub const ALL: [Output; 8] = [
+    pub const ALL: [Output; 9] = [
         Output::Rgb,
         Output::Hdr,
         Output::Depth,
@@ -39,6 +43,7 @@ impl Output {
         Output::Instance,
         Output::Label,
         Output::Shadow,
+        Output::Ao,
     ];
 
     /// The output called `name`, if any.
@@ -95,6 +100,7 @@ impl Outputs {
             depth_only: !any(&[Output::Normal, Output::Position]),
             shadow_aovs: self.wants(Output::Shadow),
             ids: any(&[Output::Instance, Output::Label]),
+            ambient_occlusion: self.wants(Output::Ao),
             readback: any(&[Output::Rgb, Output::Hdr, Output::Depth, Output::Normal, Output::Position]),
             skip_hdr: !self.wants(Output::Hdr),
             read_shadow_atlas: false,
@@ -137,6 +143,10 @@ impl Outputs {
                         files.push((format!("shadow.{node}.exr"), Encoded::ExrSingle { width, height, values }));
                     }
                 }
+                Output::Ao => {
+                    let values = frame.ambient_occlusion.as_ref().expect("the frame options ask for the AO");
+                    files.push(("ao.exr".into(), Encoded::ExrSingle { width, height, values }));
+                }
             }
         }
         files
@@ -157,7 +167,7 @@ mod tests {
         assert_eq!(outputs.0, vec![Output::Depth, Output::Rgb]);
         assert_eq!(
             Outputs::from_names(&["rgb", "colour"]).unwrap_err(),
-            "outputs: 'colour' is not one of rgb, hdr, depth, normal, position, instance, label, shadow"
+            "outputs: 'colour' is not one of rgb, hdr, depth, normal, position, instance, label, shadow, ao"
         );
         assert_eq!(Outputs::from_names::<&str>(&[]).unwrap_err(), "outputs: name at least one output");
     }

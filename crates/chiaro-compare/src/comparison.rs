@@ -1,15 +1,16 @@
 //! One view compared: renders a frame with its shadow AOVs (chiaro-render), traces the
 //! same camera and resolution on the CPU (chiaro-trace), and judges each light's pixels
-//! (`crate::verdict`). A scene, a view and settings flow in; a `ShadowComparison` (one
+//! (`crate::verdict`) and, with ambient occlusion on, the AO (`crate::occlusion`). A scene, a view and settings flow in; a `ShadowComparison` (one
 //! `LightReport` per scene light, the reference and the rendered AOVs) flows out.
 
 use crate::environment::{EnvironmentPixels, EnvironmentReport, compare_environment};
+use crate::occlusion::{OcclusionReport, compare_occlusion};
 use crate::verdict::{
     EDGE_BAND_PX, JudgedLight, LightComparison, PixelVerdict, VisibilityError, classify_pixels, soft_shadow_report,
 };
 use chiaro_render::{FrameOptions, PreparedScene, RenderError, Renderer, ShadowStatus, View};
 use chiaro_scene::{Scene, Settings, ShadowMode};
-use chiaro_trace::{PixelCamera, ShadowReference, trace_shadow_reference};
+use chiaro_trace::{PixelCamera, REFERENCE_AO_RAYS, ShadowReference, trace_ambient_occlusion, trace_shadow_reference};
 use glam::Vec3;
 
 /// One light's verdict.
@@ -51,6 +52,9 @@ pub struct ShadowComparison {
     /// The environment's baked light against the traced environment, where the settings
     /// name an environment.
     pub environment: Option<EnvironmentReport>,
+    /// The rendered ambient occlusion against the traced one, where `[ambient_occlusion]
+    /// enabled`.
+    pub occlusion: Option<OcclusionReport>,
 }
 
 /// Why a light with `status` is not judged against the reference; `None` when it is.
@@ -78,6 +82,8 @@ pub struct RenderedShadows {
     /// comparison).
     pub normals: Vec<Vec3>,
     pub baked_irradiance: Vec<[f32; 3]>,
+    /// The ambient occlusion the shading used, where `[ambient_occlusion] enabled`.
+    pub ambient_occlusion: Option<Vec<f32>>,
 }
 
 /// Renders `view` with the shadow AOVs a comparison needs, waiting for the frame.
@@ -93,13 +99,21 @@ pub fn render_shadows(
         prepared,
         view,
         settings,
-        FrameOptions { aovs: true, shadow_aovs: true, readback: true, ..Default::default() },
+        FrameOptions {
+            aovs: true,
+            shadow_aovs: true,
+            readback: true,
+            ambient_occlusion: settings.ambient_occlusion.enabled,
+            ..Default::default()
+        },
     )?;
     let status = frame.shadow_status(scene);
     let aovs = frame.aovs.expect("aovs were asked for");
     let positions = aovs.position_ws.iter().map(|p| p[0].is_finite().then(|| Vec3::from(*p))).collect();
     let normals = aovs.normal_ws.iter().map(|n| Vec3::from(*n)).collect();
+    let ambient_occlusion = if settings.ambient_occlusion.enabled { frame.ambient_occlusion } else { None };
     Ok(RenderedShadows {
+        ambient_occlusion,
         positions,
         shadow_aovs: frame.shadow_aovs,
         status,
@@ -175,7 +189,19 @@ pub fn compare_rendered_with(
             baked_irradiance: &rendered.baked_irradiance,
         },
     );
-    ShadowComparison { reports, reference, rendered: rendered.shadow_aovs, status: rendered.status, environment }
+    let occlusion = rendered.ambient_occlusion.as_ref().map(|ao| {
+        let _span = tracing::info_span!("trace ambient occlusion").entered();
+        let traced = trace_ambient_occlusion(scene, &camera, settings.ambient_occlusion.radius, REFERENCE_AO_RAYS);
+        compare_occlusion(ao, &rendered.positions, &traced)
+    });
+    ShadowComparison {
+        reports,
+        reference,
+        rendered: rendered.shadow_aovs,
+        status: rendered.status,
+        environment,
+        occlusion,
+    }
 }
 
 /// Renders `view` and judges it against the traced reference, with the default options.

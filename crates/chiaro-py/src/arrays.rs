@@ -43,7 +43,8 @@ impl FrameArrays {
     pub fn new(frame: FrameOutput, outputs: &Outputs, shadow_nodes: Vec<usize>) -> FrameArrays {
         let (h, w) = (frame.height as usize, frame.width as usize);
         let mut arrays = FrameArrays { u8s: Vec::new(), f32s: Vec::new(), u32s: Vec::new(), shadow_lights: None };
-        let FrameOutput { ldr, hdr, aovs, ids, shadow_aovs, .. } = frame;
+        let FrameOutput { ldr, hdr, aovs, ids, shadow_aovs, ambient_occlusion, .. } = frame;
+        let mut ambient_occlusion = ambient_occlusion;
         let mut aovs = aovs;
         let mut ids = ids;
         for &output in &outputs.0 {
@@ -78,6 +79,10 @@ impl FrameArrays {
                     let data: Vec<f32> = shadow_aovs.iter().flatten().copied().collect();
                     arrays.f32s.push((output, Array { data, shape: vec![layers, h, w] }));
                     arrays.shadow_lights = Some(shadow_nodes.iter().copied().take(layers).collect());
+                }
+                Output::Ao => {
+                    let data = ambient_occlusion.take().expect("the frame read back its AO");
+                    arrays.f32s.push((output, Array { data, shape: vec![h, w] }));
                 }
             }
         }

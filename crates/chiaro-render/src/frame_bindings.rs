@@ -74,6 +74,7 @@ pub enum Resource {
     ShadowTints,
     ViewDepths,
     VirtualPageTable,
+    AmbientOcclusion,
 }
 
 /// One binding of group 0.
@@ -94,7 +95,7 @@ const fn fragment(resource: Resource, name: &'static str, kind: Kind) -> FrameBi
 }
 
 /// Group 0's bindings; a binding's number is its place here.
-pub const FRAME_BINDINGS: [FrameBinding; 24] = [
+pub const FRAME_BINDINGS: [FrameBinding; 25] = [
     // The frame uniform (common/frame.wesl): the camera, exposure, light counts.
     FrameBinding { resource: Resource::Frame, name: "FRAME", stages: Stages::VertexFragment, kind: Kind::Uniform },
     // The first MAX_UNIFORM_LIGHTS lights and the light lists (lighting/light.wesl).
@@ -139,6 +140,9 @@ pub const FRAME_BINDINGS: [FrameBinding; 24] = [
     // The virtual shadow maps' page table (shadows/virtual_map.wesl): which pool slot
     // holds each page, 0 for none.
     fragment(Resource::VirtualPageTable, "VIRTUAL_PAGE_TABLE", Kind::Storage),
+    // Each pixel's ambient occlusion (lighting/occlusion.wesl), which the ambient occlusion
+    // pass writes: a buffer like the view depths, for the same 16 sampled textures.
+    fragment(Resource::AmbientOcclusion, "AMBIENT_OCCLUSION", Kind::Storage),
 ];
 
 /// The binding number of the binding named `name`.

@@ -40,6 +40,12 @@ pub struct FrameData {
     /// Each pixel's scene depth for contact shadows (`passes::contact_depth` writes it);
     /// one float where the frame has none.
     view_depths: GrowingBuffer,
+    /// Each pixel's ambient occlusion as the shading reads it (`passes::ambient_occlusion`
+    /// writes it, denoised), and the pass's noisy estimate before the denoise; one float
+    /// where the frame has none.
+    occlusion: GrowingBuffer,
+    occlusion_raw: GrowingBuffer,
+    occlusion_half: GrowingBuffer,
     /// The virtual shadow maps' page table (`plan::virtual_shadows`); one placeholder
     /// entry without them.
     page_table: GrowingBuffer,
@@ -79,6 +85,7 @@ struct BoundResources {
     environment_brdf_table: wgpu::TextureView,
     shadow_tints: wgpu::TextureView,
     view_depths: wgpu::Buffer,
+    occlusion: wgpu::Buffer,
     page_table: wgpu::Buffer,
 }
 
@@ -92,6 +99,18 @@ pub struct MarkingBuffers<'a> {
     pub shadows: &'a wgpu::Buffer,
     /// One bit per page-table entry.
     pub page_requests: &'a wgpu::Buffer,
+}
+
+/// The ambient occlusion pass's buffers, one float per pixel, row by row.
+#[derive(Clone, Copy)]
+pub struct OcclusionBuffers<'a> {
+    /// The half-resolution estimate, with each texel's point and normal (not bound in
+    /// group 0).
+    pub raw: &'a wgpu::Buffer,
+    /// The half-resolution estimate denoised (not bound in group 0).
+    pub half: &'a wgpu::Buffer,
+    /// The AO per pixel, upsampled from `half`: group 0's `AMBIENT_OCCLUSION`.
+    pub denoised: &'a wgpu::Buffer,
 }
 
 /// A storage buffer that is made again, twice as large, when a frame needs more.
@@ -203,6 +222,9 @@ impl FrameData {
             list_starts: GrowingBuffer::new(device, "light list starts", 4 * 64),
             list_indices: GrowingBuffer::new(device, "light list indices", 4 * 1024),
             view_depths: GrowingBuffer::new(device, "view depths", 4),
+            occlusion: GrowingBuffer::new(device, "ambient occlusion", 4),
+            occlusion_raw: GrowingBuffer::new(device, "ambient occlusion before denoising", 4),
+            occlusion_half: GrowingBuffer::new(device, "ambient occlusion at half resolution", 4),
             page_table: GrowingBuffer::new(device, "virtual page table", 4),
             page_requests: GrowingBuffer::new(device, "virtual page requests", 4),
             gpu_lights: Vec::new(),
@@ -253,19 +275,26 @@ impl FrameData {
             queue.write_buffer(&self.light_list, 0, bytemuck::cast_slice(&list));
         }
         queue.write_buffer(&self.shadows, 0, bytemuck::bytes_of(&plan.shadows.gpu));
-        if plan.features.contact_shadows || plan.marks_pages {
+        if plan.copies_scene_depth() {
             let (width, height) = (plan.view.width, plan.view.height);
             let bytes = width as u64 * height as u64 * size_of::<f32>() as u64;
             let largest = device.limits().max_storage_buffer_binding_size;
             if bytes > largest {
                 let reason = format!(
-                    "contact shadows ([shadows] contact) and virtual shadow maps' marking keep each pixel's \
-                     depth in one storage buffer of {bytes} bytes, more than the device binds ({largest}); \
-                     render smaller or turn them off"
+                    "contact shadows ([shadows] contact), ambient occlusion and virtual shadow maps' marking \
+                     keep each pixel's depth in one storage buffer of {bytes} bytes, more than the device \
+                     binds ({largest}); render smaller or turn them off"
                 );
                 return Err(RenderError::OutputSize { width, height, reason });
             }
             self.view_depths.reserve(device, bytes);
+            if plan.features.ambient_occlusion {
+                self.occlusion.reserve(device, bytes);
+                // Two vec4s per texel of the half-resolution estimate.
+                let texels = width.div_ceil(2) as u64 * height.div_ceil(2) as u64;
+                self.occlusion_raw.reserve(device, texels * 2 * 16);
+                self.occlusion_half.reserve(device, texels * 4);
+            }
         }
         let virtual_maps = &plan.shadows.virtual_maps;
         if virtual_maps.is_active() {
@@ -286,6 +315,16 @@ impl FrameData {
     /// The buffer the contact depth pass writes each pixel's scene depth into.
     pub fn view_depths(&self) -> &wgpu::Buffer {
         &self.view_depths.buffer
+    }
+
+    /// The buffers the ambient occlusion pass writes: the noisy estimate, then the
+    /// denoised AO that group 0 binds.
+    pub fn occlusion_buffers(&self) -> OcclusionBuffers<'_> {
+        OcclusionBuffers {
+            raw: &self.occlusion_raw.buffer,
+            half: &self.occlusion_half.buffer,
+            denoised: &self.occlusion.buffer,
+        }
     }
 
     /// The bind group over this frame's buffers, the scene's objects, cookies and bakes, and
@@ -314,6 +353,7 @@ impl FrameData {
             environment_brdf_table: environment.brdf_table.clone(),
             shadow_tints: targets.view(SHADOW_TINTS).clone(),
             view_depths: self.view_depths.buffer.clone(),
+            occlusion: self.occlusion.buffer.clone(),
             page_table: self.page_table.buffer.clone(),
         };
         if let Some((last, group)) = &self.last_bind_group
@@ -358,6 +398,7 @@ impl FrameData {
                     Resource::EnvironmentBrdf => view(&bound.environment_brdf_table),
                     Resource::ShadowTints => view(&bound.shadow_tints),
                     Resource::ViewDepths => bound.view_depths.as_entire_binding(),
+                    Resource::AmbientOcclusion => bound.occlusion.as_entire_binding(),
                     Resource::VirtualPageTable => bound.page_table.as_entire_binding(),
                 };
                 wgpu::BindGroupEntry { binding: binding as u32, resource }

@@ -22,6 +22,9 @@ pub struct FrameOptions {
     pub shadow_aovs: bool,
     /// Also render each pixel's glTF node and label (`FrameOutput::ids`).
     pub ids: bool,
+    /// Also read back the ambient occlusion the shading used
+    /// (`FrameOutput::ambient_occlusion`).
+    pub ambient_occlusion: bool,
     /// Copy the images back to the CPU, waiting for the frame (off for benchmarking and
     /// for frames that go to a window).
     pub readback: bool,
@@ -38,7 +41,7 @@ pub struct FrameOptions {
 impl FrameOptions {
     /// Whether the frame must be waited for.
     pub fn reads_back(&self) -> bool {
-        self.readback || self.shadow_aovs || self.ids || self.read_shadow_atlas
+        self.readback || self.shadow_aovs || self.ids || self.read_shadow_atlas || self.ambient_occlusion
     }
 }
 
@@ -136,6 +139,10 @@ pub struct FrameOutput {
     pub aovs: Option<Aovs>,
     /// The glTF node and label per pixel, if asked for.
     pub ids: Option<Ids>,
+    /// With `FrameOptions::ambient_occlusion`: the AO the shading used per pixel (1 open,
+    /// 0 hidden; 1 where no surface is, and everywhere without `[ambient_occlusion]
+    /// enabled`).
+    pub ambient_occlusion: Option<Vec<f32>>,
     /// CPU and GPU times of the frame.
     pub timings: FrameTimings,
     /// Per scene light (by index in `Scene::lights`): the shadow attenuation the shading
@@ -177,6 +184,7 @@ impl FrameOutput {
             ldr: Vec::new(),
             aovs: None,
             ids: None,
+            ambient_occlusion: None,
             timings,
             shadow_aovs: Vec::new(),
             shadow_texels_per_pixel: Vec::new(),

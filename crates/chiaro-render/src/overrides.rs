@@ -81,6 +81,8 @@ overrides! {
     /// Rect and disk lights (EXT_lights_area) are compiled in: their LTC shading and
     /// shape-following shadows.
     AREA_LIGHTS = 23;
+    /// Screen-space ambient occlusion darkens indirect light (`[ambient_occlusion]`).
+    AMBIENT_OCCLUSION = 24;
 }
 
 /// The overrides the composed WGSL `source` declares (as `@id(..OVERRIDE_<NAME>)`): a

@@ -12,6 +12,7 @@ use crate::graph::{
     Targets,
 };
 use crate::output::{FrameOptions, FrameOutput, FrameTimings, GpuFrameTimes};
+use crate::passes::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::passes::targets::HDR;
 use crate::passes::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
 use crate::plan::shadows::{ShadowAtlas, ShadowAtlasTiles};
@@ -320,13 +321,18 @@ impl Renderer {
 
         // Read-backs ride in the frame's own submission.
         let read = read_backs(&graph, &plan, options);
-        let copies = read
+        let mut copies = read
             .iter()
             .filter_map(|&(target, bytes_per_pixel)| {
                 let texture = self.targets.texture(target)?;
                 Some((target, copy_texture(device, &mut encoder, texture, bytes_per_pixel)))
             })
             .collect::<Vec<_>>();
+        if options.ambient_occlusion && plan.features.ambient_occlusion {
+            let bytes = view.width * view.height * size_of::<f32>() as u32;
+            let denoised = self.frame_data.occlusion_buffers().denoised;
+            copies.push((AMBIENT_OCCLUSION, copy_buffer(device, &mut encoder, denoised, bytes)));
+        }
         let cpu_prepare_ms = start.elapsed().as_secs_f64() * 1e3;
         let cpu_prepare_thread_ms = thread_start.zip(thread_cpu_ms()).map(|(a, b)| b - a);
 
@@ -341,7 +347,11 @@ impl Renderer {
         }
 
         let timings = FrameTimings { frame, cpu_prepare_ms, cpu_prepare_thread_ms, ..Default::default() };
-        let out = FrameOutput::before_read_back((view.width, view.height), timings, stats, plan, graph);
+        let mut out = FrameOutput::before_read_back((view.width, view.height), timings, stats, plan, graph);
+        if options.ambient_occlusion && !out.plan.features.ambient_occlusion {
+            // The shading used no ambient occlusion: every pixel open.
+            out.ambient_occlusion = Some(vec![1.0; view.width as usize * view.height as usize]);
+        }
         self.targets.set_external_output(None);
         if !options.reads_back() {
             self.ctx.device.poll(wgpu::PollType::Poll).map_err(|e| RenderError::Gpu(e.to_string()))?;
@@ -464,6 +474,7 @@ impl Renderer {
                 frame_bind_group,
                 targets: &self.targets,
                 view_depths: self.frame_data.view_depths(),
+                occlusion: self.frame_data.occlusion_buffers(),
                 marking: self.frame_data.marking_buffers(),
                 timestamps: self.timer.as_mut().and_then(|t| t.pass(name)),
                 stats: &mut stats,

@@ -7,7 +7,7 @@ use crate::graph::{OUTPUT, Target};
 use crate::output::{Aovs, AtlasImage, FrameOutput, Ids};
 use crate::passes::targets::HDR;
 use crate::passes::targets::{DIRECTIONAL_ATLAS, LOCAL_ATLAS};
-use crate::passes::{aov, id, shadow_aov};
+use crate::passes::{ambient_occlusion, aov, id, shadow_aov};
 
 /// Fills `out` from the read-back bytes of each target.
 pub fn unpack_images(out: &mut FrameOutput, read: Vec<(Target, Vec<u8>)>, exposure: f32) {
@@ -23,6 +23,7 @@ pub fn unpack_images(out: &mut FrameOutput, read: Vec<(Target, Vec<u8>)>, exposu
             aov::BAKED => baked = Some(bytes),
             aov::VIEW_DEPTH => out.aovs = Some(view_depth(&bytes)),
             id::IDS => out.ids = Some(ids(&bytes)),
+            ambient_occlusion::AMBIENT_OCCLUSION => out.ambient_occlusion = Some(bytemuck::pod_collect_to_vec(&bytes)),
             shadow_aov::SHADOW => {
                 (out.shadow_aovs, out.shadow_texels_per_pixel) = shadow_layers(&bytes, out.width, out.height);
             }

@@ -28,8 +28,8 @@ pub use gltf_import::{load_gltf, load_gltf_bytes};
 pub use layers::{LayerTexture, MaterialLayers};
 pub use nodes::{NodeError, NodeMove, SceneNode};
 pub use settings::{
-    CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings, ShadowTechnique,
-    ToneMapping,
+    AmbientOcclusionSettings, AoQuality, CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode,
+    RenderPath, Settings, ShadowTechnique, ToneMapping,
 };
 pub use types::*;
 pub use variants::{MaterialVariants, VariantError, VariantMapping};

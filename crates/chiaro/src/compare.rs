@@ -5,7 +5,7 @@ use crate::output::{Encoded, check_outputs, sibling_path, write_group};
 use crate::scene_input::SceneInput;
 use anyhow::{Result, bail};
 use chiaro_compare::{
-    CompareOptions, EDGE_BAND_PX, EnvironmentReport, FAR_OFF, MAX_EDGE_BAND_PX, compare_shadows_with,
+    CompareOptions, EDGE_BAND_PX, EnvironmentReport, FAR_OFF, MAX_EDGE_BAND_PX, OCCLUDED_BELOW, compare_shadows_with,
     not_compared_because,
 };
 use chiaro_render::{GpuContext, Renderer, ShadowStatus};
@@ -21,7 +21,8 @@ pub struct CompareArgs {
     #[arg(long, default_value_t = 256)]
     pub height: u32,
     /// Write a difference image per light, `<stem>.<node>.png` (black: not compared,
-    /// grey: agree, red: false shadow, blue: missed shadow).
+    /// grey: agree, red: false shadow, blue: missed shadow), and with ambient occlusion on
+    /// `<stem>.ao.png`, the signed AO error (red: too dark, blue: too bright).
     #[arg(long)]
     pub diff: Option<PathBuf>,
     /// Exit with an error when any light disagrees on more than this percentage (0 to 100).
@@ -55,7 +56,10 @@ pub fn run(args: CompareArgs) -> Result<()> {
     let scene = args.input.scene(&settings)?;
     let view = args.input.view(&scene, &settings, args.width, args.height)?;
     let diff_path = |node: usize| args.diff.as_ref().map(|diff| sibling_path(diff, &format!("{node}.png")));
-    let outputs: Vec<PathBuf> = scene.lights.iter().filter_map(|l| diff_path(l.node)).collect();
+    let ao_diff_path =
+        args.diff.as_ref().filter(|_| settings.ambient_occlusion.enabled).map(|d| sibling_path(d, "ao.png"));
+    let outputs: Vec<PathBuf> =
+        scene.lights.iter().filter_map(|l| diff_path(l.node)).chain(ao_diff_path.clone()).collect();
     check_outputs(&outputs, &args.input.inputs(&scene))?;
     let mut renderer = Renderer::new(GpuContext::new()?)?;
     let prepared = renderer.prepare(&scene)?;
@@ -136,6 +140,25 @@ pub fn run(args: CompareArgs) -> Result<()> {
             println!("environment ({}): {why}", settings.environment.describe(&scene))
         }
         None => {}
+    }
+    if let Some(ao) = &result.occlusion {
+        let a = &settings.ambient_occlusion;
+        println!(
+            "ambient occlusion (radius {} m, quality {}, thickness {} m): mean |dAO| {:.4} over {} surface pixels, \
+             {:.4} over {} occluded (traced AO < {OCCLUDED_BELOW}), p95 |dAO| {:.4}, mean signed {:+.4}",
+            a.radius,
+            a.quality.name(),
+            a.thickness,
+            ao.mean_error,
+            ao.surfaces,
+            ao.mean_error_occluded,
+            ao.occluded,
+            ao.p95_error,
+            ao.mean_signed_error
+        );
+        if let Some(path) = &ao_diff_path {
+            diffs.push((path.clone(), ao.difference.iter().flatten().copied().collect()));
+        }
     }
     let (width, height) = (args.width, args.height);
     write_group(diffs.iter().map(|(path, rgba8)| (path.clone(), Encoded::Png { width, height, rgba8 })).collect())?;

@@ -30,6 +30,9 @@ pub enum Aov {
     /// `<stem>.label.exr`: that node's `extras.label` (an integer class id), one uint32
     /// channel, 0 where none.
     Label,
+    /// `<stem>.ao.exr`: the ambient occlusion the shading used, one float32 channel, 1
+    /// open (everywhere without `[ambient_occlusion] enabled`).
+    Ao,
 }
 
 /// The debug views `render --debug` takes, with their help.
@@ -110,6 +113,7 @@ fn planned_outputs(args: &RenderArgs, scene: &chiaro_scene::Scene) -> Vec<PathBu
         (Aov::Lightmap, "lightmap"),
         (Aov::Instance, "instance"),
         (Aov::Label, "label"),
+        (Aov::Ao, "ao"),
     ] {
         if args.aov.contains(&aov) {
             outputs.push(aov_path(&args.output, name));
@@ -151,6 +155,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     args.input.path.check_device(&ctx, &settings, args.input.settings.as_deref())?;
     let mut renderer = Renderer::new(ctx)?;
     let prepared = renderer.prepare(&scene)?;
+    if args.aov.contains(&Aov::Ao) && !settings.ambient_occlusion.enabled {
+        tracing::warn!("--aov ao: [ambient_occlusion] enabled is false, so the AOV is 1 everywhere");
+    }
     let options = frame_options(&args, debug);
     let frame = renderer.render(&scene, &prepared, &view, &settings, options)?;
     warn_if_clipped(&frame.hdr, settings.render.exposure_ev100);
@@ -166,7 +173,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 Aov::Normal => ("normal", Encoded::ExrRgb { width, height, rgb: &aovs.normal_ws }),
                 Aov::Depth => ("depth", Encoded::ExrSingle { width, height, values: &aovs.depth }),
                 Aov::Lightmap => ("lightmap", Encoded::ExrRgb { width, height, rgb: &aovs.baked_irradiance }),
-                Aov::Shadow | Aov::Instance | Aov::Label => continue,
+                Aov::Shadow | Aov::Instance | Aov::Label | Aov::Ao => continue,
             };
             files.push((aov_path(&args.output, name), image));
         }
@@ -180,6 +187,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
             };
             files.push((aov_path(&args.output, name), Encoded::ExrU32 { width, height, values }));
         }
+    }
+    if let Some(ao) = &frame.ambient_occlusion {
+        files.push((aov_path(&args.output, "ao"), Encoded::ExrSingle { width, height, values: ao }));
     }
     for (light, shadow) in scene.lights.iter().zip(&frame.shadow_aovs) {
         let path = aov_path(&args.output, &format!("shadow.{}", light.node));
@@ -223,6 +233,7 @@ fn frame_options(args: &RenderArgs, debug: Option<DebugView>) -> FrameOptions {
         depth_only: !(wants(Aov::Position) || wants(Aov::Normal) || wants(Aov::Lightmap)),
         shadow_aovs: wants(Aov::Shadow),
         ids: wants(Aov::Instance) || wants(Aov::Label),
+        ambient_occlusion: wants(Aov::Ao),
         readback: true,
         skip_hdr: false,
         read_shadow_atlas: args.debug.contains(&DebugView::ShadowAtlases),

@@ -198,3 +198,35 @@ fn a_file_with_an_image_based_light_renders_under_it() {
     );
     assert_eq!(code, 1);
 }
+
+#[test]
+fn ambient_occlusion_aov_and_compare_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("ao.toml"), "[ambient_occlusion]\nenabled = true\n").unwrap();
+    let run = chiaro(
+        &["render", "--width", "128", "--height", "96", "--settings", "ao.toml", "-o", "demo.png", "--aov", "ao"],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let channels = read_exr_channels(&dir.path().join("demo.ao.exr"));
+    assert_eq!(channels.len(), 1, "one channel");
+    let values = &channels[0].1;
+    assert_eq!(values.len(), 128 * 96);
+    assert!(values.iter().all(|v| (0.0..=1.0).contains(v)), "AO within 0 to 1");
+    // The demo's objects stand on a floor: their feet are occluded, the open floor is not.
+    assert!(values.iter().filter(|&&v| v < 0.9).count() > 50, "no pixel occluded");
+    assert!(values.iter().filter(|&&v| v > 0.99).count() > values.len() / 4, "open surfaces occluded");
+
+    let run = chiaro(
+        &["compare", "--width", "64", "--height", "64", "--settings", "ao.toml", "--diff", "diff.png"],
+        &[],
+        dir.path(),
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let line = run.stdout.lines().find(|l| l.starts_with("ambient occlusion")).expect(&run.stdout);
+    let mean: f32 = line.split("mean |dAO| ").nth(1).unwrap().split_whitespace().next().unwrap().parse().unwrap();
+    assert!(mean < 0.05, "{line}");
+    let diff = image::open(dir.path().join("diff.ao.png")).unwrap();
+    assert_eq!((diff.width(), diff.height()), (64, 64));
+}

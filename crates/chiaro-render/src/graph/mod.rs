@@ -75,6 +75,8 @@ pub struct PassContext<'a> {
     pub targets: &'a Targets,
     /// Group 0's buffer of each pixel's scene depth, which the contact depth pass fills.
     pub view_depths: &'a wgpu::Buffer,
+    /// The ambient occlusion pass's buffers; group 0 binds the denoised one.
+    pub occlusion: crate::frame_data::OcclusionBuffers<'a>,
     /// What the virtual page marking pass binds.
     pub marking: crate::frame_data::MarkingBuffers<'a>,
     /// Where to write the pass's timestamps, when the frame is timed.

@@ -1,4 +1,5 @@
-//! The contact depth pass, when a frame has contact shadows (`[shadows] contact`): after
+//! The contact depth pass, when a frame has contact shadows (`[shadows] contact`), marks
+//! virtual pages or has ambient occlusion (`FramePlan::copies_scene_depth`): after
 //! the scene depth is drawn (the forward path's prepass, the deferred path's G-buffer)
 //! and before anything is lit, a compute pass copies it, one float per pixel, into the
 //! storage buffer of group 0 that the contact shadows' march reads
@@ -27,7 +28,7 @@ impl PassType for ContactDepthPass {
     /// buffer outside the graph, so it declares a side effect (it is listed before the
     /// passes that read the buffer, which run after it).
     fn setup(plan: &FramePlan, pass: &mut PassSetup) {
-        if plan.features.contact_shadows || plan.marks_pages {
+        if plan.copies_scene_depth() {
             pass.read(forward_depth(plan)).side_effect();
         }
     }

@@ -46,8 +46,9 @@ pub struct GBufferPass {
     background: BackgroundPipelines,
 }
 
-/// The light buffer, and whether baked light and the environment are compiled in.
-type PipelineKey = (LightBuffer, bool, bool);
+/// The light buffer, whether baked light, the environment and ambient occlusion are
+/// compiled in, and whether a depth prepass drew the depth first.
+type PipelineKey = (LightBuffer, bool, bool, bool, bool);
 
 impl PassType for GBufferPass {
     const NAME: &'static str = "gbuffer";
@@ -58,11 +59,14 @@ impl PassType for GBufferPass {
             return;
         }
         let gbuffer = |format| TargetDesc::view_sized(format, ATTACHMENT_SAMPLED);
-        let depth = depth_desc(pass.depth_format, 1, plan.samples_scene_depth());
         pass.create(light_target(plan.light_buffer), light_target_desc(plan.light_buffer))
             .create(GBUFFER_ALBEDO_METALLIC, gbuffer(GBUFFER_ALBEDO_METALLIC_FORMAT))
-            .create(GBUFFER_PACKED, gbuffer(GBUFFER_PACKED_FORMAT))
-            .create(DEPTH, depth);
+            .create(GBUFFER_PACKED, gbuffer(GBUFFER_PACKED_FORMAT));
+        if plan.has_depth_prepass() {
+            pass.modify(DEPTH);
+        } else {
+            pass.create(DEPTH, depth_desc(pass.depth_format, 1, plan.samples_scene_depth()));
+        }
     }
 
     fn new(init: &PassInit<'_>) -> GBufferPass {
@@ -77,7 +81,7 @@ impl PassType for GBufferPass {
 }
 
 impl GBufferPass {
-    fn create(&self, (light_buffer, baked, environment): PipelineKey) -> MeshPipelines {
+    fn create(&self, (light_buffer, baked, environment, occlusion, prepassed): PipelineKey) -> MeshPipelines {
         let ldr_exp2 = light_buffer == LightBuffer::LdrExp2;
         MeshPipelines::new(MeshPipelinesDesc {
             label: "gbuffer",
@@ -90,13 +94,14 @@ impl GBufferPass {
                 GBUFFER_PACKED_FORMAT,
             ],
             blends: false,
-            depth_test: DepthTest::Nearest,
+            depth_test: if prepassed { DepthTest::AfterPrepass } else { DepthTest::Nearest },
             depth_format: self.depth_format,
             marks_stencil: true,
             constants: vec![
                 overrides::LDR_EXP2.flag(ldr_exp2),
                 overrides::BAKED_ENABLED.flag(baked),
                 overrides::ENVIRONMENT_ENABLED.flag(environment),
+                overrides::AMBIENT_OCCLUSION.flag(occlusion),
             ],
             alpha_test_override: Some(overrides::ALPHA_TESTED),
             textured_override: Some(overrides::MATERIAL_TEXTURED),
@@ -106,7 +111,8 @@ impl GBufferPass {
 }
 
 fn pipeline_key(plan: &FramePlan) -> PipelineKey {
-    (plan.light_buffer, plan.features.baked, plan.features.environment)
+    let f = &plan.features;
+    (plan.light_buffer, f.baked, f.environment, f.ambient_occlusion, plan.has_depth_prepass())
 }
 
 /// The G-buffer's attachments, for the background pipeline, where it draws one.
@@ -160,7 +166,7 @@ impl FramePass for GBufferPass {
                 // View depth 0 marks "no surface".
                 cleared(cx.targets.view(GBUFFER_PACKED), wgpu::Color::TRANSPARENT),
             ],
-            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), false)),
+            depth_stencil_attachment: Some(scene_depth(cx.targets.view(DEPTH), cx.plan.has_depth_prepass())),
             timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,

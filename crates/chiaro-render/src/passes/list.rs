@@ -9,6 +9,7 @@ macro_rules! frame_passes {
             depth_prepass: DepthPrepassPass ["forward"],
             gbuffer: GBufferPass ["gbuffer", "background"],
             contact_depth: ContactDepthPass ["contact_depth"],
+            ambient_occlusion: AmbientOcclusionPass ["ambient_occlusion"],
             virtual_marking: VirtualMarkingPass ["virtual_marking"],
             deferred_lights: DeferredLightsPass ["deferred_light"],
             ldr_decode: LdrDecodePass ["ldr_decode"],

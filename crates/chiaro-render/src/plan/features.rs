@@ -42,6 +42,9 @@ pub struct ShaderFeatures {
     /// shading and area shadows are compiled out, which doubled the benchmark scene's
     /// forward pass on lavapipe while no area light was in it.
     pub area_lights: bool,
+    /// Screen-space ambient occlusion (`[ambient_occlusion] enabled`): the AO passes run
+    /// and indirect light reads their result.
+    pub ambient_occlusion: bool,
 }
 
 impl ShaderFeatures {
@@ -58,6 +61,7 @@ impl ShaderFeatures {
         contact_shadows: true,
         virtual_shadows: true,
         area_lights: true,
+        ambient_occlusion: true,
     };
 
     /// The features the frame's `lights`, the scene's bake and the settings call for;
@@ -80,11 +84,12 @@ impl ShaderFeatures {
                 && lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { .. })),
             virtual_shadows: lights.iter().any(|l| matches!(l.shadow, ShadowSlot::Realtime { virtual_map: true, .. })),
             area_lights: lights.iter().any(|l| scene.lights[l.id.index()].is_area()),
+            ambient_occlusion: settings.ambient_occlusion.enabled,
         }
     }
 
     /// The override constants that select this specialisation.
-    pub fn constants(self) -> [(&'static str, f64); 11] {
+    pub fn constants(self) -> [(&'static str, f64); 12] {
         [
             overrides::COOKIES_ENABLED.flag(self.cookies),
             overrides::BAKED_ENABLED.flag(self.baked),
@@ -97,6 +102,7 @@ impl ShaderFeatures {
             overrides::CONTACT_SHADOWS.flag(self.contact_shadows),
             overrides::VIRTUAL_SHADOWS.flag(self.virtual_shadows),
             overrides::AREA_LIGHTS.flag(self.area_lights),
+            overrides::AMBIENT_OCCLUSION.flag(self.ambient_occlusion),
         ]
     }
 }

@@ -94,6 +94,9 @@ pub struct FramePlan {
     pub light_buffer: LightBuffer,
     /// The display curve of the tone mapping pass (`[render] tone_mapping`).
     pub tone_mapping: chiaro_scene::ToneMapping,
+    /// `[ambient_occlusion]`, for the ambient occlusion pass (`features.ambient_occlusion`
+    /// says whether it runs).
+    pub ambient_occlusion: chiaro_scene::AmbientOcclusionSettings,
     /// Every light the frame shades: the directional ones in scene order, then the point
     /// and spot lights most important first.
     pub lights: Vec<FrameLight>,
@@ -275,13 +278,16 @@ impl FramePlan {
             RenderPath::Forward => Vec::new(),
             RenderPath::Deferred => light_volumes(scene, view, &lights, &lists),
         };
-        let prepass_draws = match path {
-            RenderPath::Forward => camera_draws[..transmissive_from]
+        // The deferred path draws a depth prepass only for ambient occlusion, which its
+        // G-buffer pass (where indirect light is shaded) reads.
+        let prepass_draws = if path == RenderPath::Forward || settings.ambient_occlusion.enabled {
+            camera_draws[..transmissive_from]
                 .iter()
                 .copied()
                 .filter(|&d| draws[d as usize].alpha_mode == AlphaMode::Opaque)
-                .collect(),
-            RenderPath::Deferred => Vec::new(),
+                .collect()
+        } else {
+            Vec::new()
         };
         let culling = settings.lights.culling;
         let forward_draws: Vec<u32> = match path {
@@ -319,6 +325,7 @@ impl FramePlan {
             path,
             light_buffer,
             tone_mapping: settings.render.tone_mapping,
+            ambient_occlusion: settings.ambient_occlusion.clone(),
             lights,
             lists,
             shadows,
@@ -349,7 +356,20 @@ impl FramePlan {
     /// virtual pages' marking) and so must be sampled; the marking frame and the frame
     /// it marks for make their depth targets alike, so that neither makes them anew.
     pub fn samples_scene_depth(&self) -> bool {
-        self.features.contact_shadows || self.shadows.virtual_maps.is_active()
+        self.features.contact_shadows || self.shadows.virtual_maps.is_active() || self.features.ambient_occlusion
+    }
+
+    /// Whether the contact depth pass copies the scene depth into group 0's view depth
+    /// buffer: for contact shadows, the virtual pages' marking and ambient occlusion.
+    pub fn copies_scene_depth(&self) -> bool {
+        self.features.contact_shadows || self.marks_pages || self.features.ambient_occlusion
+    }
+
+    /// Whether the scene depth is drawn before anything is shaded: always on the forward
+    /// path, on the deferred path where ambient occlusion needs it before the G-buffer
+    /// pass shades indirect light.
+    pub fn has_depth_prepass(&self) -> bool {
+        self.path == RenderPath::Forward || self.features.ambient_occlusion
     }
 
     /// Whether the frame has virtual pages to place before it is drawn: it shades (a
@@ -365,6 +385,8 @@ impl FramePlan {
         plan.path = RenderPath::Forward;
         plan.msaa = 1;
         plan.marks_pages = true;
+        // Marking reads the depth alone.
+        plan.features.ambient_occlusion = false;
         plan.prepass_draws = (0..self.camera_draws.len())
             .filter(|&k| self.marked_by_prepass(draws, k))
             .map(|k| self.camera_draws[k])

@@ -5,10 +5,12 @@
 //! name the key: a typo must never fall back to a default silently.
 //!
 //! One module per section of the file (`render`, `lights`, `camera`, `shadows` with its
-//! `directional` and `other` subsections, `lighting`, `bake`, `environment`, `scene`),
+//! `directional` and `other` subsections, `lighting`, `bake`, `environment`, `scene`,
+//! `ambient_occlusion`),
 //! each holding its struct, defaults, ranges and validation. Every numeric range is a `Bound` written once, which
 //! validation checks and a test compares with docs/settings.md.
 
+pub mod ambient_occlusion;
 pub mod bake;
 pub mod bound;
 pub mod camera;
@@ -25,6 +27,7 @@ mod doc_tests;
 #[cfg(test)]
 mod tests;
 
+pub use ambient_occlusion::{AmbientOcclusionSettings, AoQuality};
 pub use bake::{BakeQuality, BakeSettings};
 pub use bound::Bound;
 pub use camera::CameraSettings;
@@ -62,6 +65,8 @@ pub struct Settings {
     pub environment: EnvironmentSettings,
     /// `[scene]`: which material variant of the file to render.
     pub scene: SceneSettings,
+    /// `[ambient_occlusion]`: screen-space occlusion of indirect light.
+    pub ambient_occlusion: AmbientOcclusionSettings,
 }
 
 /// Why a settings file could not be used; both variants name the file.
@@ -87,7 +92,8 @@ pub enum SettingsError {
 
 /// Every numeric range a setting has, section by section.
 pub fn bounds() -> Vec<Bound> {
-    let sections = [render::BOUNDS, lights::BOUNDS, camera::BOUNDS, bake::BOUNDS, environment::BOUNDS];
+    let sections =
+        [render::BOUNDS, lights::BOUNDS, camera::BOUNDS, bake::BOUNDS, environment::BOUNDS, ambient_occlusion::BOUNDS];
     sections.into_iter().flatten().copied().chain(shadows::bounds()).collect()
 }
 
@@ -153,6 +159,7 @@ impl Settings {
         self.shadows.validate()?;
         self.bake.validate()?;
         self.environment.validate()?;
+        self.ambient_occlusion.validate()?;
         self.scene.validate()
     }
 }

@@ -4,7 +4,7 @@
 //! headless.
 
 use crate::action::Action;
-use chiaro_scene::settings::{BakeQuality, EnvironmentMode, EnvironmentSource};
+use chiaro_scene::settings::{AoQuality, BakeQuality, EnvironmentMode, EnvironmentSource};
 use chiaro_scene::{
     CascadeBlend, DeferredAntialiasing, LightBuffer, LightCulling, MixedMode, RenderPath, Settings, ShadowTechnique,
     ToneMapping,
@@ -35,6 +35,7 @@ pub fn settings_panel(ui: &mut Ui, settings: &Settings, choices: SceneChoices<'_
     lights_section(ui, &mut edited);
     shadows_section(ui, &mut edited);
     environment_section(ui, &mut edited, own_environment);
+    ambient_occlusion_section(ui, &mut edited);
     lighting_and_bake_section(ui, &mut edited);
     scene_section(ui, &mut edited, choices.variants);
     // Cascade ratios must match the count; unset, the defaults for it apply.
@@ -269,6 +270,17 @@ fn environment_section(ui: &mut Ui, s: &mut Settings, own_environment: Option<&s
         &mut e.mode,
         &[(EnvironmentMode::Realtime, "realtime"), (EnvironmentMode::Baked, "baked")],
     );
+}
+
+/// Screen-space ambient occlusion: on or off, its radius, quality, intensity and thickness.
+fn ambient_occlusion_section(ui: &mut Ui, s: &mut Settings) {
+    ui.heading("[ambient_occlusion]");
+    let a = &mut s.ambient_occlusion;
+    ui.checkbox(&mut a.enabled, "ambient_occlusion.enabled");
+    ui.add(Slider::new(&mut a.radius, 0.01..=100.0).logarithmic(true).text("ambient_occlusion.radius"));
+    combo(ui, "ambient_occlusion.quality", &mut a.quality, &AoQuality::ALL.map(|q| (q, q.name())));
+    ui.add(Slider::new(&mut a.intensity, 0.0..=8.0).text("ambient_occlusion.intensity"));
+    ui.add(Slider::new(&mut a.thickness, 0.001..=100.0).logarithmic(true).text("ambient_occlusion.thickness"));
 }
 
 fn lighting_and_bake_section(ui: &mut Ui, s: &mut Settings) {
