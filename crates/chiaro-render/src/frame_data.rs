@@ -133,10 +133,13 @@ impl GrowingBuffer {
         })
     }
 
-    /// Makes the buffer again, twice as large as `needed` rounded up, where it is smaller.
+    /// Makes the buffer again, twice as large as `needed` rounded up (at most the largest
+    /// binding), where it is smaller.
     fn reserve(&mut self, device: &wgpu::Device, needed: u64) {
         if needed > self.buffer.size() {
-            self.buffer = Self::make(device, self.label, needed.next_power_of_two());
+            // Doubling stops at the largest binding, so a size that fits stays bindable.
+            let largest = device.limits().max_storage_buffer_binding_size.max(needed);
+            self.buffer = Self::make(device, self.label, needed.next_power_of_two().min(largest));
         }
     }
 
@@ -278,12 +281,15 @@ impl FrameData {
         if plan.copies_scene_depth() {
             let (width, height) = (plan.view.width, plan.view.height);
             let bytes = width as u64 * height as u64 * size_of::<f32>() as u64;
+            // The AO estimate keeps two vec4s per 2x2 pixels: 8 bytes a pixel.
+            let texels = width.div_ceil(2) as u64 * height.div_ceil(2) as u64;
+            let largest_needed = if plan.features.ambient_occlusion { bytes.max(texels * 32) } else { bytes };
             let largest = device.limits().max_storage_buffer_binding_size;
-            if bytes > largest {
+            if largest_needed > largest {
                 let reason = format!(
                     "contact shadows ([shadows] contact), ambient occlusion and virtual shadow maps' marking \
-                     keep each pixel's depth in one storage buffer of {bytes} bytes, more than the device \
-                     binds ({largest}); render smaller or turn them off"
+                     keep each pixel's depth (and AO's estimate) in one storage buffer of {largest_needed} \
+                     bytes, more than the device binds ({largest}); render smaller or turn them off"
                 );
                 return Err(RenderError::OutputSize { width, height, reason });
             }
@@ -291,7 +297,6 @@ impl FrameData {
             if plan.features.ambient_occlusion {
                 self.occlusion.reserve(device, bytes);
                 // Two vec4s per texel of the half-resolution estimate.
-                let texels = width.div_ceil(2) as u64 * height.div_ceil(2) as u64;
                 self.occlusion_raw.reserve(device, texels * 2 * 16);
                 self.occlusion_half.reserve(device, texels * 4);
             }

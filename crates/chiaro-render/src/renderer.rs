@@ -329,7 +329,8 @@ impl Renderer {
             })
             .collect::<Vec<_>>();
         if options.ambient_occlusion && plan.features.ambient_occlusion {
-            let bytes = view.width * view.height * size_of::<f32>() as u32;
+            // Within the device's largest storage binding, which upload checked.
+            let bytes = (view.width as u64 * view.height as u64 * size_of::<f32>() as u64) as u32;
             let denoised = self.frame_data.occlusion_buffers().denoised;
             copies.push((AMBIENT_OCCLUSION, copy_buffer(device, &mut encoder, denoised, bytes)));
         }

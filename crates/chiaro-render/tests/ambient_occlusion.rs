@@ -47,12 +47,14 @@ fn settings(path: RenderPath, ambient: f32) -> Settings {
 
 #[test]
 fn the_ambient_term_is_darkened_by_the_ao_read_back() {
-    let mut renderer = renderer();
     let scene = box_on_floor(vec![]);
     for path in [RenderPath::Forward, RenderPath::Deferred] {
+        // A renderer of its own: the AO this frame shades with must be this frame's, not
+        // one an earlier frame left in the buffer.
+        let mut renderer = renderer();
         let settings = settings(path, 0.5);
-        let off = render(&mut renderer, &scene, &settings, false);
         let on = render(&mut renderer, &scene, &settings, true);
+        let off = render(&mut renderer, &scene, &settings, false);
         assert!(off.ambient_occlusion.as_ref().unwrap().iter().all(|&a| a == 1.0), "{path:?}: AO off reads 1");
         let ao = on.ambient_occlusion.as_ref().expect("asked for");
         let occluded = ao.iter().filter(|&&a| a < 0.85).count();

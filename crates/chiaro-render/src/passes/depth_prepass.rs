@@ -1,8 +1,9 @@
 //! The depth prepass: opaque draws into depth alone. On the forward path, so that the
 //! forward pass, testing for equal depth, shades each pixel once however much the
-//! scene's surfaces overlap; on the deferred path where ambient occlusion reads the
-//! depth before the G-buffer pass shades indirect light. Alpha-tested and blended draws
-//! are left to the shading passes.
+//! scene's surfaces overlap; on the deferred path where the depth is copied before the
+//! G-buffer pass (ambient occlusion, which that pass's indirect light reads, and contact
+//! shadows: `FramePlan::has_depth_prepass`). Alpha-tested and blended draws are left to
+//! the shading passes.
 
 use super::mesh::{DepthTest, MeshPipelines, MeshPipelinesDesc, depth_desc, forward_depth, scene_depth};
 use crate::graph::{FramePass, PassContext, PassInit, PassSetup, PassType, PrepareContext};
@@ -18,7 +19,7 @@ impl PassType for DepthPrepassPass {
     const NAME: &'static str = "depth prepass";
 
     /// The forward path's depth target is made here, and the deferred path's where it has
-    /// a prepass (ambient occlusion; the G-buffer pass then draws over it).
+    /// a prepass (`FramePlan::has_depth_prepass`; the G-buffer pass then draws over it).
     fn setup(plan: &FramePlan, pass: &mut PassSetup) {
         if plan.has_depth_prepass() {
             pass.create(forward_depth(plan), depth_desc(pass.depth_format, plan.msaa, plan.samples_scene_depth()));

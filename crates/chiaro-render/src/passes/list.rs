@@ -7,10 +7,10 @@ macro_rules! frame_passes {
         $then! {
             shadows: ShadowPass ["shadow_caster"],
             depth_prepass: DepthPrepassPass ["forward"],
-            gbuffer: GBufferPass ["gbuffer", "background"],
             contact_depth: ContactDepthPass ["contact_depth"],
             ambient_occlusion: AmbientOcclusionPass ["ambient_occlusion"],
             virtual_marking: VirtualMarkingPass ["virtual_marking"],
+            gbuffer: GBufferPass ["gbuffer", "background"],
             deferred_lights: DeferredLightsPass ["deferred_light"],
             ldr_decode: LdrDecodePass ["ldr_decode"],
             forward: ForwardPass ["forward", "background", "opaque_copy"],

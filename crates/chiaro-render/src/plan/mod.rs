@@ -278,17 +278,19 @@ impl FramePlan {
             RenderPath::Forward => Vec::new(),
             RenderPath::Deferred => light_volumes(scene, view, &lights, &lists),
         };
-        // The deferred path draws a depth prepass only for ambient occlusion, which its
-        // G-buffer pass (where indirect light is shaded) reads.
-        let prepass_draws = if path == RenderPath::Forward || settings.ambient_occlusion.enabled {
-            camera_draws[..transmissive_from]
-                .iter()
-                .copied()
-                .filter(|&d| draws[d as usize].alpha_mode == AlphaMode::Opaque)
-                .collect()
-        } else {
-            Vec::new()
-        };
+        // The deferred path draws a depth prepass only where the depth is copied before its
+        // G-buffer pass (`has_depth_prepass`): for ambient occlusion, which that pass's
+        // indirect light reads, and contact shadows.
+        let prepass_draws =
+            if path == RenderPath::Forward || settings.ambient_occlusion.enabled || settings.shadows.contact {
+                camera_draws[..transmissive_from]
+                    .iter()
+                    .copied()
+                    .filter(|&d| draws[d as usize].alpha_mode == AlphaMode::Opaque)
+                    .collect()
+            } else {
+                Vec::new()
+            };
         let culling = settings.lights.culling;
         let forward_draws: Vec<u32> = match path {
             RenderPath::Forward => camera_draws[..transmissive_from].to_vec(),
@@ -366,10 +368,11 @@ impl FramePlan {
     }
 
     /// Whether the scene depth is drawn before anything is shaded: always on the forward
-    /// path, on the deferred path where ambient occlusion needs it before the G-buffer
-    /// pass shades indirect light.
+    /// path, on the deferred path where the depth is copied for the passes that run
+    /// before the G-buffer pass (the contact depth copy, ambient occlusion, which the
+    /// G-buffer pass's indirect light reads; passes run in list order).
     pub fn has_depth_prepass(&self) -> bool {
-        self.path == RenderPath::Forward || self.features.ambient_occlusion
+        self.path == RenderPath::Forward || self.copies_scene_depth()
     }
 
     /// Whether the frame has virtual pages to place before it is drawn: it shades (a

@@ -42,12 +42,12 @@ impl Default for AmbientOcclusionSettings {
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum AoQuality {
-    /// 2 directions, 4 samples each way.
+    /// 2 directions, 3 samples each way.
     Low,
-    /// 3 directions, 8 samples each way.
+    /// 2 directions, 8 samples each way.
     #[default]
     Medium,
-    /// 6 directions, 16 samples each way.
+    /// 4 directions, 10 samples each way.
     High,
 }
 
