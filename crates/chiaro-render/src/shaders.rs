@@ -22,3 +22,16 @@ pub fn module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderM
         source: wgpu::ShaderSource::Wgsl(source.into()),
     })
 }
+
+/// The compute pipeline of `module`'s entry point `entry` (labelled so), its bind group
+/// layouts derived from what the entry uses.
+pub fn compute_pipeline(device: &wgpu::Device, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}

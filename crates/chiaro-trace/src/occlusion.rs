@@ -10,7 +10,7 @@
 
 use crate::area::unit_float;
 use crate::bvh::SceneBvh;
-use crate::reference::{PixelCamera, primary_ray, shadow_ray_origin};
+use crate::reference::{PixelCamera, seen_surface, shadow_ray_origin};
 use chiaro_math::sampling::{cosine_direction, multi_jittered};
 use chiaro_scene::Scene;
 use glam::{Mat4, Vec3};
@@ -64,14 +64,9 @@ fn occlusion_row(
 ) -> Vec<(f32, Option<Vec3>)> {
     (0..camera.width)
         .map(|x| {
-            let Some((origin, direction)) = primary_ray(world_from_clip, camera.width, camera.height, x, y) else {
+            let Some((hit, facing_normal)) = seen_surface(bvh, world_from_clip, camera, x, y) else {
                 return (f32::NAN, None);
             };
-            let Some(hit) = bvh.closest_hit(origin, direction, f32::INFINITY) else {
-                return (f32::NAN, None);
-            };
-            let facing_normal =
-                if hit.geometric_normal.dot(direction) > 0.0 { -hit.geometric_normal } else { hit.geometric_normal };
             let seed = y as u64 * camera.width as u64 + x as u64;
             (surface_occlusion(bvh, hit.position, facing_normal, radius, rays, seed), Some(hit.position))
         })

@@ -9,7 +9,7 @@
 //! chiaro-compare's `verdict` judges a rendered shadow against it.
 
 use crate::area::{area_light_visibility, area_shape_visibility};
-use crate::bvh::SceneBvh;
+use crate::bvh::{Hit, SceneBvh};
 use chiaro_scene::{Light, LightKind, Scene, ShadowMode};
 use glam::{Mat4, Vec2, Vec3};
 use rayon::prelude::*;
@@ -43,7 +43,7 @@ impl PixelCamera {
     }
 }
 
-pub(crate) fn primary_ray(world_from_clip: &Mat4, width: u32, height: u32, x: u32, y: u32) -> Option<(Vec3, Vec3)> {
+fn primary_ray(world_from_clip: &Mat4, width: u32, height: u32, x: u32, y: u32) -> Option<(Vec3, Vec3)> {
     let uv = (Vec2::new(x as f32, y as f32) + 0.5) / Vec2::new(width as f32, height as f32);
     let ndc = Vec2::new(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     // Reverse-Z: depth 1 is the near plane; 0.5 is a finite point beyond it even for an
@@ -52,6 +52,22 @@ pub(crate) fn primary_ray(world_from_clip: &Mat4, width: u32, height: u32, x: u3
     let farther = world_from_clip.project_point3(ndc.extend(0.5));
     let direction = (farther - near).try_normalize()?;
     near.is_finite().then_some((near, direction))
+}
+
+/// The surface pixel `(x, y)` sees: the closest hit of its primary ray and the hit's
+/// geometric normal turned to face the camera; `None` for sky (or a singular matrix).
+pub(crate) fn seen_surface(
+    bvh: &SceneBvh,
+    world_from_clip: &Mat4,
+    camera: &PixelCamera,
+    x: u32,
+    y: u32,
+) -> Option<(Hit, Vec3)> {
+    let (origin, direction) = primary_ray(world_from_clip, camera.width, camera.height, x, y)?;
+    let hit = bvh.closest_hit(origin, direction, f32::INFINITY)?;
+    let facing_normal =
+        if hit.geometric_normal.dot(direction) > 0.0 { -hit.geometric_normal } else { hit.geometric_normal };
+    Some((hit, facing_normal))
 }
 
 /// Per-pixel surfaces and per-light visibility, row-major from the top-left.
@@ -146,14 +162,9 @@ fn trace_row(scene: &Scene, bvh: &SceneBvh, world_from_clip: &Mat4, camera: &Pix
         visibility: vec![f32::NAN; width * scene.lights.len()],
     };
     for x in 0..width {
-        let Some((origin, direction)) = primary_ray(world_from_clip, camera.width, camera.height, x as u32, y) else {
+        let Some((hit, facing_normal)) = seen_surface(bvh, world_from_clip, camera, x as u32, y) else {
             continue;
         };
-        let Some(hit) = bvh.closest_hit(origin, direction, f32::INFINITY) else {
-            continue;
-        };
-        let facing_normal =
-            if hit.geometric_normal.dot(direction) > 0.0 { -hit.geometric_normal } else { hit.geometric_normal };
         row.position[x] = Some(hit.position);
         row.normal[x] = facing_normal;
         row.receives[x] = scene.instances[hit.instance].receive_shadows;

@@ -122,17 +122,6 @@ pub fn upload_equirect(device: &wgpu::Device, queue: &wgpu::Queue, map: &Environ
     )
 }
 
-fn pipeline(device: &wgpu::Device, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry),
-        layout: None,
-        module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    })
-}
-
 /// The largest power of two no larger than `n` (n >= 1).
 fn power_of_two_at_most(n: u32) -> u32 {
     1 << (31 - n.max(1).leading_zeros())
@@ -143,7 +132,7 @@ fn power_of_two_at_most(n: u32) -> u32 {
 /// compensation and sheen read it too.
 pub fn bake_brdf_table(device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::Texture {
     let module = shaders::module(device, "brdf table", crate::wgsl!("environment_bake"));
-    let table_pipeline = pipeline(device, &module, "brdf_table");
+    let table_pipeline = crate::shaders::compute_pipeline(device, &module, "brdf_table");
     let table = table_texture(device, TABLE_SIZE);
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("brdf table") });
     let params = GpuEnvironmentBake { size: TABLE_SIZE, source_size: 0, roughness: 0.0, samples: TABLE_SAMPLES };
@@ -211,9 +200,9 @@ impl EnvironmentBaker {
     pub fn new(device: &wgpu::Device, table: wgpu::Texture) -> EnvironmentBaker {
         let module = shaders::module(device, "environment bake", crate::wgsl!("environment_bake"));
         EnvironmentBaker {
-            cube_from_equirect: pipeline(device, &module, "cube_from_equirect"),
-            downsample: pipeline(device, &module, "downsample"),
-            prefilter: pipeline(device, &module, "prefilter"),
+            cube_from_equirect: crate::shaders::compute_pipeline(device, &module, "cube_from_equirect"),
+            downsample: crate::shaders::compute_pipeline(device, &module, "downsample"),
+            prefilter: crate::shaders::compute_pipeline(device, &module, "prefilter"),
             sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("environment bake sampler"),
                 address_mode_u: wgpu::AddressMode::Repeat,

@@ -74,16 +74,7 @@ impl PassType for AmbientOcclusionPass {
 
     fn new(init: &PassInit<'_>) -> AmbientOcclusionPass {
         let module = shaders::module(init.device, "ambient occlusion", crate::wgsl!("ambient_occlusion"));
-        let pipeline = |entry: &str| {
-            init.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| shaders::compute_pipeline(init.device, &module, entry);
         let params = init.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("ambient occlusion parameters"),
             size: size_of::<GpuOcclusionParams>() as u64,

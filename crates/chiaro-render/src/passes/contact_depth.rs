@@ -35,16 +35,7 @@ impl PassType for ContactDepthPass {
 
     fn new(init: &PassInit<'_>) -> ContactDepthPass {
         let module = shaders::module(init.device, "contact depth", crate::wgsl!("contact_depth"));
-        let pipeline = |entry: &str| {
-            init.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| shaders::compute_pipeline(init.device, &module, entry);
         ContactDepthPass { single: pipeline("cs_single"), multisampled: pipeline("cs_multisampled") }
     }
 }

@@ -34,15 +34,7 @@ impl PassType for VirtualMarkingPass {
 
     fn new(init: &PassInit<'_>) -> VirtualMarkingPass {
         let module = shaders::module(init.device, "virtual page marking", crate::wgsl!("virtual_marking"));
-        let pipeline = init.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("virtual page marking"),
-            layout: None,
-            module: &module,
-            entry_point: Some("cs_mark"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        VirtualMarkingPass { pipeline }
+        VirtualMarkingPass { pipeline: shaders::compute_pipeline(init.device, &module, "cs_mark") }
     }
 }
 
