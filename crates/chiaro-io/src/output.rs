@@ -229,20 +229,8 @@ pub fn sibling_path(output: &Path, suffix: &str) -> PathBuf {
     output.with_file_name(format!("{stem}.{suffix}"))
 }
 
-/// An atlas's depths as grey RGBA8, stretched over the range the casters wrote (from the
-/// nearest depth to 1, the cleared far plane): perspective depth crowds towards 1 with a
-/// near plane of a centimetre, and would otherwise print all white.
-pub fn atlas_grey(depths: &[f32]) -> Vec<u8> {
-    let nearest = depths.iter().copied().filter(|d| d.is_finite() && *d < 1.0).fold(1.0f32, f32::min);
-    let span = (1.0 - nearest).max(1e-6);
-    depths
-        .iter()
-        .flat_map(|d| {
-            let v = (((d.clamp(0.0, 1.0) - nearest) / span).clamp(0.0, 1.0) * 255.0).round() as u8;
-            [v, v, v, 255]
-        })
-        .collect()
-}
+/// An atlas's depths as grey RGBA8 (shared with the viewers' atlas view).
+pub use chiaro_render::debug_images::atlas_grey;
 
 #[cfg(test)]
 mod tests {

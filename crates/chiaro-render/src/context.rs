@@ -61,7 +61,22 @@ impl GpuContext {
         wgpu::Instance::new(desc)
     }
 
+    /// Opens an adapter that can present to `target` (a canvas), with the surface for it,
+    /// without blocking: the browser build's way, where nothing may block the page.
+    pub async fn for_surface_async(
+        target: impl Into<wgpu::SurfaceTarget<'static>>,
+    ) -> Result<(GpuContext, wgpu::Surface<'static>), RenderError> {
+        let (ctx, surface) = Self::open_async(Some(target.into())).await?;
+        Ok((ctx, surface.expect("made for the target")))
+    }
+
     fn open(
+        target: Option<wgpu::SurfaceTarget<'static>>,
+    ) -> Result<(GpuContext, Option<wgpu::Surface<'static>>), RenderError> {
+        pollster::block_on(Self::open_async(target))
+    }
+
+    async fn open_async(
         target: Option<wgpu::SurfaceTarget<'static>>,
     ) -> Result<(GpuContext, Option<wgpu::Surface<'static>>), RenderError> {
         let instance = Self::instance();
@@ -69,14 +84,16 @@ impl GpuContext {
             Some(t) => Some(instance.create_surface(t).map_err(|e| RenderError::Device(format!("no surface: {e}")))?),
             None => None,
         };
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: surface.as_ref(),
-            apply_limit_buckets: false,
-        }))
-        .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
-        let mut ctx = Self::open_adapter(&adapter)?;
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: surface.as_ref(),
+                apply_limit_buckets: false,
+            })
+            .await
+            .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
+        let mut ctx = Self::open_adapter_async(&adapter).await?;
         if let Some(s) = &surface {
             let capabilities = s.get_capabilities(&adapter);
             ctx.surface_formats = capabilities.formats;
@@ -86,6 +103,10 @@ impl GpuContext {
     }
 
     fn open_adapter(adapter: &wgpu::Adapter) -> Result<GpuContext, RenderError> {
+        pollster::block_on(Self::open_adapter_async(adapter))
+    }
+
+    async fn open_adapter_async(adapter: &wgpu::Adapter) -> Result<GpuContext, RenderError> {
         let has_timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let mut required_features = wgpu::Features::empty();
         if has_timestamps {
@@ -125,15 +146,17 @@ impl GpuContext {
             max_sampled_textures_per_shader_stage: adapter_limits.max_sampled_textures_per_shader_stage.min(24),
             ..wgpu::Limits::default()
         };
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("chiaro device"),
-            required_features,
-            required_limits,
-            experimental_features: wgpu::ExperimentalFeatures::disabled(),
-            memory_hints: wgpu::MemoryHints::Performance,
-            trace: wgpu::Trace::Off,
-        }))
-        .map_err(|e| RenderError::Device(e.to_string()))?;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("chiaro device"),
+                required_features,
+                required_limits,
+                experimental_features: wgpu::ExperimentalFeatures::disabled(),
+                memory_hints: wgpu::MemoryHints::Performance,
+                trace: wgpu::Trace::Off,
+            })
+            .await
+            .map_err(|e| RenderError::Device(e.to_string()))?;
         Ok(GpuContext::from_device(adapter, device, queue))
     }
 

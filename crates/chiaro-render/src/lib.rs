@@ -9,7 +9,9 @@
 
 #![warn(missing_docs)]
 
+pub mod camera_rig;
 pub mod context;
+pub mod debug_images;
 pub mod debug_view;
 pub mod environment;
 pub mod error;

@@ -73,6 +73,16 @@ pub fn finish_copies_of(
     copies: Vec<PendingCopy>,
     submission: Option<wgpu::SubmissionIndex>,
 ) -> Result<Vec<Vec<u8>>, RenderError> {
+    // A browser's main thread cannot wait for the GPU: its mapping finishes only after
+    // control returns to the page, so waiting here would hang the tab. The page reads back
+    // with `finish_copies_async` instead.
+    if cfg!(target_arch = "wasm32") {
+        return Err(RenderError::Gpu(
+            "this read-back waits for the GPU, which the browser build cannot do (virtual shadow maps mark \
+             their pages this way)"
+                .into(),
+        ));
+    }
     let receivers: Vec<_> = copies
         .iter()
         .map(|copy| {
@@ -99,16 +109,46 @@ pub fn finish_copies_of(
                 .recv()
                 .map_err(|e| RenderError::Gpu(e.to_string()))?
                 .map_err(|e| RenderError::Gpu(e.to_string()))?;
-            let bytes = {
-                let mapped = copy.buffer.get_mapped_range(..).map_err(|e| RenderError::Gpu(e.to_string()))?;
-                let mut out = Vec::with_capacity(mapped.len());
-                for row in mapped.chunks_exact(copy.padded_row as usize) {
-                    out.extend_from_slice(&row[..copy.unpadded_row as usize]);
-                }
-                out
-            };
-            copy.buffer.unmap();
-            Ok(bytes)
+            read_mapped(copy)
         })
         .collect()
+}
+
+/// As [`finish_copies`], for the browser, whose main thread cannot wait: each copy's
+/// mapping is awaited while the page's event loop runs.
+#[cfg(target_arch = "wasm32")]
+pub async fn finish_copies_async(copies: Vec<PendingCopy>) -> Result<Vec<Vec<u8>>, RenderError> {
+    let receivers: Vec<_> = copies
+        .iter()
+        .map(|copy| {
+            let (sender, receiver) = futures_channel::oneshot::channel();
+            copy.buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+                let _ = sender.send(r);
+            });
+            receiver
+        })
+        .collect();
+    let mut read = Vec::with_capacity(copies.len());
+    for (copy, receiver) in copies.into_iter().zip(receivers) {
+        receiver
+            .await
+            .map_err(|_| RenderError::Gpu("the device was lost before a read-back arrived".into()))?
+            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        read.push(read_mapped(copy)?);
+    }
+    Ok(read)
+}
+
+/// The tightly packed rows of a mapped copy; unmaps it.
+fn read_mapped(copy: PendingCopy) -> Result<Vec<u8>, RenderError> {
+    let bytes = {
+        let mapped = copy.buffer.get_mapped_range(..).map_err(|e| RenderError::Gpu(e.to_string()))?;
+        let mut out = Vec::with_capacity(mapped.len());
+        for row in mapped.chunks_exact(copy.padded_row as usize) {
+            out.extend_from_slice(&row[..copy.unpadded_row as usize]);
+        }
+        out
+    };
+    copy.buffer.unmap();
+    Ok(bytes)
 }

@@ -25,7 +25,7 @@ use crate::view::View;
 use chiaro_math::tonemap::exposure_scale;
 use chiaro_scene::{Scene, Settings};
 use std::collections::VecDeque;
-use std::time::Instant;
+use web_time::Instant;
 
 /// The tone-mapped image of offscreen frames.
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -38,10 +38,27 @@ const MAX_KEPT_GPU_TIMES: usize = 1024;
 pub struct PendingFrame {
     out: FrameOutput,
     copies: Vec<(Target, PendingCopy)>,
+    /// The copies' bytes, once read without blocking (`read_back_async`).
+    read: Option<Vec<(Target, Vec<u8>)>>,
     submission: wgpu::SubmissionIndex,
     start: Instant,
     exposure: f32,
     reads_back: bool,
+}
+
+impl PendingFrame {
+    /// Waits for the frame's read-backs without blocking the page (the browser build's
+    /// way); [`Renderer::finish`] then unpacks them at once. Natively `finish` waits itself.
+    #[cfg(target_arch = "wasm32")]
+    pub async fn read_back_async(mut self) -> Result<PendingFrame, RenderError> {
+        if self.reads_back && self.read.is_none() {
+            let (targets, copies): (Vec<Target>, Vec<PendingCopy>) =
+                std::mem::take(&mut self.copies).into_iter().unzip();
+            let bytes = crate::readback::finish_copies_async(copies).await?;
+            self.read = Some(targets.into_iter().zip(bytes).collect());
+        }
+        Ok(self)
+    }
 }
 
 /// A scene on the GPU.
@@ -251,6 +268,22 @@ impl Renderer {
         self.submit_frame(scene, prepared, view, settings, options, None)
     }
 
+    /// As [`Renderer::submit`], into `output` (a canvas's texture, say) as
+    /// [`Renderer::render_to`] draws: for a caller that reads back without blocking.
+    #[allow(clippy::too_many_arguments)]
+    pub fn submit_to(
+        &mut self,
+        scene: &Scene,
+        prepared: &PreparedScene,
+        view: &View,
+        settings: &Settings,
+        options: FrameOptions,
+        output: &wgpu::TextureView,
+        output_format: wgpu::TextureFormat,
+    ) -> Result<PendingFrame, RenderError> {
+        self.submit_frame(scene, prepared, view, settings, options, Some((output, output_format)))
+    }
+
     fn check_output_size(&self, view: &View) -> Result<(), RenderError> {
         let max = self.ctx.max_texture_size();
         if view.width == 0 || view.height == 0 || view.width > max || view.height > max {
@@ -360,7 +393,7 @@ impl Renderer {
         }
         self.ctx.take_error()?;
         let exposure = exposure_scale(settings.render.exposure_ev100);
-        Ok(PendingFrame { out, copies, submission, start, exposure, reads_back: options.reads_back() })
+        Ok(PendingFrame { out, copies, read: None, submission, start, exposure, reads_back: options.reads_back() })
     }
 
     /// Before a frame shaded from virtual shadow maps: draws its view's depth, marks the
@@ -430,19 +463,25 @@ impl Renderer {
     /// Waits for a submitted frame (and the frames before it, not those after) and reads
     /// it back as `FrameOutput`; a frame that reads nothing back returns at once.
     pub fn finish(&mut self, pending: PendingFrame) -> Result<FrameOutput, RenderError> {
-        let PendingFrame { mut out, copies, submission, start, exposure, reads_back } = pending;
+        let PendingFrame { mut out, copies, read, submission, start, exposure, reads_back } = pending;
         if !reads_back {
             return Ok(out);
         }
-        let (targets, copies): (Vec<Target>, Vec<_>) = copies.into_iter().unzip();
-        let bytes = finish_copies_of(&self.ctx, copies, Some(submission))?;
+        let read = match read {
+            Some(read) => read,
+            None => {
+                let (targets, copies): (Vec<Target>, Vec<_>) = copies.into_iter().unzip();
+                let bytes = finish_copies_of(&self.ctx, copies, Some(submission))?;
+                targets.into_iter().zip(bytes).collect()
+            }
+        };
         // Submissions finish in order: every frame up to this one is done.
         let frame = out.timings.frame;
         while self.in_flight.front().is_some_and(|(f, _)| *f <= frame) {
             self.in_flight.pop_front();
         }
         out.timings.wall_ms = Some(start.elapsed().as_secs_f64() * 1e3);
-        unpack_images(&mut out, targets.into_iter().zip(bytes).collect(), exposure);
+        unpack_images(&mut out, read, exposure);
         self.collect_gpu_times();
         if let Some(k) = self.gpu_times.iter().position(|t| t.frame == frame) {
             out.timings.gpu_pass_ms = self.gpu_times.remove(k).expect("found").passes;

@@ -24,7 +24,7 @@ pub mod vertex_gen;
 
 pub use animation::{AnimationError, SceneAnimation};
 pub use error::SceneError;
-pub use gltf_import::{load_gltf, load_gltf_bytes};
+pub use gltf_import::{GivenFiles, load_gltf, load_gltf_bytes, load_gltf_given, referenced_files};
 pub use layers::{LayerTexture, MaterialLayers};
 pub use nodes::{NodeError, NodeMove, SceneNode};
 pub use settings::{

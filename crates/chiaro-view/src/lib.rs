@@ -11,8 +11,8 @@
 
 mod action;
 mod apply;
-mod camera;
-mod debug_images;
+use chiaro_render::camera_rig as camera;
+use chiaro_render::debug_images;
 mod frame;
 mod gpu;
 mod input;

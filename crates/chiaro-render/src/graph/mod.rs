@@ -110,9 +110,10 @@ pub struct PrepareContext<'a> {
     pub environment_image: &'a wgpu::TextureView,
 }
 
-/// A pass at work: the part the renderer calls each frame it runs. `Send`, so that a
-/// renderer may move between threads (the Python package shares one among them).
-pub trait FramePass: Send {
+/// A pass at work: the part the renderer calls each frame it runs. `Send` on native
+/// targets, so that a renderer may move between threads (the Python package shares one
+/// among them); the browser's wgpu objects are not `Send`, and there is one thread there.
+pub trait FramePass: wgpu::WasmNotSend {
     /// Makes the pipelines and uploads the data the frame will need.
     fn prepare(&mut self, cx: &PrepareContext<'_>);
     /// Records the pass's commands, reading and writing the targets its setup declared.

@@ -37,7 +37,8 @@ impl<'a> Loader<'a> {
                 self.bin.ok_or_else(|| self.invalid(format!("{label} has no uri and the file has no binary chunk")))?,
             ),
             Some(uri) => {
-                let data = uri::read_uri(self.base_dir, uri).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+                let data = uri::read_uri(self.base_dir, self.given_files, uri)
+                    .map_err(|e| self.invalid(format!("{label}: {e}")))?;
                 self.inputs.borrow_mut().extend(data.file);
                 Cow::Owned(data.bytes)
             }

@@ -158,7 +158,8 @@ impl Loader<'_> {
                 image.mime_type.as_ref().map(|m| m.0.to_ascii_lowercase()),
             ),
             (None, Some(uri)) => {
-                let data = uri::read_uri(self.base_dir, uri).map_err(|e| self.invalid(format!("{label}: {e}")))?;
+                let data = uri::read_uri(self.base_dir, self.given_files, uri)
+                    .map_err(|e| self.invalid(format!("{label}: {e}")))?;
                 self.inputs.borrow_mut().extend(data.file.clone());
                 let mime = image
                     .mime_type

@@ -10,6 +10,7 @@ use serde_json::Value;
 /// The extension object on a buffer view.
 #[derive(Debug, Deserialize)]
 #[serde(rename_all = "camelCase")]
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 pub(super) struct CompressedView {
     pub(super) buffer: usize,
     #[serde(default)]
@@ -80,12 +81,27 @@ pub(super) fn decode(view: &CompressedView, compressed: &[u8], view_length: u64)
             compressed.len()
         ));
     }
+    decode_checked(view, compressed)
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn decode_checked(view: &CompressedView, compressed: &[u8]) -> Result<Vec<u8>, String> {
     match view.mode {
         Mode::Attributes => decode_attributes(view, compressed),
         Mode::Triangles | Mode::Indices => decode_indices(view, compressed),
     }
 }
 
+/// Builds without the C decoder (the browser's) read the extension's JSON and refuse its
+/// data with a message that names what is missing, rather than drawing garbage.
+#[cfg(target_arch = "wasm32")]
+fn decode_checked(_view: &CompressedView, _compressed: &[u8]) -> Result<Vec<u8>, String> {
+    Err("this build of Chiaro has no EXT_meshopt_compression decoder (the browser build leaves out \
+         meshoptimizer, which is C); convert the file without meshopt compression"
+        .to_string())
+}
+
+#[cfg(not(target_arch = "wasm32"))]
 fn decode_attributes(view: &CompressedView, compressed: &[u8]) -> Result<Vec<u8>, String> {
     let stride = view.byte_stride;
     if stride == 0 || stride > 256 || !stride.is_multiple_of(4) {
@@ -119,6 +135,7 @@ fn decode_attributes(view: &CompressedView, compressed: &[u8]) -> Result<Vec<u8>
     Ok(bytes)
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 /// Filters turn the decoded integers back into the values the view holds, in place.
 fn apply_filter(filter: Filter, stride: usize, bytes: &mut [u8]) {
     match (filter, stride) {
@@ -130,6 +147,7 @@ fn apply_filter(filter: Filter, stride: usize, bytes: &mut [u8]) {
     }
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 /// Runs `filter` over `bytes` viewed as elements of `T`, through an aligned copy (a `Vec<u8>`
 /// promises no alignment beyond 1).
 fn with_aligned<T: bytemuck::Pod>(bytes: &mut [u8], filter: impl FnOnce(&mut [T])) {
@@ -138,6 +156,7 @@ fn with_aligned<T: bytemuck::Pod>(bytes: &mut [u8], filter: impl FnOnce(&mut [T]
     bytes.copy_from_slice(bytemuck::cast_slice(&elements));
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn decode_indices(view: &CompressedView, compressed: &[u8]) -> Result<Vec<u8>, String> {
     let stride = view.byte_stride;
     if stride != 2 && stride != 4 {
@@ -158,11 +177,12 @@ fn decode_indices(view: &CompressedView, compressed: &[u8]) -> Result<Vec<u8>, S
     decoded.map_err(|e| format!("the {:?} stream does not decode ({e})", view.mode))
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn to_bytes<T: bytemuck::Pod>(values: Vec<T>) -> Vec<u8> {
     bytemuck::cast_slice(&values).to_vec()
 }
 
-#[cfg(test)]
+#[cfg(all(test, not(target_arch = "wasm32")))]
 mod tests {
     use super::*;
 

@@ -59,6 +59,7 @@ use std::borrow::Cow;
 use std::cell::{OnceCell, RefCell};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+pub use uri::GivenFiles;
 
 /// Extensions Chiaro reads. A file may require these and no others; KHR_mesh_quantization
 /// needs nothing beyond the integer attribute formats the accessor reader handles anyway.
@@ -100,11 +101,43 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
 /// Loads a glTF document from `bytes` as if read from `path` (which names it in errors,
 /// and whose folder holds its external buffers and images).
 pub fn load_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
+    load_document(path, bytes, None)
+}
+
+/// Loads a glTF document from `bytes` as if read from `path`, its external buffers and
+/// images from `files` (by the paths [`referenced_files`] names) rather than the disk.
+pub fn load_gltf_given(path: &Path, bytes: &[u8], files: &GivenFiles) -> Result<Scene, SceneError> {
+    load_document(path, bytes, Some(files))
+}
+
+/// The files beside the document that its buffers and images name (not `data:` URIs), as
+/// the paths [`load_gltf_given`] looks them up by: what a caller without a filesystem
+/// fetches first.
+pub fn referenced_files(path: &Path, bytes: &[u8]) -> Result<Vec<PathBuf>, SceneError> {
+    let document = Document::parse(path, bytes)?;
+    let base_dir = path.parent().unwrap_or(Path::new("."));
+    let buffers = document.root.buffers.iter().filter_map(|b| b.uri.as_deref());
+    let images = document.root.images.iter().filter_map(|i| i.uri.as_deref());
+    let mut files = Vec::new();
+    for uri in buffers.chain(images).filter(|u| !u.starts_with("data:")) {
+        let file = uri::resolve(base_dir, uri).map_err(|message| SceneError::Invalid {
+            path: path.to_path_buf(),
+            message: format!("{uri}: {message}"),
+        })?;
+        if !files.contains(&file) {
+            files.push(file);
+        }
+    }
+    Ok(files)
+}
+
+fn load_document(path: &Path, bytes: &[u8], given_files: Option<&GivenFiles>) -> Result<Scene, SceneError> {
     let document = Document::parse(path, bytes)?;
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let mut loader = Loader {
         path,
         base_dir,
+        given_files,
         raw: &document.raw,
         root: &document.root,
         bin: document.bin,
@@ -150,6 +183,8 @@ struct Tally {
 struct Loader<'a> {
     path: &'a Path,
     base_dir: &'a Path,
+    /// The external files, where the caller gave them rather than the disk.
+    given_files: Option<&'a GivenFiles>,
     raw: &'a Value,
     root: &'a json::Root,
     /// A GLB's BIN chunk.

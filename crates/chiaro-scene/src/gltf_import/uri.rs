@@ -14,9 +14,14 @@ pub(super) struct UriData {
     pub(super) file: Option<PathBuf>,
 }
 
+/// Files given in memory instead of read from disk, by the path a document's relative URI
+/// resolves to ([`resolve`]): for a caller with no filesystem (the browser build), which
+/// fetched them itself.
+pub type GivenFiles = std::collections::HashMap<PathBuf, Vec<u8>>;
+
 /// Reads a `data:` URI, a `file:` URI or a path relative to `base_dir`, the glTF file's
-/// folder.
-pub(super) fn read_uri(base_dir: &Path, uri: &str) -> Result<UriData, String> {
+/// folder; from `given` instead of the disk when the caller gave the files.
+pub(super) fn read_uri(base_dir: &Path, given: Option<&GivenFiles>, uri: &str) -> Result<UriData, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (header, payload) = rest.split_once(',').ok_or("data URI has no comma before its payload")?;
         let (mime, base64) = match header.strip_suffix(";base64") {
@@ -27,8 +32,20 @@ pub(super) fn read_uri(base_dir: &Path, uri: &str) -> Result<UriData, String> {
         let mime = mime.split(';').next().unwrap_or("");
         return Ok(UriData { bytes, mime: (!mime.is_empty()).then(|| mime.to_ascii_lowercase()), file: None });
     }
-    let scheme_end = uri.find(':');
-    let path = match scheme_end {
+    let path = resolve(base_dir, uri)?;
+    let bytes = match given {
+        Some(files) => files.get(&path).cloned().ok_or_else(|| {
+            format!("cannot read {}: it is not among the files given with the document", path.display())
+        })?,
+        None => crate::files::read_regular_file(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?,
+    };
+    Ok(UriData { bytes, mime: None, file: Some(path) })
+}
+
+/// The file a URI other than `data:` names: a `file:` URI's path, or a path relative to
+/// `base_dir`; other schemes are errors.
+pub(super) fn resolve(base_dir: &Path, uri: &str) -> Result<PathBuf, String> {
+    match uri.find(':') {
         Some(colon) if !uri[..colon].contains('/') => {
             let scheme = &uri[..colon];
             if !scheme.eq_ignore_ascii_case("file") {
@@ -36,12 +53,10 @@ pub(super) fn read_uri(base_dir: &Path, uri: &str) -> Result<UriData, String> {
             }
             let rest = &uri[colon + 1..];
             let rest = rest.strip_prefix("//").unwrap_or(rest);
-            PathBuf::from(bytes_to_path(percent_decode(rest)?)?)
+            Ok(PathBuf::from(bytes_to_path(percent_decode(rest)?)?))
         }
-        _ => base_dir.join(bytes_to_path(percent_decode(uri)?)?),
-    };
-    let bytes = crate::files::read_regular_file(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    Ok(UriData { bytes, mime: None, file: Some(path) })
+        _ => Ok(base_dir.join(bytes_to_path(percent_decode(uri)?)?)),
+    }
 }
 
 /// Standard or URL-safe base64 (RFC 4648 §4 and §5), as exporters write it in data URIs:
@@ -132,17 +147,17 @@ mod tests {
 
     #[test]
     fn data_uris_keep_their_media_type_and_paths_resolve_beside_the_file() {
-        let data = read_uri(Path::new("."), "data:IMAGE/PNG;charset=x;base64,AAE=").unwrap();
+        let data = read_uri(Path::new("."), None, "data:IMAGE/PNG;charset=x;base64,AAE=").unwrap();
         assert_eq!(data.bytes, vec![0, 1]);
         assert_eq!(data.mime.as_deref(), Some("image/png"));
-        let data = read_uri(Path::new("."), "data:,a%20b").unwrap();
+        let data = read_uri(Path::new("."), None, "data:,a%20b").unwrap();
         assert_eq!(data.bytes, b"a b");
         assert_eq!(data.mime, None);
         assert_eq!(
-            read_uri(Path::new("."), "https://example.com/a.bin").err().unwrap(),
+            read_uri(Path::new("."), None, "https://example.com/a.bin").err().unwrap(),
             "URI scheme https: is not supported"
         );
-        let missing = read_uri(Path::new("/no-such-dir"), "a%20b.bin").err().unwrap();
+        let missing = read_uri(Path::new("/no-such-dir"), None, "a%20b.bin").err().unwrap();
         assert!(missing.starts_with("cannot read /no-such-dir/a b.bin"), "{missing}");
     }
 }

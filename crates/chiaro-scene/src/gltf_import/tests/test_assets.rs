@@ -66,3 +66,28 @@ fn test_assets_load_with_their_documented_lights() {
         }
     }
 }
+
+/// A document whose buffer and images are given in memory (as the browser build fetches
+/// them) loads exactly as from disk, and one file left out is an error naming it.
+#[test]
+fn given_files_load_as_the_disk_does() {
+    use crate::gltf_import::{GivenFiles, load_gltf_given, referenced_files};
+    let path = Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/assets/LightsPunctualLamp/glTF/LightsPunctualLamp.gltf"
+    ));
+    let bytes = std::fs::read(path).unwrap();
+    let wanted = referenced_files(path, &bytes).unwrap();
+    assert_eq!(wanted.len(), 8, "{wanted:?}");
+    assert!(wanted.contains(&path.with_file_name("LightsPunctualLamp.data.bin")), "{wanted:?}");
+    let mut files: GivenFiles = wanted.iter().map(|f| (f.clone(), std::fs::read(f).unwrap())).collect();
+    let given = load_gltf_given(path, &bytes, &files).unwrap();
+    let disk = load_gltf(path).unwrap();
+    assert_eq!(given.triangle_count(), disk.triangle_count());
+    assert_eq!(given.images.len(), disk.images.len());
+    assert!(given.images.iter().zip(&disk.images).all(|(a, b)| a.rgba8 == b.rgba8));
+    let missing = path.with_file_name("material1_normal.png");
+    files.remove(&missing);
+    let message = load_gltf_given(path, &bytes, &files).unwrap_err().to_string();
+    assert!(message.contains("material1_normal.png") && message.contains("not among the files given"), "{message}");
+}

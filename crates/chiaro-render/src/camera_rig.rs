@@ -1,12 +1,13 @@
-//! The viewer's camera: yaw, pitch and distance about a target. Orbit turns about the
+//! The viewers' camera (native and browser): yaw, pitch and distance about a target. Orbit turns about the
 //! target; fly turns about the eye and moves it with the keys. It starts from the view
 //! `chiaro render` would use, so that an untouched viewer shows the same image.
 
+use crate::View;
 use chiaro_math::bounds::Sphere;
 use chiaro_math::camera::Projection;
-use chiaro_render::View;
 use glam::{Mat4, Vec3};
 
+/// What a mouse drag does.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Navigation {
     /// Drag turns about the target, the wheel zooms.
@@ -17,6 +18,7 @@ pub enum Navigation {
 }
 
 impl Navigation {
+    /// The name the panels show.
     pub fn name(self) -> &'static str {
         match self {
             Navigation::Orbit => "orbit",
@@ -25,11 +27,17 @@ impl Navigation {
     }
 }
 
+/// A camera that looks at `target` from `distance` away, turned by `yaw` about +Y and
+/// `pitch` above the horizon.
 #[derive(Clone, Copy, Debug)]
 pub struct CameraRig {
+    /// The point the camera looks at and orbits about.
     pub target: Vec3,
+    /// Radians about +Y of the direction from the target to the eye.
     pub yaw: f32,
+    /// Radians above the horizon of that direction.
     pub pitch: f32,
+    /// Metres from the target to the eye.
     pub distance: f32,
     /// `distance` at the start: an orthographic view's height scales with
     /// `distance / start_distance`, so that the wheel zooms it as it does a perspective one.
@@ -72,6 +80,7 @@ impl CameraRig {
         Vec3::new(sy * cp, sp, cy * cp)
     }
 
+    /// Where the camera is.
     pub fn eye(&self) -> Vec3 {
         self.target + self.back() * self.distance
     }

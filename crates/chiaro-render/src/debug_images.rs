@@ -1,10 +1,10 @@
-//! Debug views the viewer computes on the CPU from a frame read back: the AOVs, the
-//! clusters' light counts and the shadow atlases, as RGBA8 images; and which views show
-//! the 3D view itself rather than such images.
+//! Debug views the viewers (native and browser) compute on the CPU from a frame read back:
+//! the AOVs, the clusters' light counts and the shadow atlases, as RGBA8 images; and which
+//! views show the 3D view itself rather than such images.
 
+use crate::plan::clusters::{ClusterGrid, CulledLightLists};
+use crate::{AovView, DebugView, FrameOutput};
 use chiaro_math::bounds::Aabb;
-use chiaro_render::plan::clusters::{ClusterGrid, CulledLightLists};
-use chiaro_render::{AovView, DebugView, FrameOutput};
 use chiaro_scene::Scene;
 
 /// Side of each shadow atlas as the atlas debug view shows it.
@@ -35,7 +35,7 @@ pub fn frame_images(debug: Option<DebugView>, frame: &FrameOutput, scene: &Scene
             .shadow_atlases
             .iter()
             .map(|atlas| {
-                let grey = chiaro_io::output::atlas_grey(&atlas.depths);
+                let grey = atlas_grey(&atlas.depths);
                 let (side, pixels) = atlas_image(&grey, atlas.size as usize, ATLAS_VIEW_SIZE);
                 ([side, side], pixels)
             })
@@ -94,6 +94,7 @@ pub fn position_image(positions: &[[f32; 3]], bounds: &Aabb) -> Vec<[u8; 4]> {
         .collect()
 }
 
+/// Normals as `n * 0.5 + 0.5`, background where there is no surface.
 pub fn normal_image(normals: &[[f32; 3]], depth: &[f32]) -> Vec<[u8; 4]> {
     normals
         .iter()
@@ -131,6 +132,7 @@ pub fn lightmap_image(irradiance: &[[f32; 3]], depth: &[f32]) -> Vec<[u8; 4]> {
         .collect()
 }
 
+/// A light's shadow (1 lit, 0 shadowed) as grey, background where there is no surface.
 pub fn shadow_image(shadow: &[f32], depth: &[f32]) -> Vec<[u8; 4]> {
     shadow
         .iter()
@@ -186,6 +188,21 @@ pub fn atlas_image(grey: &[u8], size: usize, max_side: usize) -> (usize, Vec<[u8
         })
         .collect();
     (side, pixels)
+}
+
+/// An atlas's depths as grey RGBA8, stretched over the range the casters wrote (from the
+/// nearest depth to 1, the cleared far plane): perspective depth crowds towards 1 with a
+/// near plane of a centimetre, and would otherwise print all white.
+pub fn atlas_grey(depths: &[f32]) -> Vec<u8> {
+    let nearest = depths.iter().copied().filter(|d| d.is_finite() && *d < 1.0).fold(1.0f32, f32::min);
+    let span = (1.0 - nearest).max(1e-6);
+    depths
+        .iter()
+        .flat_map(|d| {
+            let v = (((d.clamp(0.0, 1.0) - nearest) / span).clamp(0.0, 1.0) * 255.0).round() as u8;
+            [v, v, v, 255]
+        })
+        .collect()
 }
 
 #[cfg(test)]
