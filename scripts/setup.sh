@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs what Chiaro needs on a fresh Debian/Ubuntu machine: a C/C++ toolchain (the
 # FLIP image metric in the tests builds C++), the Vulkan loader, Mesa's software Vulkan
-# driver (lavapipe) when no Vulkan driver is present, and Python's venv for the Python
-# package. Rust comes from rustup.
+# driver (lavapipe) when no Vulkan driver is present, Python's venv for the Python
+# package, and Node.js and chromium for the browser build's tests. Rust comes from rustup.
 set -euo pipefail
 
 as_root() {
@@ -25,6 +25,10 @@ command -v curl >/dev/null 2>&1 || packages+=(curl ca-certificates)
 python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || packages+=(python3 python3-venv python3-pip)
 # A virtual X display for the windowed test of `chiaro view`.
 command -v xvfb-run >/dev/null 2>&1 || packages+=(xvfb xauth)
+# The browser build's tests: Node.js with npm drives Debian's chromium (WebGPU on its
+# SwiftShader) through playwright-core.
+command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+command -v chromium >/dev/null 2>&1 || packages+=(chromium)
 
 if [ ${#packages[@]} -gt 0 ]; then
     if command -v apt-get >/dev/null 2>&1; then

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test: the Rust workspace's, then the Python package's (scripts/test-python.sh
-# builds it into a virtual environment and runs pytest). Arguments go to pytest.
+# builds it into a virtual environment and runs pytest), then the browser build's
+# (scripts/test-web.sh builds the page and drives chromium). Arguments go to pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # The workspace build scripts/demo.sh makes first (the CLI, the viewer, the Python
@@ -10,3 +11,4 @@ cargo build --release --workspace
 cargo test --release --workspace
 # The CLI that cargo test built, for the Python tests that compare with `chiaro batch`.
 CHIARO_BIN="$(realpath "${CARGO_TARGET_DIR:-target}")/release/chiaro" scripts/test-python.sh "$@"
+CHIARO_BIN="$(realpath "${CARGO_TARGET_DIR:-target}")/release/chiaro" scripts/test-web.sh

@@ -19,23 +19,8 @@ pub fn all() -> Vec<(&'static str, &'static str)> {
 pub fn module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
-        source: wgpu::ShaderSource::Wgsl(browser_source(source)),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
     })
-}
-
-/// The browser compiles the WGSL itself (Tint), and Tint refuses implicit-derivative
-/// samples in control flow its uniformity analysis cannot prove uniform, which naga
-/// accepts: the light loops sample shadow maps and cookies under per-pixel branches whose
-/// derivatives are still well defined (the branch is coherent over a quad in practice, and
-/// mip selection of a stray quad is the worst case). The directive turns that check off.
-#[cfg(target_arch = "wasm32")]
-fn browser_source(source: &str) -> std::borrow::Cow<'_, str> {
-    format!("diagnostic(off, derivative_uniformity);\n{source}").into()
-}
-
-#[cfg(not(target_arch = "wasm32"))]
-fn browser_source(source: &str) -> std::borrow::Cow<'_, str> {
-    source.into()
 }
 
 /// The compute pipeline of `module`'s entry point `entry` (labelled so), its bind group
