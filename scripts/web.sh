@@ -2,11 +2,12 @@
 # The browser build. `build`: compiles chiaro-web for wasm32 (release), makes its JS glue
 # with wasm-bindgen (the CLI of the same version as the crate in Cargo.lock, installed
 # with cargo when missing) and puts the page in target/web/ (index.html, chiaro_web.js,
-# chiaro_web_bg.wasm) with the test scenes under target/web/scenes/. `serve [PORT]`:
-# serves target/web/ on localhost (default port 8080).
+# chiaro_web_bg.wasm) with the test scenes under target/web/scenes/ (CARGO_TARGET_DIR
+# moves target/). `serve [PORT]`: serves target/web/ on localhost (default port 8080).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=target/web
+target_dir="${CARGO_TARGET_DIR:-target}"
+out="$target_dir/web"
 
 bindgen_version() {
     awk '/^name = "wasm-bindgen"$/ { getline; gsub(/version = |"/, ""); print; exit }' Cargo.lock
@@ -25,7 +26,7 @@ build() {
     rm -rf "$out"
     mkdir -p "$out"
     wasm-bindgen --target web --no-typescript --out-dir "$out" \
-        target/wasm32-unknown-unknown/release/chiaro_web.wasm
+        "$target_dir/wasm32-unknown-unknown/release/chiaro_web.wasm"
     cp web/index.html "$out/"
     # The repository's test scenes, so the page and its tests load them by relative URL.
     cp -r tests/assets "$out/scenes"

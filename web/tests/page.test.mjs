@@ -16,7 +16,7 @@ import { chromium } from 'playwright-core';
 import { serveFolder } from './serve.mjs';
 
 const root = resolve(dirname(fileURLToPath(import.meta.url)), '../..');
-const pageDir = join(root, 'target/web');
+const pageDir = join(process.env.CARGO_TARGET_DIR ? resolve(root, process.env.CARGO_TARGET_DIR) : join(root, 'target'), 'web');
 const chiaro = process.env.CHIARO_BIN || join(root, 'target/release/chiaro');
 const browserPath = process.env.CHROMIUM || '/usr/bin/chromium';
 const work = mkdtempSync(join(tmpdir(), 'chiaro-web-test-'));
@@ -248,7 +248,8 @@ test('a file dropped on the canvas renders as chiaro render draws it', async () 
     return info !== old && info.includes('boxes-instanced.glb');
   }, before, { timeout: 120_000 });
   // The page counts the frames it finished since a scene opened.
-  await page.waitForFunction(() => window.chiaro.scene_frames >= 1 || document.title.startsWith('chiaro: error'),
+  await page.waitForFunction(
+    () => (window.chiaro.scene_frames >= 1 && window.chiaro.idle === true) || document.title.startsWith('chiaro: error'),
     null, { timeout: 120_000 });
   assert.ok(!(await page.title()).startsWith('chiaro: error'), await page.title());
   assert.deepEqual(errors, []);
@@ -264,18 +265,20 @@ async function openInteractive(query) {
   page.on('pageerror', (e) => errors.push(e.message));
   await page.goto(`${base}/index.html?${query}`);
   await page.waitForFunction(
-    () => window.chiaro?.scene_frames >= 1 || document.title.startsWith('chiaro: error'),
+    () => (window.chiaro?.scene_frames >= 1 && window.chiaro.idle === true) || document.title.startsWith('chiaro: error'),
     null,
     { timeout: 300_000 },
   );
   return { page, errors };
 }
 
-/** Does `action`, then waits until the page has finished a frame after it. */
+/** Does `action`, then waits until the page has finished a frame after it and has
+ * nothing left to draw (`window.chiaro.idle`). */
 async function afterFrame(page, action) {
   const count = await page.evaluate(() => window.chiaro.scene_frames);
   await action();
-  await page.waitForFunction((n) => window.chiaro.scene_frames > n, count, { timeout: 120_000 });
+  await page.waitForFunction((n) => window.chiaro.scene_frames > n && window.chiaro.idle === true, count,
+    { timeout: 120_000 });
 }
 
 test('the viewer orbits with the mouse, shows debug views (drawn and read back) and refuses bad settings', async () => {
@@ -289,8 +292,6 @@ test('the viewer orbits with the mouse, shows debug views (drawn and read back) 
     await page.mouse.move(box.x + 120, box.y + 60, { steps: 4 });
     await page.mouse.up();
   });
-  // The last mouse move may have drawn a frame of its own: wait for the page to settle.
-  await page.waitForTimeout(500);
   const turned = await difference(page, start, await canvasPng(page));
   assert.ok(turned.mean > 5, `the drag changed the image by only ${turned.mean}`);
   // A debug view drawn by a pass: the forward path's cascade tint.

@@ -2,7 +2,7 @@
 // needs http (not file:) for its module and fetches, and .wasm as application/wasm.
 import { createServer } from 'node:http';
 import { readFile } from 'node:fs/promises';
-import { join, normalize, extname } from 'node:path';
+import { join, normalize, extname, relative, isAbsolute } from 'node:path';
 
 const TYPES = {
   '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.wasm': 'application/wasm',
@@ -21,7 +21,13 @@ export function serveFolder(folder, extra = {}) {
 export function serveMounts(mounts, extra = {}) {
   const prefixes = Object.keys(mounts).sort((a, b) => b.length - a.length);
   const server = createServer(async (request, response) => {
-    const path = decodeURIComponent(new URL(request.url, 'http://x').pathname);
+    let path;
+    try {
+      path = decodeURIComponent(new URL(request.url, 'http://x').pathname);
+    } catch {
+      response.writeHead(400);
+      return response.end();
+    }
     if (path in extra) {
       response.writeHead(200, { 'content-type': TYPES[extname(path)] || 'application/octet-stream' });
       return response.end(extra[path]);
@@ -33,7 +39,8 @@ export function serveMounts(mounts, extra = {}) {
     }
     const folder = mounts[prefix];
     const file = normalize(join(folder, path.slice(prefix.length)));
-    if (!file.startsWith(folder)) {
+    const inside = relative(folder, file);
+    if (inside.startsWith('..') || isAbsolute(inside)) {
       response.writeHead(403);
       return response.end();
     }

@@ -12,7 +12,8 @@ pub struct FrameStats {
 }
 
 impl FrameStats {
-    /// The summary of `times` (milliseconds, each from submission to GPU completion);
+    /// The summary of `times` (milliseconds, each from the start of the frame's preparation
+    /// to GPU completion);
     /// `None` for no frames. The median of an even count is the mean of the middle two.
     pub fn new(times: &[f64], adapter: &str) -> Option<FrameStats> {
         let mut sorted: Vec<f64> = times.iter().copied().filter(|t| t.is_finite()).collect();

@@ -119,12 +119,12 @@ pub fn referenced_files(path: &Path, bytes: &[u8]) -> Result<Vec<PathBuf>, Scene
     let buffers = document.root.buffers.iter().filter_map(|b| b.uri.as_deref());
     let images = document.root.images.iter().filter_map(|i| i.uri.as_deref());
     let mut files = Vec::new();
+    // A URI that names no file (another scheme, a broken escape) is left to the loader,
+    // which names it if something drawn reads it, as it does reading from disk.
     for uri in buffers.chain(images).filter(|u| !u.starts_with("data:")) {
-        let file = uri::resolve(base_dir, uri).map_err(|message| SceneError::Invalid {
-            path: path.to_path_buf(),
-            message: format!("{uri}: {message}"),
-        })?;
-        if !files.contains(&file) {
+        if let Ok(file) = uri::resolve(base_dir, uri)
+            && !files.contains(&file)
+        {
             files.push(file);
         }
     }

@@ -28,6 +28,9 @@ pub struct App {
     pub dirty: bool,
     /// Frames finished since the scene was opened (`window.chiaro.scene_frames`).
     pub scene_frames: u32,
+    /// Counts the scenes opened, so that a frame of the previous scene finishing after a
+    /// new one opened is not taken for the new scene's.
+    scene_generation: u64,
 }
 
 /// The debug views the page offers for a scene of `lights` lights: all of the native
@@ -87,6 +90,7 @@ impl App {
             debug: None,
             dirty: true,
             scene_frames: 0,
+            scene_generation: 0,
         })
     }
 
@@ -105,6 +109,7 @@ impl App {
         self.scene = scene;
         self.prepared = prepared;
         self.scene_frames = 0;
+        self.scene_generation += 1;
         self.use_camera((!self.scene.cameras.is_empty()).then_some(0));
         Ok(())
     }
@@ -117,11 +122,14 @@ impl App {
         self.dirty = true;
     }
 
-    /// New settings (checked against the device), shown from the next frame.
+    /// New settings (checked against the device), shown from the next frame. A new
+    /// `scene.variant` gives the scene that variant's materials (none: the file's) and
+    /// uploads it again.
     pub fn set_settings(&mut self, settings: Settings) -> Result<(), String> {
         self.renderer.ctx.check_msaa(settings.render.msaa).map_err(|e| format!("render.msaa: {e}"))?;
-        if let Some(name) = settings.scene.variant.as_deref() {
-            self.scene.select_variant(Some(name)).map_err(|e| e.to_string())?;
+        if settings.scene.variant != self.settings.scene.variant {
+            self.scene.select_variant(settings.scene.variant.as_deref()).map_err(|e| e.to_string())?;
+            self.prepared = self.renderer.prepare(&self.scene).map_err(|e| e.to_string())?;
         }
         self.settings = settings;
         // The framing view's field of view is a setting.
@@ -150,14 +158,17 @@ impl App {
     }
 
     /// Renders and presents one frame, and returns once the GPU has finished it: the
-    /// milliseconds from the start of its preparation to the GPU's completion. A debug
-    /// view computed from read-backs is shown beside, once they arrive (not timed).
-    pub async fn frame(app: &RefCell<App>) -> Result<f64, String> {
+    /// milliseconds from the start of its preparation to the GPU's completion, or `None`
+    /// if another scene was opened meanwhile (the frame was the old scene's). A debug view
+    /// computed from read-backs is shown beside, once they arrive (not timed), unless the
+    /// view or the scene changed meanwhile (the next frame shows the new one).
+    pub async fn frame(app: &RefCell<App>) -> Result<Option<f64>, String> {
         let start = now_ms();
-        let (pending, done) = {
+        let (pending, done, generation, debug) = {
             let mut app = app.borrow_mut();
             app.dirty = false;
-            app.record_and_present()?
+            let (pending, done) = app.record_and_present()?;
+            (pending, done, app.scene_generation, app.debug)
         };
         done.await.map_err(|_| "the GPU device was lost before the frame finished".to_string())?;
         let ms = now_ms() - start;
@@ -165,10 +176,14 @@ impl App {
         let pending = pending.read_back_async().await.map_err(|e| e.to_string())?;
         let mut app = app.borrow_mut();
         let frame = app.renderer.finish(pending).map_err(|e| e.to_string())?;
-        let images =
-            if shows_view(app.debug, false) { Vec::new() } else { frame_images(app.debug, &frame, &app.scene) };
-        super::debug_images::show(&images)?;
-        Ok(ms)
+        if app.scene_generation != generation {
+            return Ok(None);
+        }
+        if app.debug == debug {
+            let images = if shows_view(debug, false) { Vec::new() } else { frame_images(debug, &frame, &app.scene) };
+            super::debug_images::show(&images)?;
+        }
+        Ok(Some(ms))
     }
 
     #[allow(clippy::type_complexity)]

@@ -92,6 +92,11 @@ pub fn listen_all(app: &Rc<RefCell<App>>, canvas: &web_sys::HtmlCanvasElement) -
             keys.0.borrow_mut().remove(&e.code());
         });
     }
+    {
+        // Keys released while the window had no focus send no keyup: forget them all.
+        let keys = keys.clone();
+        listen(window.as_ref(), "blur", move |_: web_sys::FocusEvent| keys.0.borrow_mut().clear());
+    }
     listen(canvas_target, "dragover", move |e: web_sys::DragEvent| e.prevent_default());
     {
         let app = app.clone();

@@ -19,7 +19,7 @@ pub async fn scene_from_url(url: &str) -> Result<Scene, String> {
     let path = PathBuf::from(url.split(['?', '#']).next().unwrap_or(url));
     let mut files = GivenFiles::new();
     for wanted in referenced_files(&path, &bytes).map_err(|e| e.to_string())? {
-        let file_url = wanted.to_string_lossy().into_owned();
+        let file_url = fetch_url(&wanted);
         match fetch_bytes(&file_url).await {
             Ok(data) => {
                 files.insert(wanted, data);
@@ -28,6 +28,13 @@ pub async fn scene_from_url(url: &str) -> Result<Scene, String> {
         }
     }
     load(&path, &bytes, &files)
+}
+
+/// `path` (a URI decoded and joined to the scene's folder) as a URL again: the characters
+/// a URL reads as its query, fragment or an escape are escaped (a file named "a#1.png").
+fn fetch_url(path: &Path) -> String {
+    const SPECIAL: &percent_encoding::AsciiSet = &percent_encoding::CONTROLS.add(b'%').add(b'#').add(b'?');
+    percent_encoding::utf8_percent_encode(&path.to_string_lossy(), SPECIAL).to_string()
 }
 
 /// The scene among dropped files (`names[i]` with `contents[i]`), with its files.

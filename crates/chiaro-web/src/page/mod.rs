@@ -116,7 +116,8 @@ async fn timed(app: &Rc<RefCell<App>>, frames: u32, warmup: u32) -> Result<(), S
     let mut load_to_first_frame_ms = 0.0;
     for i in 0..warmup + frames {
         dom::next_animation_frame().await;
-        let ms = App::frame(app).await?;
+        // A timed run opens no other scene: every frame is this one's.
+        let ms = App::frame(app).await?.unwrap_or_default();
         if i == 0 {
             first_frame_ms = ms;
             load_to_first_frame_ms = dom::now_ms();
@@ -159,12 +160,16 @@ async fn interactive(app: &Rc<RefCell<App>>, keys: input::Keys) -> Result<(), St
         last = now;
         let (fly, fast) = keys.fly_input();
         app.borrow_mut().fly(fly, fast, seconds);
+        // `idle`: every change so far is drawn (tests wait on it after an action).
         if !app.borrow().dirty {
+            dom::publish("idle", &true.into());
             continue;
         }
+        dom::publish("idle", &false.into());
         let result = App::frame(app).await.and_then(|ms| app.borrow_mut().take_error().map(|()| ms));
         match result {
-            Ok(ms) => {
+            Ok(None) => {}
+            Ok(Some(ms)) => {
                 panel::show_frame_time(ms);
                 let mut app = app.borrow_mut();
                 app.scene_frames += 1;
