@@ -134,6 +134,24 @@ pub struct MeshInstance {
 }
 
 impl MeshInstance {
+    /// An instance of mesh `mesh` placed by `world_from_local`, as a plain glTF node gives
+    /// it: node 0, no name, casting and receiving shadows, static, no lightmap, no GPU
+    /// instance, label 0. Callers set what differs with struct update syntax.
+    pub fn new(mesh: usize, world_from_local: Mat4) -> MeshInstance {
+        MeshInstance {
+            mesh,
+            node: 0,
+            name: String::new(),
+            world_from_local,
+            cast_shadows: CastShadows::On,
+            receive_shadows: true,
+            is_static: true,
+            lightmap: None,
+            label: 0,
+            gpu_instance: None,
+        }
+    }
+
     /// Its id in the instance AOV: the glTF node index, or a GPU instance's own id.
     pub fn aov_id(&self) -> usize {
         self.gpu_instance.map_or(self.node, |g| g.id as usize)

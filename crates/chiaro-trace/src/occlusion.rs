@@ -113,7 +113,7 @@ fn traced_rays(rays: u32) -> u32 {
 mod tests {
     use super::*;
     use chiaro_math::camera::perspective_reverse_z;
-    use chiaro_scene::{CastShadows, Mesh, MeshInstance, Primitive, shapes};
+    use chiaro_scene::{Mesh, MeshInstance, Primitive, shapes};
     use glam::Quat;
 
     fn mesh(primitive: Primitive) -> Mesh {
@@ -121,18 +121,7 @@ mod tests {
     }
 
     fn instance(mesh: usize, world_from_local: Mat4) -> MeshInstance {
-        MeshInstance {
-            mesh,
-            node: 0,
-            name: String::new(),
-            world_from_local,
-            cast_shadows: CastShadows::On,
-            receive_shadows: true,
-            is_static: true,
-            lightmap: None,
-            gpu_instance: None,
-            label: 0,
-        }
+        MeshInstance::new(mesh, world_from_local)
     }
 
     /// A unit box scaled to `size` and centred at `centre`.

@@ -211,25 +211,14 @@ pub fn light_visibility(bvh: &SceneBvh, light: &Light, position: Vec3, facing_no
 mod tests {
     use super::*;
     use chiaro_math::camera::perspective_reverse_z;
-    use chiaro_scene::{CastShadows, Mesh, MeshInstance, Primitive, shapes};
+    use chiaro_scene::{Mesh, MeshInstance, Primitive, shapes};
 
     fn mesh(primitive: Primitive) -> Mesh {
         Mesh::of_triangles(String::new(), vec![primitive])
     }
 
     fn instance(mesh: usize, world_from_local: Mat4) -> MeshInstance {
-        MeshInstance {
-            mesh,
-            node: 0,
-            name: String::new(),
-            world_from_local,
-            cast_shadows: CastShadows::On,
-            receive_shadows: true,
-            is_static: true,
-            lightmap: None,
-            gpu_instance: None,
-            label: 0,
-        }
+        MeshInstance::new(mesh, world_from_local)
     }
 
     /// A 6 m floor and a unit box floating with its bottom 1 m above it, so the floor under

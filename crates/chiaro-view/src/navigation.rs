@@ -10,9 +10,6 @@ use chiaro_io::scenes::choose_view;
 use chiaro_render::View;
 use chiaro_scene::{LightKind, Scene, Settings};
 
-/// Fly speed, in scene radii per second (x4 with Shift).
-const FLY_SPEED: f32 = 0.4;
-
 pub struct CameraState {
     /// The view the rig starts from: the chosen camera's, at the view's size.
     pub start_view: View,
@@ -96,9 +93,8 @@ impl CameraState {
     /// Moves a flying camera by `input` (camera axes) for `seconds`, four times as fast
     /// when `fast`.
     pub fn fly(&mut self, scene: &Scene, input: FlyInput, fast: bool, seconds: f32) {
-        let speed = if fast { 4.0 } else { 1.0 };
-        let metres = FLY_SPEED * speed * scene.bounds().bounding_sphere().radius * seconds.min(0.25);
-        self.rig(scene).fly(input, metres);
+        let radius = scene.bounds().bounding_sphere().radius;
+        self.rig(scene).fly_for(input, fast, seconds, radius);
     }
 
     /// The view of glTF camera `camera` (or the one the viewer opened with) at `w` x `h`.

@@ -8,18 +8,7 @@ use proptest::prelude::*;
 use std::sync::OnceLock;
 
 fn instance(mesh: usize, world_from_local: Mat4, cast_shadows: CastShadows) -> MeshInstance {
-    MeshInstance {
-        mesh,
-        node: 0,
-        name: String::new(),
-        world_from_local,
-        cast_shadows,
-        receive_shadows: true,
-        is_static: true,
-        lightmap: None,
-        gpu_instance: None,
-        label: 0,
-    }
+    MeshInstance { cast_shadows, ..MeshInstance::new(mesh, world_from_local) }
 }
 
 fn mesh(primitive: Primitive) -> Mesh {

@@ -8,9 +8,6 @@ use chiaro_render::{DebugView, FrameOptions, GpuContext, PendingFrame, PreparedS
 use chiaro_scene::{Scene, Settings};
 use std::cell::RefCell;
 
-/// Fly speed, in scene radii per second (as the native viewer's).
-const FLY_SPEED: f32 = 0.4;
-
 pub struct App {
     renderer: Renderer,
     surface: wgpu::Surface<'static>,
@@ -143,8 +140,7 @@ impl App {
             return;
         }
         let radius = self.scene.bounds().bounding_sphere().radius.max(1e-3);
-        let speed = FLY_SPEED * radius * if fast { 4.0 } else { 1.0 };
-        self.rig.fly(input, speed * seconds);
+        self.rig.fly_for(input, fast, seconds, radius);
         self.dirty = true;
     }
 

@@ -1,6 +1,7 @@
 //! The page's DOM and browser calls the rest of the module uses: elements by id, fetch,
 //! the clock, animation frames, and the title and message that report errors.
 
+use wasm_bindgen::closure::Closure;
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_futures::JsFuture;
 
@@ -119,5 +120,18 @@ pub fn object(pairs: &[(&str, JsValue)]) -> JsValue {
 pub fn set_text(id: &str, text: &str) {
     if let Ok(element) = by_id::<web_sys::HtmlElement>(id) {
         element.set_text_content(Some(text));
+    }
+}
+
+/// Calls `handler` on every `kind` event at `target`.
+pub fn listen<E: wasm_bindgen::convert::FromWasmAbi + 'static>(
+    target: &web_sys::EventTarget,
+    kind: &str,
+    handler: impl FnMut(E) + 'static,
+) {
+    let closure = Closure::<dyn FnMut(E)>::new(handler);
+    if target.add_event_listener_with_callback(kind, closure.as_ref().unchecked_ref()).is_ok() {
+        // The page lives as long as its listeners: they are never removed.
+        closure.forget();
     }
 }

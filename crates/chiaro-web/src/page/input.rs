@@ -3,14 +3,13 @@
 //! files dropped on the canvas open.
 
 use super::app::App;
-use super::dom::{js_message, report_error};
+use super::dom::{js_message, listen, report_error};
 use super::panel;
 use chiaro_render::camera_rig::FlyInput;
 use std::cell::{Cell, RefCell};
 use std::collections::HashSet;
 use std::rc::Rc;
 use wasm_bindgen::JsCast;
-use wasm_bindgen::closure::Closure;
 
 /// The keys held down, for flying each frame.
 #[derive(Clone, Default)]
@@ -25,18 +24,6 @@ impl Keys {
         let input =
             FlyInput::new(held("KeyD") - held("KeyA"), held("KeyE") - held("KeyQ"), held("KeyS") - held("KeyW"));
         (input, keys.contains("ShiftLeft") || keys.contains("ShiftRight"))
-    }
-}
-
-fn listen<E: wasm_bindgen::convert::FromWasmAbi + 'static>(
-    target: &web_sys::EventTarget,
-    kind: &str,
-    handler: impl FnMut(E) + 'static,
-) {
-    let closure = Closure::<dyn FnMut(E)>::new(handler);
-    if target.add_event_listener_with_callback(kind, closure.as_ref().unchecked_ref()).is_ok() {
-        // The page lives as long as its listeners: they are never removed.
-        closure.forget();
     }
 }
 

@@ -14,15 +14,7 @@ use chiaro_scene::{Light, LightKind, Scene, Settings, ShadowMode};
 use std::cell::RefCell;
 use std::rc::Rc;
 use wasm_bindgen::JsCast;
-use wasm_bindgen::closure::Closure;
 use web_sys::{HtmlButtonElement, HtmlInputElement, HtmlSelectElement, HtmlTextAreaElement};
-
-fn on(element: &web_sys::EventTarget, kind: &str, handler: impl FnMut(web_sys::Event) + 'static) {
-    let closure = Closure::<dyn FnMut(web_sys::Event)>::new(handler);
-    if element.add_event_listener_with_callback(kind, closure.as_ref().unchecked_ref()).is_ok() {
-        closure.forget();
-    }
-}
 
 fn set_options(select: &HtmlSelectElement, options: &[(String, String)], selected: &str) {
     select.set_inner_html("");
@@ -130,7 +122,7 @@ pub fn listen(app: &Rc<RefCell<App>>) -> Result<(), String> {
     let camera: HtmlSelectElement = by_id("chiaro-camera")?;
     {
         let (app, select) = (app.clone(), camera.clone());
-        on(camera.as_ref(), "change", move |_| {
+        super::dom::listen(camera.as_ref(), "change", move |_: web_sys::Event| {
             let index = select.value().parse::<usize>().ok();
             app.borrow_mut().use_camera(index);
         });
@@ -138,14 +130,14 @@ pub fn listen(app: &Rc<RefCell<App>>) -> Result<(), String> {
     let navigation: HtmlSelectElement = by_id("chiaro-navigation")?;
     {
         let (app, select) = (app.clone(), navigation.clone());
-        on(navigation.as_ref(), "change", move |_| {
+        super::dom::listen(navigation.as_ref(), "change", move |_: web_sys::Event| {
             app.borrow_mut().navigation = if select.value() == "fly" { Navigation::Fly } else { Navigation::Orbit };
         });
     }
     let debug: HtmlSelectElement = by_id("chiaro-debug")?;
     {
         let (app, select) = (app.clone(), debug.clone());
-        on(debug.as_ref(), "change", move |_| {
+        super::dom::listen(debug.as_ref(), "change", move |_: web_sys::Event| {
             let mut app = app.borrow_mut();
             let views = page_debug_views(app.scene.lights.len());
             app.debug = select.value().parse::<usize>().ok().and_then(|i| views.get(i).copied());
@@ -156,7 +148,7 @@ pub fn listen(app: &Rc<RefCell<App>>) -> Result<(), String> {
     {
         let app = app.clone();
         // One listener for every row: the select that changed says which light it is.
-        on(lights.as_ref(), "change", move |event| {
+        super::dom::listen(lights.as_ref(), "change", move |event: web_sys::Event| {
             let Some(target) = event.target() else { return };
             let mut app = app.borrow_mut();
             if let Ok(select) = target.clone().dyn_into::<HtmlSelectElement>() {
@@ -183,7 +175,7 @@ pub fn listen(app: &Rc<RefCell<App>>) -> Result<(), String> {
     let apply: HtmlButtonElement = by_id("chiaro-apply")?;
     {
         let app = app.clone();
-        on(apply.as_ref(), "click", move |_| {
+        super::dom::listen(apply.as_ref(), "click", move |_: web_sys::Event| {
             let result = by_id::<HtmlTextAreaElement>("chiaro-settings")
                 .and_then(|text| Settings::parse(&text.value()))
                 .and_then(|settings| app.borrow_mut().set_settings(settings));
@@ -193,7 +185,7 @@ pub fn listen(app: &Rc<RefCell<App>>) -> Result<(), String> {
     let open: HtmlInputElement = by_id("chiaro-open")?;
     {
         let (app, input) = (app.clone(), open.clone());
-        on(open.as_ref(), "change", move |_| {
+        super::dom::listen(open.as_ref(), "change", move |_: web_sys::Event| {
             if let Some(files) = input.files() {
                 let app = app.clone();
                 wasm_bindgen_futures::spawn_local(async move { open_files(&app, files).await });
@@ -203,7 +195,7 @@ pub fn listen(app: &Rc<RefCell<App>>) -> Result<(), String> {
     let demo: HtmlButtonElement = by_id("chiaro-demo")?;
     {
         let app = app.clone();
-        on(demo.as_ref(), "click", move |_| show_scene(&app, Ok(load::demo())));
+        super::dom::listen(demo.as_ref(), "click", move |_: web_sys::Event| show_scene(&app, Ok(load::demo())));
     }
     fill(&app.borrow())
 }
