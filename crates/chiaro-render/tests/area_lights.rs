@@ -167,3 +167,38 @@ fn a_glossy_metal_floor_reflects_a_rect_as_the_ltc_table_predicts() {
     assert!((median - 1.0).abs() < 0.005, "median ratio {median}");
     assert!(within5 > 0.99, "{within5} within 5%");
 }
+
+/// Each shadow tile's side in texels, per light, in tile order.
+fn local_tile_sides(scene: &chiaro_scene::Scene) -> Vec<Vec<u32>> {
+    let mut renderer = renderer();
+    let prepared = renderer.prepare(scene).expect("prepare");
+    let view = chiaro_render::View::from_camera(scene, 0, 32, 32);
+    let settings = chiaro_scene::Settings::default();
+    let out = renderer.render(scene, &prepared, &view, &settings, Default::default()).expect("render");
+    let mut sides = vec![Vec::new(); scene.lights.len()];
+    for tile in &out.plan.shadows.tiles {
+        sides[tile.light.index()].push(tile.viewport.2);
+    }
+    sides
+}
+
+#[test]
+fn an_area_lights_cube_faces_towards_its_lit_side_get_finer_tiles() {
+    // Cube faces in the order +X, -X, +Y, -Y, +Z, -Z. A rect shining down beside a point
+    // light: 12 tiles of 512 in the default 2048 atlas's uniform layout, room for the
+    // rect's -Y face to double. A rect tilted towards +X (cosine 0.6 with +X, 0.8 with -Y)
+    // alone: two faces double.
+    let rect = LightKind::Rect { width: 1.0, height: 0.5 };
+    let shadowed = |mut light: Light| {
+        light.shadow.mode = ShadowMode::Pcss;
+        light
+    };
+    let down = shadowed(area_light(rect, Vec3::new(0.0, 2.0, 0.0), Vec3::NEG_Y, 500.0));
+    let tilted = shadowed(area_light(rect, Vec3::new(1.0, 2.0, 0.0), Vec3::new(0.6, -0.8, 0.0), 500.0));
+    let mut point = point_light(Vec3::new(-1.0, 1.0, 0.0), 20.0, Some(10.0));
+    point.shadow = chiaro_scene::LightShadow::default();
+    let sides = local_tile_sides(&floor_scene(6.0, EYE, vec![down, point]));
+    assert_eq!(sides, vec![vec![512, 512, 512, 1024, 512, 512], vec![512; 6]]);
+    let sides = local_tile_sides(&floor_scene(6.0, EYE, vec![tilted]));
+    assert_eq!(sides, vec![vec![1024, 512, 512, 1024, 512, 512]]);
+}

@@ -97,6 +97,26 @@ pub fn spot_shadow_view(position: Vec3, direction: Vec3, outer_rad: f32, near: f
     perspective_view(position, forward, up, (2.0 * outer_rad).min(179f32.to_radians()), near, range)
 }
 
+/// A face counts as facing a one-sided (area) light when its axis lies within 60 degrees
+/// of the light's direction (cosine 0.5): a Lambertian emitter sends three quarters of
+/// its flux (sin^2 60) within that cone, so these faces hold most of what it lights.
+pub const FACING_FACE_COSINE: f32 = 0.5;
+
+/// The cube faces (indices into `CUBE_FACES`) that a one-sided light shining towards
+/// `direction` faces, most aligned first: at most three (one for a light pointing along
+/// an axis). The atlas gives these finer tiles where it has room (tiers::double_facing_tiles).
+pub fn facing_faces(direction: Vec3) -> Vec<usize> {
+    let d = direction.normalize_or_zero();
+    let mut faces: Vec<(usize, f32)> = CUBE_FACES
+        .iter()
+        .enumerate()
+        .map(|(face, (axis, _))| (face, axis.dot(d)))
+        .filter(|&(_, cosine)| cosine > FACING_FACE_COSINE)
+        .collect();
+    faces.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    faces.into_iter().map(|(face, _)| face).collect()
+}
+
 /// One face of a point light's cube.
 pub fn point_face_view(position: Vec3, face: usize, fov_rad: f32, near: f32, range: f32) -> (Mat4, Mat4) {
     let (forward, up) = CUBE_FACES[face];
@@ -123,6 +143,19 @@ mod tests {
         assert_eq!(cube_face(Vec3::new(1.0, 1.0, 1.0)), 0);
         assert_eq!(cube_face(Vec3::new(0.0, -1.0, 1.0)), 3);
         assert_eq!(cube_face(Vec3::new(-1.0, 0.0, -1.0)), 1);
+    }
+
+    #[test]
+    fn a_one_sided_light_faces_the_faces_within_sixty_degrees_of_its_direction() {
+        // Straight down: the -Y face alone; the side faces lie at 90 degrees.
+        assert_eq!(facing_faces(Vec3::NEG_Y), vec![3]);
+        // Tilted 37 degrees towards +X: -Y (cosine 0.8) before +X (0.6).
+        assert_eq!(facing_faces(Vec3::new(0.6, -0.8, 0.0)), vec![3, 0]);
+        // Along a cube diagonal all three faces around it (cosine 0.577), in axis order.
+        assert_eq!(facing_faces(Vec3::new(1.0, -1.0, -1.0)), vec![0, 3, 5]);
+        // Barely off an axis adds no face: 0.5 is not enough.
+        assert_eq!(facing_faces(Vec3::new(0.05, 0.0, 1.0)), vec![4]);
+        assert!(facing_faces(Vec3::ZERO).is_empty());
     }
 
     #[test]

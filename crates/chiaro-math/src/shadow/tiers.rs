@@ -126,6 +126,28 @@ pub fn tile_sizes(atlas_size: u32, lights: &[(usize, u32)]) -> Vec<u32> {
     sizes
 }
 
+/// Doubles the side of the tiles that each light's `facing` lists (tile indices within
+/// the light, most worth it first), lights in importance order, while the atlas's area
+/// allows and a doubled tile stays within it. `sizes` holds every light's tiles, `facing`
+/// the tiles to widen for each light (empty for most). An area light emits from one side:
+/// its cube faces towards that side hold most of its light and its penumbrae, and a cube
+/// alone uses 6 of the 16 tiles of the uniform layout, so the room left pays for them.
+pub fn double_facing_tiles(atlas_size: u32, sizes: &mut [Vec<u32>], facing: &[Vec<usize>]) {
+    let budget = (atlas_size as u64).pow(2);
+    let mut area: u64 = sizes.iter().flatten().map(|&s| (s as u64).pow(2)).sum();
+    for (tiles, wanted) in sizes.iter_mut().zip(facing) {
+        for &k in wanted {
+            let Some(size) = tiles.get_mut(k) else { continue };
+            let extra = 3 * (*size as u64).pow(2);
+            if *size == 0 || 2 * *size > atlas_size || area + extra > budget {
+                continue;
+            }
+            *size *= 2;
+            area += extra;
+        }
+    }
+}
+
 /// Places `sizes` (powers of two, each at most `atlas_size`) in the atlas; tiles are
 /// packed in order of decreasing size, ties in the given order. Returns `None` when they
 /// do not fit.
@@ -206,6 +228,34 @@ mod tests {
         assert_eq!(sizes, vec![512, 256, 256, 256, 256, 256], "the most important keeps its tier");
         // Ten of them fit only as middle tiles, never smaller.
         assert_eq!(tile_sizes(2048, &tiered(&[(6, 1.0); 10])), vec![256; 10]);
+    }
+
+    #[test]
+    fn facing_tiles_double_while_the_atlas_has_room() {
+        // One cube (6 of 16 tiles of 512): its two facing faces double, 6 + 2 x 3 = 12 of 16.
+        let mut sizes = vec![vec![512; 6]];
+        double_facing_tiles(2048, &mut sizes, &[vec![3, 0]]);
+        assert_eq!(sizes, vec![vec![1024, 512, 512, 1024, 512, 512]]);
+        // A cube and a spot and a point (13 tiles): room for one doubled face, the first
+        // light's most facing one.
+        let mut sizes = vec![vec![512; 6], vec![512], vec![512; 6]];
+        double_facing_tiles(2048, &mut sizes, &[vec![3, 0], vec![], vec![]]);
+        assert_eq!(sizes[0], vec![512, 512, 512, 1024, 512, 512]);
+        // Sixteen tiles fill the atlas: nothing doubles.
+        let mut full = vec![vec![512; 6], vec![512; 6], vec![512; 4]];
+        double_facing_tiles(2048, &mut full, &[vec![3], vec![3], vec![]]);
+        assert!(full.iter().flatten().all(|&s| s == 512));
+        // A tile as wide as half the atlas does not double past it... and a whole-atlas
+        // tile stays whole.
+        let mut whole = vec![vec![2048]];
+        double_facing_tiles(2048, &mut whole, &[vec![0]]);
+        assert_eq!(whole, vec![vec![2048]]);
+        // Whatever doubles, the tiles still pack.
+        let mut tiered = vec![vec![256; 6], vec![128; 6], vec![256; 6]];
+        double_facing_tiles(2048, &mut tiered, &[vec![2, 4, 0], vec![1], vec![5]]);
+        let flat: Vec<u32> = tiered.iter().flatten().copied().collect();
+        assert!(pack_tiles(2048, &flat).is_some(), "{flat:?}");
+        assert_eq!(tiered[0][2], 512);
     }
 
     #[test]

@@ -19,10 +19,12 @@ use chiaro_math::shadow::cascades::orthographic_slice_culling_sphere;
 use chiaro_math::shadow::culling::{caster_in_range, caster_in_tile};
 use chiaro_math::shadow::fade::distance_fade_params;
 use chiaro_math::shadow::local::{
-    POINT_LIGHT_FACES, perspective_normal_bias, point_face_fov_rad, point_face_view, spot_shadow_view,
+    POINT_LIGHT_FACES, facing_faces, perspective_normal_bias, point_face_fov_rad, point_face_view, spot_shadow_view,
 };
 use chiaro_math::shadow::pcss::{DIRECTIONAL_NEAR_PLANE_PULL, orthographic_lens, perspective_lens};
-use chiaro_math::shadow::tiers::{TileRect, coverage_tier, pack_tiles, screen_coverage, tile_sizes};
+use chiaro_math::shadow::tiers::{
+    TileRect, coverage_tier, double_facing_tiles, pack_tiles, screen_coverage, tile_sizes,
+};
 use chiaro_math::shadow::{
     AtlasLayout, ShadowFilter, TileAllocation, TileAllocator, cascade_splits, first_fit_tiles, fit_cascade,
     slice_culling_sphere,
@@ -96,13 +98,18 @@ pub struct CasterTile {
     pub tint_casters: Vec<u32>,
 }
 
+/// A local light's request in the atlas: the light, its tiles' side in texels, and which
+/// of its tiles (bit k: tile k) are twice that (an area light's faces towards its
+/// emitting side, `tiers::double_facing_tiles`).
+pub type LocalTileKey = (LightId, u32, u8);
+
 /// Tile allocators of both atlases, kept by the renderer from frame to frame.
 #[derive(Clone, Debug)]
 pub struct ShadowAtlasTiles {
     /// The directional atlas's allocator: one run of cascade tiles per light.
     pub directional: TileAllocator<LightId>,
-    /// Keyed by light and tile size: a light whose tier changes is allocated anew.
-    pub local: TileAllocator<(LightId, u32)>,
+    /// Keyed by light and tile sizes: a light whose tier changes is allocated anew.
+    pub local: TileAllocator<LocalTileKey>,
     /// Each point and spot light's coverage tier last frame (`tiers::coverage_tier`).
     pub local_tiers: std::collections::HashMap<LightId, u32>,
     /// What the atlases hold, so that unchanged tiles are not drawn again.
@@ -393,11 +400,11 @@ fn plan_local(
             let Some(&first) = first_tiles.get(&id) else {
                 return ShadowSlot::None;
             };
-            let Some((first_tile, tile_size)) = first else {
+            let Some(first_tile) = first else {
                 overflow.push(light.name.clone());
                 return ShadowSlot::BakedOnly;
             };
-            let placed = PlacedLight { id, light, range, first_tile, tile_size };
+            let placed = PlacedLight { id, light, range, first_tile };
             plan_local_light_tiles(plan, &placed, &rects, os)
         })
         .collect();
@@ -421,15 +428,16 @@ fn overflow_warning(names: &[String], max_tiles: u32) -> String {
 }
 
 /// The tile requests of the shadow-casting `local` lights, in their order: each light's
-/// key (id, tile size of its coverage tier) and tile count (six for a point light). Also
-/// records the tiers in `atlases` and resizes its allocator when `max_tiles` changed.
+/// key (id, tile size of its coverage tier, the tiles doubled) and tile count (six for a
+/// point or area light). Also records the tiers in `atlases` and resizes its allocator
+/// when `max_tiles` changed.
 fn local_tile_requests(
     scene: &Scene,
     view: &View,
     os: &LocalShadowSettings,
     local: &[(LightId, f32)],
     atlases: &mut ShadowAtlasTiles,
-) -> Vec<((LightId, u32), usize)> {
+) -> Vec<(LocalTileKey, usize)> {
     // Area lights are shadowed from their centre by a cube, as points are.
     let tiles_wanted =
         |light: &Light| if light.kind == LightKind::Point || light.is_area() { POINT_LIGHT_FACES } else { 1 };
@@ -453,35 +461,57 @@ fn local_tile_requests(
     let fits = first_fit_tiles(&counts, os.max_tiles as usize);
     let fitting: Vec<(usize, u32)> =
         casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(&(_, n, tier), _)| (n, tier)).collect();
-    let mut sizes = tile_sizes(os.atlas_size, &fitting).into_iter();
+    let base_sizes = tile_sizes(os.atlas_size, &fitting);
+    // An area light emits from one side: the cube faces facing it get finer tiles where
+    // the atlas has room.
+    let fitting_lights = casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(c, _)| c);
+    let facing: Vec<Vec<usize>> = fitting_lights
+        .clone()
+        .map(|&(id, _, _)| {
+            let light = &scene.lights[id.index()];
+            if light.is_area() { facing_faces(light.direction()) } else { Vec::new() }
+        })
+        .collect();
+    let mut sizes: Vec<Vec<u32>> = fitting_lights.zip(&base_sizes).map(|(&(_, n, _), &size)| vec![size; n]).collect();
+    double_facing_tiles(os.atlas_size, &mut sizes, &facing);
+    let mut sizes = base_sizes.into_iter().zip(sizes);
     casting
         .iter()
         .zip(&fits)
         .map(|(&(id, n, _), fit)| {
             // Lights that do not fit ask for the smallest tiles; they get none anyway.
-            let size = if fit.is_some() { sizes.next().expect("one size per fitting light") } else { 0 };
-            ((id, size), n)
+            let (size, doubled) = match fit {
+                Some(_) => {
+                    let (base, tiles) = sizes.next().expect("one size per fitting light");
+                    let doubled = tiles.iter().enumerate().filter(|&(_, &s)| s != base).map(|(k, _)| 1u8 << k);
+                    (base, doubled.fold(0, |mask, bit| mask | bit))
+                }
+                None => (0, 0),
+            };
+            ((id, size, doubled), n)
         })
         .collect()
 }
 
-/// Each requesting light's first tile and tile size (None: no free tile), and every
-/// used tile's rectangle in the atlas.
-type LocalTilePlaces = (std::collections::HashMap<LightId, Option<(usize, u32)>>, Vec<TileRect>);
+/// Each requesting light's first tile (None: no free tile), and every used tile's
+/// rectangle in the atlas.
+type LocalTilePlaces = (std::collections::HashMap<LightId, Option<usize>>, Vec<TileRect>);
 
 /// Where the allocated tiles lie: tile slot -> size, then their places, packed by slot
 /// so that kept slots keep their places.
 fn place_local_tiles(
     atlas_size: u32,
-    requests: &[((LightId, u32), usize)],
+    requests: &[(LocalTileKey, usize)],
     allocation: &TileAllocation,
 ) -> LocalTilePlaces {
     let mut slot_sizes = vec![0u32; allocation.used_tiles.max(1)];
     let mut first_tiles = std::collections::HashMap::new();
-    for (&((id, size), n), &first) in requests.iter().zip(&allocation.first_tiles) {
-        first_tiles.insert(id, first.map(|f| (f, size)));
+    for (&((id, size, doubled), n), &first) in requests.iter().zip(&allocation.first_tiles) {
+        first_tiles.insert(id, first);
         if let Some(f) = first {
-            slot_sizes[f..f + n].fill(size);
+            for (k, slot) in slot_sizes[f..f + n].iter_mut().enumerate() {
+                *slot = size << ((doubled >> k) & 1);
+            }
         }
     }
     let rects = pack_tiles(atlas_size, &slot_sizes[..allocation.used_tiles]).expect("tier sizes fit the atlas");
@@ -495,7 +525,6 @@ struct PlacedLight<'a> {
     /// The range it is shaded with, in metres: the far plane of its projections.
     range: f32,
     first_tile: usize,
-    tile_size: u32,
 }
 
 /// Writes a placed light's tiles (one for a spot, six cube faces for a point light)
@@ -506,22 +535,25 @@ fn plan_local_light_tiles(
     rects: &[TileRect],
     os: &LocalShadowSettings,
 ) -> ShadowSlot {
-    let &PlacedLight { id, light, range, first_tile, tile_size } = placed;
+    let &PlacedLight { id, light, range, first_tile } = placed;
     let filter = light_filter(light, os.shadow_filter());
     let views: Vec<(Mat4, Mat4)> = match light.kind {
         LightKind::Spot { outer_cone_rad, .. } => {
             vec![spot_shadow_view(light.position(), light.direction(), outer_cone_rad, light.shadow.near_plane, range)]
         }
-        _ => {
-            let fov = point_face_fov_rad(tile_size, filter, light.shadow.normal_bias);
-            (0..POINT_LIGHT_FACES)
-                .map(|face| point_face_view(light.position(), face, fov, light.shadow.near_plane, range))
-                .collect()
-        }
+        // Each face's field of view widens by its own tile's texels (an area light's
+        // facing faces may have finer tiles than the rest).
+        _ => (0..POINT_LIGHT_FACES)
+            .map(|face| {
+                let fov = point_face_fov_rad(rects[first_tile + face].size, filter, light.shadow.normal_bias);
+                point_face_view(light.position(), face, fov, light.shadow.near_plane, range)
+            })
+            .collect(),
     };
     for (k, (clip_from_view, clip_from_world)) in views.iter().enumerate() {
         let tile = first_tile + k;
         let rect = rects[tile];
+        let tile_size = rect.size;
         let (uv_min, uv_max) = rect.bounds_uv(os.atlas_size);
         plan.gpu.local_tiles[tile] = GpuShadowTile {
             atlas_from_world: rect.atlas_from_clip(os.atlas_size) * *clip_from_world,
