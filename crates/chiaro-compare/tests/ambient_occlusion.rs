@@ -84,7 +84,11 @@ fn ambient_occlusion_matches_the_traced_reference_on_both_paths() {
                 r.mean_error, r.surfaces, r.mean_error_occluded, r.occluded, r.p95_error, r.mean_signed_error
             );
             assert!(r.occluded > 200, "{name}: the scene must have occluded pixels: {r:?}");
-            if r.mean_error >= 0.03 || r.mean_error_occluded >= 0.06 {
+            // The issue asks for 0.03 and 0.06. Occluded pixels are held to 0.05: measured
+            // 0.030-0.047 since the denoise fits a plane through its texels and the upsample
+            // follows its slope, 0.034-0.054 when both took means, which smeared creases
+            // outwards (docs/ambient-occlusion.md).
+            if r.mean_error >= 0.03 || r.mean_error_occluded >= 0.05 {
                 failures.push(format!(
                     "{path:?} {quality:?} {name}: mean {} over surfaces, {} where occluded",
                     r.mean_error, r.mean_error_occluded
@@ -92,7 +96,7 @@ fn ambient_occlusion_matches_the_traced_reference_on_both_paths() {
             }
         }
     }
-    assert!(failures.is_empty(), "AO error above 0.03 over surfaces or 0.06 where occluded: {failures:#?}");
+    assert!(failures.is_empty(), "AO error above 0.03 over surfaces or 0.05 where occluded: {failures:#?}");
 }
 
 #[test]

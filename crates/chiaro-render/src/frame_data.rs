@@ -107,7 +107,8 @@ pub struct OcclusionBuffers<'a> {
     /// The half-resolution estimate, with each texel's point and normal (not bound in
     /// group 0).
     pub raw: &'a wgpu::Buffer,
-    /// The half-resolution estimate denoised (not bound in group 0).
+    /// The half-resolution estimate denoised, with its slope: four floats a texel (not
+    /// bound in group 0).
     pub half: &'a wgpu::Buffer,
     /// The AO per pixel, upsampled from `half`: group 0's `AMBIENT_OCCLUSION`.
     pub denoised: &'a wgpu::Buffer,
@@ -298,7 +299,7 @@ impl FrameData {
                 self.occlusion.reserve(device, bytes);
                 // Two vec4s per texel of the half-resolution estimate.
                 self.occlusion_raw.reserve(device, texels * 2 * 16);
-                self.occlusion_half.reserve(device, texels * 4);
+                self.occlusion_half.reserve(device, texels * 16);
             }
         }
         let virtual_maps = &plan.shadows.virtual_maps;
