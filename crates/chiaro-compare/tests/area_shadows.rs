@@ -85,7 +85,7 @@ fn report(name: &str, mode: &str, e: &VisibilityError) {
 
 /// With virtual shadow maps, an area light's pages come from a mip coarse enough that its
 /// blocker search and its rays stay within a page's border: the strip's penumbra keeps its
-/// shape as with the atlas. The disk's comes out at 0.053 (atlas 0.031): the coarse mip
+/// shape as with the atlas. The disk's comes out at 0.053 (atlas 0.021): the coarse mip
 /// its rays need is too coarse for it (docs/shadows.md, not yet); it still beats the
 /// filtered hard shadow by far.
 #[test]
