@@ -7,6 +7,8 @@
 //! over a fifth of the screen, a 64th for most, a 256th for lights under 1% of it. If the
 //! large tiles overfill the atlas, the least important of them step down to the middle
 //! tier, which 64 tiles always fit in.
+//! Where the atlas has room left, an area light's cube faces towards the side it emits
+//! from get tiles twice as wide (`double_facing_tiles`).
 //! Tiles are packed largest first along a Z-order curve: with power-of-two sizes in
 //! decreasing order, every tile lands aligned and none overlap.
 
@@ -127,7 +129,7 @@ pub fn tile_sizes(atlas_size: u32, lights: &[(usize, u32)]) -> Vec<u32> {
 }
 
 /// Doubles the side of the tiles that each light's `facing` lists (tile indices within
-/// the light, most worth it first), lights in importance order, while the atlas's area
+/// the light, most worth it first), lights in the order given, while the atlas's area
 /// allows and a doubled tile stays within it. `sizes` holds every light's tiles, `facing`
 /// the tiles to widen for each light (empty for most). An area light emits from one side:
 /// its cube faces towards that side hold most of its light and its penumbrae, and a cube

@@ -463,17 +463,26 @@ fn local_tile_requests(
         casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(&(_, n, tier), _)| (n, tier)).collect();
     let base_sizes = tile_sizes(os.atlas_size, &fitting);
     // An area light emits from one side: the cube faces facing it get finer tiles where
-    // the atlas has room.
-    let fitting_lights = casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(c, _)| c);
-    let facing: Vec<Vec<usize>> = fitting_lights
-        .clone()
-        .map(|&(id, _, _)| {
-            let light = &scene.lights[id.index()];
+    // the atlas has room. Lights are taken in the scene's order, not by importance, which
+    // changes as the camera moves: where room is contended, the doubled faces (part of
+    // the allocator's key) would otherwise swap and every tile be allocated anew.
+    let fitting_ids: Vec<LightId> =
+        casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(&(id, _, _), _)| id).collect();
+    let mut by_scene_order: Vec<usize> = (0..fitting_ids.len()).collect();
+    by_scene_order.sort_by_key(|&k| fitting_ids[k].index());
+    let facing: Vec<Vec<usize>> = by_scene_order
+        .iter()
+        .map(|&k| {
+            let light = &scene.lights[fitting_ids[k].index()];
             if light.is_area() { facing_faces(light.direction()) } else { Vec::new() }
         })
         .collect();
-    let mut sizes: Vec<Vec<u32>> = fitting_lights.zip(&base_sizes).map(|(&(_, n, _), &size)| vec![size; n]).collect();
-    double_facing_tiles(os.atlas_size, &mut sizes, &facing);
+    let mut ordered: Vec<Vec<u32>> = by_scene_order.iter().map(|&k| vec![base_sizes[k]; fitting[k].0]).collect();
+    double_facing_tiles(os.atlas_size, &mut ordered, &facing);
+    let mut sizes: Vec<Vec<u32>> = vec![Vec::new(); fitting_ids.len()];
+    for (tiles, &k) in ordered.into_iter().zip(&by_scene_order) {
+        sizes[k] = tiles;
+    }
     let mut sizes = base_sizes.into_iter().zip(sizes);
     casting
         .iter()

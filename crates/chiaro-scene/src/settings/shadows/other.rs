@@ -19,7 +19,8 @@ pub struct LocalShadowSettings {
     pub filter: String,
     /// Most tiles (1 to 64) the atlas holds: a spot takes one, a point six. Up to 16 the
     /// uniform layout of Catlike Coding's Custom SRP tutorial "Point and Spot Shadows"
-    /// (512 texels each at 2048). Past that each light's tiles are
+    /// (512 texels each at 2048; where room is left, an area light's cube faces towards
+    /// the side it emits from get twice that). Past that each light's tiles are
     /// sized by how much of the screen its range covers: a quarter of the atlas side (512
     /// texels at 2048) over a fifth of the screen, an eighth (256) for most, a sixteenth
     /// (128) under 1%. Lights that do not fit get no realtime shadow (their baked shadow
