@@ -459,47 +459,46 @@ fn local_tile_requests(
     // Which lights fit decides the tile sizes; the sizes are part of each request.
     let counts: Vec<usize> = casting.iter().map(|&(_, n, _)| n).collect();
     let fits = first_fit_tiles(&counts, os.max_tiles as usize);
-    let fitting: Vec<(usize, u32)> =
-        casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(&(_, n, tier), _)| (n, tier)).collect();
-    let base_sizes = tile_sizes(os.atlas_size, &fitting);
-    // An area light emits from one side: the cube faces facing it get finer tiles where
-    // the atlas has room. Lights are taken in the scene's order, not by importance, which
-    // changes as the camera moves: where room is contended, the doubled faces (part of
-    // the allocator's key) would otherwise swap and every tile be allocated anew.
-    let fitting_ids: Vec<LightId> =
-        casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(&(id, _, _), _)| id).collect();
-    let mut by_scene_order: Vec<usize> = (0..fitting_ids.len()).collect();
-    by_scene_order.sort_by_key(|&k| fitting_ids[k].index());
-    let facing: Vec<Vec<usize>> = by_scene_order
-        .iter()
-        .map(|&k| {
-            let light = &scene.lights[fitting_ids[k].index()];
-            if light.is_area() { facing_faces(light.direction()) } else { Vec::new() }
-        })
-        .collect();
-    let mut ordered: Vec<Vec<u32>> = by_scene_order.iter().map(|&k| vec![base_sizes[k]; fitting[k].0]).collect();
-    double_facing_tiles(os.atlas_size, &mut ordered, &facing);
-    let mut sizes: Vec<Vec<u32>> = vec![Vec::new(); fitting_ids.len()];
-    for (tiles, &k) in ordered.into_iter().zip(&by_scene_order) {
-        sizes[k] = tiles;
-    }
-    let mut sizes = base_sizes.into_iter().zip(sizes);
+    let fitting: Vec<&(LightId, usize, u32)> =
+        casting.iter().zip(&fits).filter(|(_, f)| f.is_some()).map(|(c, _)| c).collect();
+    let base_sizes = tile_sizes(os.atlas_size, &fitting.iter().map(|&&(_, n, tier)| (n, tier)).collect::<Vec<_>>());
+    let doubled = doubled_faces(scene, os.atlas_size, &fitting, &base_sizes);
+    let mut per_fitting = base_sizes.into_iter().zip(doubled);
     casting
         .iter()
         .zip(&fits)
         .map(|(&(id, n, _), fit)| {
             // Lights that do not fit ask for the smallest tiles; they get none anyway.
-            let (size, doubled) = match fit {
-                Some(_) => {
-                    let (base, tiles) = sizes.next().expect("one size per fitting light");
-                    let doubled = tiles.iter().enumerate().filter(|&(_, &s)| s != base).map(|(k, _)| 1u8 << k);
-                    (base, doubled.fold(0, |mask, bit| mask | bit))
-                }
-                None => (0, 0),
-            };
+            let (size, doubled) =
+                if fit.is_some() { per_fitting.next().expect("one size per fitting light") } else { (0, 0) };
             ((id, size, doubled), n)
         })
         .collect()
+}
+
+/// Per light of `fitting` (id, tile count, tier), the bitmask of its tiles that are twice
+/// `base_sizes`: an area light emits from one side, so the cube faces facing it get finer
+/// tiles where the atlas has room. Lights are taken in the scene's order, not by
+/// importance, which changes as the camera moves: where room is contended, the doubled
+/// faces (part of the allocator's key) would otherwise swap and every tile be allocated
+/// anew.
+fn doubled_faces(scene: &Scene, atlas_size: u32, fitting: &[&(LightId, usize, u32)], base_sizes: &[u32]) -> Vec<u8> {
+    let mut by_scene_order: Vec<usize> = (0..fitting.len()).collect();
+    by_scene_order.sort_by_key(|&k| fitting[k].0.index());
+    let facing: Vec<Vec<usize>> = by_scene_order
+        .iter()
+        .map(|&k| {
+            let light = &scene.lights[fitting[k].0.index()];
+            if light.is_area() { facing_faces(light.direction()) } else { Vec::new() }
+        })
+        .collect();
+    let mut tiles: Vec<Vec<u32>> = by_scene_order.iter().map(|&k| vec![base_sizes[k]; fitting[k].1]).collect();
+    double_facing_tiles(atlas_size, &mut tiles, &facing);
+    let mut masks = vec![0u8; fitting.len()];
+    for (&k, sides) in by_scene_order.iter().zip(&tiles) {
+        masks[k] = sides.iter().enumerate().filter(|&(_, &side)| side != base_sizes[k]).fold(0, |m, (i, _)| m | 1 << i);
+    }
+    masks
 }
 
 /// Each requesting light's first tile (None: no free tile), and every used tile's
